@@ -1,0 +1,237 @@
+"""The event loop: impacts, chattering, sticking and release, with in-loop period detection.
+
+All functions are numba-compiled and work on flat arrays; :mod:`vibroimpact.simulate` wraps them.
+
+Chattering rule (documented in README): after an impact at wall ``w`` the relative acceleration
+into the wall is ``a = w Z''``.  If ``a > 0`` and the rebound speed ``|Zdot+| = r |Zdot-|`` is below
+``v_chatter``, the remaining infinite sequence of bounces is summed as under constant acceleration:
+each flight lasts ``2 |Zdot+| / a`` and the speeds shrink by ``r``, so the impacts accumulate at
+
+    t_inf = t + 2 |Zdot+| / ((1 - r) a),
+
+with an error of order ``|Zdot+|^2`` (from the variation of ``a``).  The ball then sticks to the wall
+(event ``stick``) until ``w Z''`` changes sign, at the phase where ``cos(pi t + phi) = -gbar``,
+where it is released (event ``release``) with zero relative velocity.  With ``gbar >= 1`` a ball
+stuck on the bottom is never released, and the run ends with status ``STUCK_FOREVER``.
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .events import next_impact
+from .flight import PI, TWO_PI, velocity
+
+# event kinds
+IMPACT = 0
+GRAZING = 1
+STICK = 2
+RELEASE = 3
+START = 4
+KIND_NAMES = ("impact", "grazing", "stick", "release", "start")
+
+# run status
+FULL = 0  # the requested number of events was recorded
+T_END = 1  # t_end was reached
+PERIODIC = 2  # the motion was identified as periodic (when asked to stop there)
+STUCK_FOREVER = 3  # resting on the bottom with gbar >= 1: the ball never leaves again
+NO_IMPACT = 4  # a flight with no impact within the search horizon (gbar = 0 only)
+STATUS_NAMES = ("n_events", "t_end", "periodic", "stuck_forever", "no_impact")
+
+#: |Zdot-| below which an impact is labelled grazing.
+V_GRAZING = 1e-9
+#: Longest single flight searched when no t_end is given (non-dimensional time).
+TAU_HORIZON = 1.0e5
+
+
+@njit(cache=True)
+def _phase_distance(a, b):
+    x = abs(a - b) % TWO_PI
+    return min(x, TWO_PI - x)
+
+
+@njit(cache=True)
+def period_update(i, t, wall, vm, phase, kind, counts, tol):
+    """Update the per-lag match counters with event ``i``; return the smallest lag p whose last
+    ``2p`` events all repeated the event ``p`` earlier (two full cycles), else 0.
+
+    A match needs the same wall and kind, ``|Zdot-|`` and phase within ``tol``, and a time lag
+    within ``tol`` of a positive even integer (a whole number of forcing periods).
+    """
+    pmax = counts.shape[0] - 1
+    found = 0
+    for p in range(1, pmax + 1):
+        j = i - p
+        if j < 0:
+            break
+        ok = wall[i] == wall[j] and kind[i] == kind[j]
+        if ok:
+            dv = abs(vm[i] - vm[j])
+            ok = dv <= tol or (math.isnan(vm[i]) and math.isnan(vm[j]))
+        if ok:
+            ok = _phase_distance(phase[i], phase[j]) <= tol
+        if ok:
+            lag = t[i] - t[j]
+            k = math.floor(lag / 2.0 + 0.5)
+            ok = k >= 1 and abs(lag - 2.0 * k) <= tol * max(1.0, lag)
+        if ok:
+            counts[p] += 1
+            if found == 0 and counts[p] >= 2 * p and _no_shorter_period(i, p, vm, phase, tol):
+                found = p
+        else:
+            counts[p] = 0
+    return found
+
+
+@njit(cache=True)
+def _no_shorter_period(i, p, vm, phase, tol):
+    """False when a divisor q of p has lag-q residuals below sqrt(tol) over the last p events.
+
+    A period-q orbit whose eigenvalue is close to -1 converges slowly and alternately: its lag-2q
+    residuals fall below ``tol`` long before its lag-q residuals do.  A genuine period-p motion keeps
+    a finite lag-q splitting; a residual still below ``sqrt(tol)`` is taken as "not decided yet".
+    """
+    thresh = math.sqrt(tol)
+    for q in range(1, p):
+        if p % q != 0:
+            continue
+        worst = 0.0
+        for k in range(i - p + 1, i + 1):
+            dv = abs(vm[k] - vm[k - q]) if not math.isnan(vm[k]) else 0.0
+            worst = max(worst, dv, _phase_distance(phase[k], phase[k - q]))
+        if worst < thresh:
+            return False
+    return True
+
+
+@njit(cache=True)
+def run(d, gbar, r, t_start, theta_start, z_start, v_start, kind_start, wall_start,
+        i0, t_end, v_chatter, detect, tol, counts,
+        out_t, out_wall, out_vm, out_vp, out_phase, out_kind, out_z):
+    """Advance from an initial event and record events into ``out_*[i0:]``.
+
+    ``kind_start``: IMPACT (a wall impact with pre-impact velocity ``v_start``, recorded),
+    START (in flight at ``z_start`` with velocity ``v_start``, recorded), or -1 to resume from the
+    post-event state of an event already recorded at ``i0 - 1`` (``v_start`` is then Zdot+ and
+    ``wall_start`` the wall the ball rests on when that event is a stick).
+
+    Returns ``(n, status, lag)``: events recorded up to index ``n``, the run status and, when
+    ``detect``, the detected period in events (0 if none).
+    """
+    cap = out_t.shape[0]
+    half = 0.5 * d
+    has_release = gbar < 1.0
+    alpha = math.acos(-gbar) if has_release else 0.0
+    t = t_start
+    theta = theta_start % TWO_PI
+    z = z_start
+    u = v_start
+    stuck = 0  # wall the ball rests on, 0 in flight
+    i = i0
+    lag = 0
+    pending = -1  # kind of an event to record before moving on
+    vminus = 0.0
+    if kind_start == IMPACT:
+        pending = IMPACT
+        vminus = v_start
+        z = wall_start * half
+    elif kind_start == START:
+        pending = START
+    elif kind_start == STICK:
+        stuck = wall_start
+        u = 0.0
+    while True:
+        if pending >= 0:
+            if i >= cap:
+                return i, FULL, lag
+            kind = pending
+            w = 0
+            vp = u
+            if pending == IMPACT:
+                w = 1 if z > 0 else -1
+                if abs(vminus) < V_GRAZING:
+                    kind = GRAZING
+                vp = -r * vminus
+            elif pending == STICK or pending == RELEASE:
+                w = stuck if pending == STICK else (1 if z > 0 else -1)
+                vminus = 0.0
+                vp = 0.0
+            else:
+                vminus = math.nan
+            out_t[i] = t
+            out_wall[i] = w
+            out_vm[i] = vminus
+            out_vp[i] = vp
+            out_phase[i] = theta
+            out_kind[i] = kind
+            out_z[i] = z
+            if detect:
+                lag = period_update(i, out_t, out_wall, out_vm, out_phase, out_kind, counts, tol)
+            i += 1
+            if detect and lag > 0:
+                return i, PERIODIC, lag
+            if pending == IMPACT:
+                u = vp
+                a_in = w * (math.cos(theta) + gbar)
+                if a_in > 0.0 and abs(u) < v_chatter:
+                    # chattering: jump to the accumulation point and stick
+                    tau_inf = 2.0 * abs(u) / ((1.0 - r) * a_in)
+                    if t + tau_inf > t_end:
+                        return i, T_END, lag
+                    t += tau_inf
+                    theta = (theta + PI * tau_inf) % TWO_PI
+                    stuck = w
+                    u = 0.0
+                    pending = STICK
+                    continue
+            elif pending == RELEASE:
+                stuck = 0
+            pending = -1
+        if stuck != 0:
+            # resting on wall `stuck` while stuck*Z'' > 0; release where it changes sign
+            if stuck == 1:
+                if not has_release:
+                    return i, STUCK_FOREVER, lag
+                psi_r = alpha
+            else:
+                psi_r = TWO_PI - alpha
+            tau_r = ((psi_r - theta) % TWO_PI) / PI
+            if t + tau_r > t_end:
+                return i, T_END, lag
+            t += tau_r
+            theta = psi_r
+            z = stuck * half
+            u = 0.0
+            pending = RELEASE
+            continue
+        # flight
+        tau_max = t_end - t if t_end < math.inf else TAU_HORIZON
+        tau, w = next_impact(theta, z, u, d, gbar, tau_max)
+        if w == 0:
+            return i, T_END if t_end < math.inf else NO_IMPACT, lag
+        c = math.cos(theta)
+        s = math.sin(theta)
+        vminus = velocity(tau, c, s, u, gbar)
+        t += tau
+        theta = (theta + PI * tau) % TWO_PI
+        z = w * half
+        pending = IMPACT
+
+
+@njit(cache=True, parallel=True)
+def run_batch(d, gbar, r, theta0, v0, n_events, t_end, v_chatter, detect, tol, pmax,
+              out_t, out_wall, out_vm, out_vp, out_phase, out_kind, out_z, out_n, out_status, out_lag):
+    """Run many independent simulations in parallel, each from a bottom impact (paper convention).
+
+    All inputs of length ``m`` (one per run); outputs of shape ``(m, n_events)``.
+    """
+    m = d.shape[0]
+    for k in prange(m):
+        counts = np.zeros(pmax + 1, dtype=np.int64)
+        n, status, lag = run(d[k], gbar[k], r[k], 0.0, theta0[k], 0.5 * d[k], v0[k], IMPACT, 1,
+                             0, t_end, v_chatter, detect, tol, counts,
+                             out_t[k], out_wall[k], out_vm[k], out_vp[k], out_phase[k], out_kind[k], out_z[k])
+        out_n[k] = n
+        out_status[k] = status
+        out_lag[k] = lag

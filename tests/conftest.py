@@ -1,0 +1,32 @@
+import math
+
+import pytest
+
+import vibroimpact as vi
+
+#: Paper defaults (MODEL.md section 2)
+M, F, OMEGA, G = 0.1245, 5.0, 5 * math.pi, 9.8
+
+
+def gbar_of(beta):
+    return M * G * math.sin(beta) / F
+
+
+#: Caption orbits of MODEL.md section 5: name -> (beta, d, Zdot(t0), phi, n_bottom, n_top, period)
+CAPTIONS = {
+    "fig0b_a": (math.pi / 3, 0.38, 0.8673, 0.4217, 1, 1, 1),
+    "fig0b_b": (math.pi / 3, 0.184, 0.2164, 1.21, 2, 1, 1),
+    "fig0b_c": (math.pi / 3, 0.137, 0.2059, 0.6503, 3, 1, 1),
+    "figFN2_d": (math.pi / 6, 0.252, 0.669, 0.128, 1, 1, 1),
+    "figFN2_g": (math.pi / 6, 0.204, 0.532, 6.106, 2, 1, 1),
+    "fig4_a": (math.pi / 6, 0.16, 0.1924, 1.015, 2, 1, 1),
+    "fig4_d": (math.pi / 6, 0.139, 0.1959, 0.7788, 2, 1, 1),
+    "fig4_g": (math.pi / 6, 0.138, 0.1845, 0.7342, 3, 1, 1),
+    "figBiS_e": (math.pi / 6, 0.14, 0.4185, 5.855, 2, 1, 1),
+    "figBiS_f": (math.pi / 6, 0.14, 0.3967, 5.88, 3, 1, 1),
+}
+
+
+@pytest.fixture
+def pi6():
+    return vi.Params(d=0.16, gbar=gbar_of(math.pi / 6), r=0.5)

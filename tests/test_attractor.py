@@ -1,0 +1,95 @@
+"""Attractor identification and early stopping."""
+
+import math
+
+import numpy as np
+import pytest
+
+import vibroimpact as vi
+
+from conftest import CAPTIONS, gbar_of
+
+
+def test_slowly_converging_1_1_is_not_mistaken_for_period_doubled():
+    """Fig FN2 (d): a 1:1 orbit with an eigenvalue near -1 converges in alternation; its lag-4
+    residuals shrink below tolerance before its lag-2 ones.  It must still be called 1:1 period-2."""
+    beta, d, v, phi, *_ = CAPTIONS["figFN2_d"]
+    p = vi.Params(d=d, gbar=gbar_of(beta), r=0.5)
+    ds = vi.simulate(p, phi, v, n_impacts=50_000, stop_when_periodic=True)
+    assert ds.attrs["status"] == "periodic" and ds.attrs["period_events"] == 2
+    # a longer run confirms it: lag-2 differences vanish
+    long = vi.simulate(p, phi, v, n_impacts=20_000)
+    vm = long["v_minus"].values[-200:]
+    assert np.max(np.abs(vm[2:] - vm[:-2])) < 1e-12
+
+
+def test_period_doubled_1_1_is_identified():
+    p = vi.Params(d=0.24, gbar=gbar_of(math.pi / 6), r=0.5)
+    att = vi.identify_attractor(vi.simulate(p, 0.4, 0.6, n_impacts=20_000))
+    assert att.label == "1:1 period-4" and att.period == 2 and att.events == 4
+
+
+def test_chaotic_motion_is_not_periodic():
+    """beta = pi/3, d = 0.235 lies in the chaotic window between 1:1 and 2:1 (paper Fig 0)."""
+    p = vi.Params(d=0.235, gbar=gbar_of(math.pi / 3), r=0.5)
+    ds = vi.simulate(p, 0.4, 0.6, n_impacts=20_000, stop_when_periodic=True)
+    assert ds.attrs["status"] == "n_events"
+    assert not vi.identify_attractor(ds).periodic
+    # sensitive dependence: two nearby starts separate to order one
+    a = vi.simulate(p, 0.4, 0.6, n_impacts=600)
+    b = vi.simulate(p, 0.4, 0.6 + 1e-10, n_impacts=600)
+    assert np.max(np.abs(a["v_minus"].values - b["v_minus"].values)) > 0.05
+
+
+def test_stopping_early_gives_the_same_attractor_as_a_long_run(pi6):
+    early = vi.simulate(pi6, 1.015, 0.1924, n_impacts=100_000, stop_when_periodic=True)
+    assert early.sizes["impact"] < 200
+    late = vi.simulate(pi6, 1.015, 0.1924, n_impacts=3000)
+    a, b = vi.identify_attractor(early), vi.identify_attractor(late)
+    assert a.label == b.label == "2:1 period-2"
+    assert sorted(np.round(a.cycle.v_minus.values, 8)) == sorted(np.round(b.cycle.v_minus.values, 8))
+    assert a.t_settled <= early["t"].values[-1]
+
+
+def test_sticking_orbit_label():
+    att = vi.identify_attractor(vi.simulate(vi.Params(d=0.3, gbar=0.9, r=0.5), 0.3, 0.5, n_impacts=2000))
+    assert att.periodic and att.sticking and att.label.endswith("with sticking") and att.n_top == 0
+
+
+@pytest.mark.parametrize("bad, match", [
+    (dict(phi=float("nan"), v0=0.1), "phi"),
+    (dict(phi=0.1, v0=-0.1), "v0"),
+    (dict(phi=0.1, v0=0.1, Z0=1.0), "Z0"),
+    (dict(phi=0.1, v0=0.1, n_impacts=0), "n_impacts"),
+])
+def test_simulate_rejects_bad_input(pi6, bad, match):
+    kw = dict(n_impacts=10)
+    kw.update(bad)
+    with pytest.raises(ValueError, match=match):
+        vi.simulate(pi6, **kw)
+
+
+def test_simulate_needs_an_end(pi6):
+    with pytest.raises(ValueError, match="needs an end"):
+        vi.simulate(pi6, 0.1, 0.1)
+
+
+def test_dataset_is_self_describing(pi6):
+    ds = vi.simulate(pi6, 1.015, 0.1924, n_impacts=20)
+    for name in ("t", "wall", "v_minus", "v_plus", "phase", "kind", "dt", "z"):
+        assert "units" in ds[name].attrs and "long_name" in ds[name].attrs
+    assert ds["kind"].attrs["flag_meanings"].split()[:4] == ["impact", "grazing", "stick", "release"]
+    assert ds.attrs["d"] == pi6.d and ds.attrs["status"] == "n_events"
+    # the paper convention: the first event is the bottom impact at t0 with v0
+    assert ds["wall"].values[0] == 1 and ds["v_minus"].values[0] == 0.1924 and ds["t"].values[0] == 0
+
+
+def test_dense_output_is_continuous_and_consistent(pi6):
+    ds = vi.simulate(pi6, 1.015, 0.1924, n_impacts=30)
+    t = ds["t"].values
+    tr = vi.trajectory(ds, t)
+    np.testing.assert_allclose(tr.Z.values, ds["z"].values, atol=1e-13)
+    # X* - x* = Z and X*'' = cos(pi t + phi)
+    np.testing.assert_allclose(tr.X.values - tr.x.values, tr.Z.values, atol=1e-15)
+    with pytest.raises(ValueError, match="within the run"):
+        vi.trajectory(ds, [t[-1] + 1.0])

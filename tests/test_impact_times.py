@@ -1,0 +1,111 @@
+"""Impact times against an independent 40-digit reference (issue: agree to 1e-12 in t)."""
+
+import math
+
+import mpmath as mp
+import numpy as np
+import pytest
+
+import vibroimpact as vi
+from vibroimpact.events import next_impact
+
+from reference import first_impact, gap, grazing_state
+
+TOL_T = 1e-12
+
+
+def random_states(n, seed):
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        d = rng.uniform(0.1, 0.5)
+        gbar = rng.uniform(0.0, 0.6)
+        theta = rng.uniform(0, 2 * np.pi)
+        if rng.random() < 0.5:  # just after a bottom or top impact, moving away from the wall
+            wall = rng.choice([-1, 1])
+            z0 = wall * d / 2
+            u = -wall * rng.uniform(0.0, 1.0)
+        else:
+            z0 = rng.uniform(-d / 2, d / 2)
+            u = rng.uniform(-1.0, 1.0)
+        yield theta, z0, u, d, gbar
+
+
+def test_impact_times_match_high_precision_reference_at_random_states():
+    checked = 0
+    for theta, z0, u, d, gbar in random_states(60, seed=1):
+        ref_tau, ref_wall, clearance = first_impact(theta, z0, u, d, gbar)
+        if ref_wall == 0 or clearance < 1e-5:
+            continue  # sampling could hide a tangency here: near-grazing states have their own test
+        tau, wall = next_impact(theta, z0, u, d, gbar, math.inf)
+        assert wall == ref_wall
+        assert abs(tau - float(ref_tau)) < TOL_T
+        checked += 1
+    assert checked >= 40
+
+
+@pytest.mark.parametrize("wall", [1, -1])
+@pytest.mark.parametrize("eps", [1e-4, 1e-6, 1e-8, 1e-10, -1e-10, -1e-8, -1e-6, -1e-4])
+def test_near_grazing_impact_is_never_missed_nor_invented(wall, eps):
+    """An extremum passing eps inside a wall (eps > 0) is no impact; crossing it by |eps| is."""
+    d, gbar = 0.3, 0.2
+    rng = np.random.default_rng(abs(hash((wall, eps))) % 2**32)
+    for _ in range(5):
+        # the extremum must be a maximum at the bottom (Z'' < 0) or a minimum at the top (Z'' > 0)
+        while True:
+            theta_e = rng.uniform(0, 2 * np.pi)
+            if wall * (math.cos(theta_e) + gbar) < -0.2:
+                break
+        tau_e = rng.uniform(0.05, 0.3)
+        th0, z0, u0 = grazing_state(theta_e, tau_e, d, gbar, wall, eps)
+        assert abs(z0) < d / 2
+        tau, w = next_impact(th0, z0, u0, d, gbar, math.inf)
+        f = gap(th0, z0, u0, gbar, wall * d / 2)
+        if eps < 0:
+            # the reference crossing lies between tau_e - 2 sqrt(2|eps|/|Z''|) and tau_e
+            width = 4 * math.sqrt(abs(eps))
+            ref = mp.findroot(f, (mp.mpf(tau_e) - width, mp.mpf(tau_e)), solver="anderson")
+            assert w == wall
+            assert abs(tau - float(ref)) < TOL_T
+        else:
+            # no impact at the extremum: the next impact comes later, found by the reference
+            assert tau > tau_e + 1e-3 or w != wall
+            ref_tau, ref_wall, _ = first_impact(th0, z0, u0, d, gbar)
+            assert w == ref_wall
+            assert abs(tau - float(ref_tau)) < TOL_T
+
+
+def test_tangency_at_rounding_level_is_decided_by_the_exact_sign():
+    """A state rounded from an exactly tangent flight passes ~1e-17 inside or outside the wall; the
+    hit/miss decision must follow the sign of the exact (40-digit) gap at the extremum."""
+    from reference import velocity
+
+    d, gbar = 0.3, 0.2
+    outcomes = set()
+    for theta_e in np.linspace(2.6, 3.6, 15):
+        th0, z0, u0 = grazing_state(theta_e, 0.2, d, gbar, 1, 0.0)
+        te = mp.findroot(velocity(th0, u0, gbar), mp.mpf(0.2))
+        exact_gap = gap(th0, z0, u0, gbar, d / 2)(te)
+        if abs(exact_gap) < 1e-28:
+            continue
+        ds = vi.simulate(vi.Params(d=d, gbar=gbar, r=0.5), th0, u0, Z0=z0, n_impacts=2)
+        hit = bool(abs(ds["t"].values[1] - float(te)) < 1e-6)
+        assert hit == (exact_gap > 0)
+        if hit:
+            assert ds["wall"].values[1] == 1 and abs(ds["v_minus"].values[1]) < 1e-7
+        outcomes.add(hit)
+    assert outcomes == {True, False}
+
+
+def test_simulate_impact_times_match_reference_along_a_run():
+    """Each flight of a simulated run, restarted from its recorded post-impact state, agrees."""
+    p = vi.Params(d=0.25, gbar=0.15, r=0.5)
+    ds = vi.simulate(p, 0.7, 0.6, n_impacts=25)
+    t, phase, z, vp, kind = (ds[k].values for k in ("t", "phase", "z", "v_plus", "kind"))
+    for j in range(len(t) - 1):
+        if kind[j] != 0:
+            continue
+        ref_tau, ref_wall, clearance = first_impact(phase[j], z[j], vp[j], p.d, p.gbar)
+        if clearance < 1e-5:
+            continue
+        assert ds["wall"].values[j + 1] == ref_wall
+        assert abs((t[j + 1] - t[j]) - float(ref_tau)) < TOL_T * max(1.0, t[j + 1])

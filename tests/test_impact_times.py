@@ -9,7 +9,7 @@ import pytest
 import vibroimpact as vi
 from vibroimpact.events import next_impact
 
-from reference import first_impact, gap, grazing_state
+from vibroimpact.reference import first_impact, gap, grazing_state
 
 TOL_T = 1e-12
 
@@ -77,7 +77,7 @@ def test_near_grazing_impact_is_never_missed_nor_invented(wall, eps):
 def test_tangency_at_rounding_level_is_decided_by_the_exact_sign():
     """A state rounded from an exactly tangent flight passes ~1e-17 inside or outside the wall; the
     hit/miss decision must follow the sign of the exact (40-digit) gap at the extremum."""
-    from reference import velocity
+    from vibroimpact.reference import velocity
 
     d, gbar = 0.3, 0.2
     outcomes = set()

@@ -149,7 +149,8 @@ def simulate(
     ds = _events_dataset(bufs, n)
     ds.attrs.update(_param_attrs(params))
     ds.attrs.update(phi=phi, v0=v0, t0=t0, start="bottom impact" if Z0 is None else f"flight at Z0={Z0!r}",
-                    status=K.STATUS_NAMES[status], period_events=int(lag), tol=tol, v_chatter=v_chatter)
+                    status=K.STATUS_NAMES[status], period_events=int(lag), tol=tol, v_chatter=v_chatter,
+                    t_valid=float(t_end) if status == K.T_END else float(bufs[0][n - 1]))
     if status == K.STUCK_FOREVER:
         ds.attrs["note"] = "gbar >= 1: the ball never leaves the bottom wall after it sticks"
     return ds
@@ -247,13 +248,15 @@ def trajectory(ds: xr.Dataset, times) -> xr.Dataset:
     """Exact state at any ``times`` within a run: ``Z``, ``Zdot``, cylinder ``X`` (X*) and ball ``x`` (x*).
 
     ``X*(t) = -cos(pi t + phi) / pi^2`` is the zero-mean periodic cylinder motion (``X*'' = cos``);
-    ``x* = X* - Z``.  Times must lie within the run ``[t_first, t_last]``.
+    ``x* = X* - Z``.  Times must lie within the run: from its first event to its last, or to
+    ``t_end`` when the run stopped there (no impact happened in between).
     """
     times = np.asarray(times, dtype=np.float64)
     t = ds["t"].values
-    if times.size and (times.min() < t[0] or times.max() > t[-1]):
+    t_last = max(float(ds.attrs.get("t_valid", t[-1])), float(t[-1]))
+    if times.size and (times.min() < t[0] or times.max() > t_last):
         raise ValueError(
-            f"times span [{times.min()!r}, {times.max()!r}]; allowed: within the run [{t[0]!r}, {t[-1]!r}]"
+            f"times span [{times.min()!r}, {times.max()!r}]; allowed: within the run [{t[0]!r}, {t_last!r}]"
         )
     order = np.argsort(times, kind="stable")
     Z = np.empty_like(times)

@@ -1,0 +1,26 @@
+# vibroimpact: regenerate the paper's figures and this project's own from the code.
+# Usage: snakemake --cores 2            (default target: every figure and dataset)
+#        snakemake --cores 2 bench      (speed and accuracy of the simulator)
+from snakemake.utils import min_version, validate
+
+min_version("8.0")
+
+
+configfile: "config/config.yaml"
+
+
+validate(config, "config/schema.yaml")
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/orbits.smk"
+include: "workflow/rules/figures.smk"
+include: "workflow/rules/bench.smk"
+
+
+rule all:
+    input:
+        "results/orbits/captions.nc",
+        "results/tables/captions.md",
+        expand("results/figures/{scene}.{ext}", scene=SCENES, ext=["pdf", "png"]),
+    default_target: True

@@ -1,0 +1,11 @@
+"""Draw one scene (paper figure) from its saved datasets."""
+import logging
+
+import xarray as xr
+
+from vibroimpact import plotting
+
+logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+datasets = [xr.load_dataset(f, engine="netcdf4") for f in snakemake.input]
+fig = getattr(plotting, snakemake.wildcards.scene)(datasets)
+plotting.save(fig, snakemake.output.pdf.removesuffix(".pdf"))

@@ -1,0 +1,23 @@
+"""The benchmark machinery works and its solve_ivp baseline is a faithful event loop (no timing asserts)."""
+
+import math
+
+import numpy as np
+
+import vibroimpact as vi
+from vibroimpact.bench import ivp_run, report, simulator_benchmark
+
+
+def test_ivp_baseline_follows_the_same_orbit_on_a_stable_2_1():
+    p = vi.Params(d=0.16, gbar=0.1245 * 9.8 * math.sin(math.pi / 6) / 5, r=0.5)
+    ours = vi.simulate(p, 1.015, 0.1924, n_impacts=31)
+    ivp = ivp_run(p, 1.015, 0.1924, 30)
+    np.testing.assert_array_equal(ivp[:, 1], ours["wall"].values[1:])
+    np.testing.assert_allclose(ivp[:, 0], ours["t"].values[1:], atol=1e-8)
+
+
+def test_benchmark_reports_speed_and_accuracy():
+    ds = simulator_benchmark(n_impacts=20_000, n_impacts_ivp=20, n_flights_accuracy=12)
+    assert float(ds.exact_max_err_t) < 1e-12
+    assert int(ds.n_flights_checked) >= 8
+    assert "Speed-up per impact" in report(ds)

@@ -1,0 +1,76 @@
+"""The Snakemake workflow end to end on a tiny config, and config validation before any job."""
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import xarray as xr
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _copy_workflow(tmp_path):
+    for item in ("Snakefile", "workflow", "config", "profiles"):
+        src = ROOT / item
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / item)
+    return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+
+
+def _snakemake(tmp_path, *args):
+    return subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", *args], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=600)
+
+
+@pytest.mark.slow
+def test_workflow_runs_end_to_end_on_a_tiny_config(tmp_path):
+    cfg = _copy_workflow(tmp_path)
+    cfg["captions"] = {k: cfg["captions"][k] for k in ("fig0b_a", "fig4_a", "fig4_g")}
+    cfg["scenes"] = {"fig0b": {"captions": ["fig0b_a"], "t_show": 2.0},
+                     "fig4": {"captions": ["fig4_a", "fig4_g"], "t_show": 2.0}}
+    cfg["resolution"]["draft"]["samples_per_unit"] = 50
+    (tmp_path / "config" / "config.yaml").write_text(yaml.safe_dump(cfg))
+    res = _snakemake(tmp_path)
+    assert res.returncode == 0, res.stderr[-3000:]
+    for stem in ("fig0b", "fig4"):
+        for ext in ("pdf", "png"):
+            assert (tmp_path / "results" / "figures" / f"{stem}.{ext}").stat().st_size > 1000
+    ds = xr.open_dataset(tmp_path / "results" / "orbits" / "caption-fig4_g.nc", engine="netcdf4")
+    for var in ("Z", "Zdot", "X", "x", "t", "wall", "v_minus", "phase", "cycle_v_minus"):
+        assert var in ds and "units" in ds[var].attrs
+    assert ds.attrs["motion"] == "3:1 period-2" and "vibroimpact_version" in ds.attrs
+    table = xr.open_dataset(tmp_path / "results" / "orbits" / "captions.nc", engine="netcdf4")
+    assert bool(table["reproduced"].all())
+    # a second run has nothing to do
+    again = _snakemake(tmp_path, "-n")
+    assert "Nothing to be done" in again.stdout + again.stderr
+
+
+@pytest.mark.parametrize("key, value, words", [
+    (("physics", "r"), 1.5, ["1.5", "r"]),
+    (("quality",), "best", ["best", "draft", "paper"]),
+    (("captions", "fig4_a", "beta"), 3.0, ["3.0", "beta"]),
+])
+def test_bad_config_fails_before_any_job(tmp_path, key, value, words):
+    cfg = _copy_workflow(tmp_path)
+    node = cfg
+    for k in key[:-1]:
+        node = node[k]
+    node[key[-1]] = value
+    (tmp_path / "config" / "config.yaml").write_text(yaml.safe_dump(cfg))
+    res = _snakemake(tmp_path, "-n")
+    assert res.returncode != 0
+    out = res.stdout + res.stderr
+    for w in words:
+        assert w in out
+    assert not (tmp_path / "results").exists()
+
+
+def test_unknown_caption_in_a_scene_is_named(tmp_path):
+    cfg = _copy_workflow(tmp_path)
+    cfg["scenes"]["fig4"]["captions"].append("fig9_z")
+    (tmp_path / "config" / "config.yaml").write_text(yaml.safe_dump(cfg))
+    res = _snakemake(tmp_path, "-n")
+    assert res.returncode != 0 and "scenes.fig4.captions" in res.stderr + res.stdout and "fig9_z" in res.stderr + res.stdout

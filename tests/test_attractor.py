@@ -4,10 +4,9 @@ import math
 
 import numpy as np
 import pytest
+from conftest import CAPTIONS, gbar_of
 
 import vibroimpact as vi
-
-from conftest import CAPTIONS, gbar_of
 
 
 def test_slowly_converging_1_1_is_not_mistaken_for_period_doubled():

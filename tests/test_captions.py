@@ -7,14 +7,12 @@ which we attribute to the paper's numerical integration.  The differences are re
 ``results/orbits/captions.nc`` and shown in README.md.
 """
 
-import math
 
 import numpy as np
 import pytest
+from conftest import CAPTIONS, gbar_of
 
 import vibroimpact as vi
-
-from conftest import CAPTIONS, gbar_of
 
 
 def last_digit_unit(x: float) -> float:

@@ -8,7 +8,6 @@ import pytest
 
 import vibroimpact as vi
 from vibroimpact.events import next_impact
-
 from vibroimpact.reference import first_impact, gap, grazing_state
 
 TOL_T = 1e-12

@@ -79,3 +79,13 @@ def test_plastic_impact_sticks_at_once():
     for i in np.flatnonzero((kind == IMPACT) & (ds["wall"].values == 1))[:-1]:
         if math.cos(ds["phase"].values[i]) + p.gbar > 0:
             assert kind[i + 1] == STICK and ds["t"].values[i + 1] == ds["t"].values[i]
+
+
+def test_growing_buffers_do_not_change_the_run(sticky):
+    """A run bounded by t_end grows its buffers in chunks; the events equal a single-buffer run."""
+    chunked = vi.simulate(sticky, 0.3, 0.5, t_end=400.0)
+    n = chunked.sizes["impact"]
+    assert n > 4096  # crossed at least one buffer boundary
+    whole = vi.simulate(sticky, 0.3, 0.5, n_impacts=n + 1)
+    np.testing.assert_array_equal(chunked["t"].values, whole["t"].values[:n])
+    np.testing.assert_array_equal(chunked["kind"].values, whole["kind"].values[:n])

@@ -3,12 +3,12 @@
 Serdukova, Kuske, Yurchenko, "Post-grazing dynamics of a vibro-impacting energy generator".
 """
 
+from . import portraits
 from ._version import __version__
 from .params import Params, PhysicalScales
 from .simulate import Attractor, identify_attractor, simulate, simulate_batch, trajectory
-from . import portraits  # noqa: E402  (after the core API)
 
 __all__ = [
     "__version__", "Params", "PhysicalScales", "simulate", "simulate_batch", "trajectory",
-    "identify_attractor", "Attractor",
+    "identify_attractor", "Attractor", "portraits",
 ]

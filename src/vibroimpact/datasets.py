@@ -52,7 +52,7 @@ def provenance(**config) -> dict:
     """Global attributes: package version, creation time and the configuration that made the data."""
     return {
         "vibroimpact_version": __version__,
-        "created": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
         "config": json.dumps(config, sort_keys=True, default=_jsonable),
     }
 

@@ -187,7 +187,7 @@ def gap_dd(tau, theta, z0_minus_wall, u, gbar):
     q = f_h / PI2_HI
     ph, pl = dd_mul(q, 0.0, PI2_HI, PI2_LO)
     rh, rl = dd_add(f_h, f_l, -ph, -pl)
-    qh, ql = _quick_two_sum(q, rh / PI2_HI)
+    qh, ql = _quick_two_sum(q, (rh + rl) / PI2_HI)
     ut_h, ut_l = _two_prod(u, tau)
     g_h, g_l = _two_prod(gbar, tau)
     g_h, g_l = dd_mul(g_h, g_l, 0.5 * tau, 0.0)

@@ -30,6 +30,8 @@ STICK = 2
 RELEASE = 3
 START = 4
 KIND_NAMES = ("impact", "grazing", "stick", "release", "start")
+RESUME = -1  # resume after a recorded event that needs no further action
+RESUME_IMPACT = -2  # resume right after a recorded impact or grazing contact
 
 # run status
 FULL = 0  # the requested number of events was recorded
@@ -106,15 +108,25 @@ def _no_shorter_period(i, p, vm, phase, tol):
 
 
 @njit(cache=True)
+def _accumulation_time(theta, u, w, gbar, r, v_chatter):
+    """Time to the accumulation point of a chattering sequence after an impact on wall ``w`` with
+    rebound velocity ``u``, or -1 when the rule does not apply (see the module docstring)."""
+    a_in = w * (math.cos(theta) + gbar)
+    if a_in > 0.0 and abs(u) < v_chatter:
+        return 2.0 * abs(u) / ((1.0 - r) * a_in)
+    return -1.0
+
+
+@njit(cache=True)
 def run(d, gbar, r, t_start, theta_start, z_start, v_start, kind_start, wall_start,
         i0, t_end, v_chatter, detect, tol, counts,
         out_t, out_wall, out_vm, out_vp, out_phase, out_kind, out_z):
     """Advance from an initial event and record events into ``out_*[i0:]``.
 
     ``kind_start``: IMPACT (a wall impact with pre-impact velocity ``v_start``, recorded),
-    START (in flight at ``z_start`` with velocity ``v_start``, recorded), or -1 to resume from the
-    post-event state of an event already recorded at ``i0 - 1`` (``v_start`` is then Zdot+ and
-    ``wall_start`` the wall the ball rests on when that event is a stick).
+    START (in flight at ``z_start`` with velocity ``v_start``, recorded), or one of RESUME,
+    RESUME_IMPACT, STICK to resume from the post-event state of an event already recorded at
+    ``i0 - 1`` (``v_start`` is then Zdot+ and ``wall_start`` its wall).
 
     Returns ``(n, status, lag)``: events recorded up to index ``n``, the run status and, when
     ``detect``, the detected period in events (0 if none).
@@ -141,6 +153,17 @@ def run(d, gbar, r, t_start, theta_start, z_start, v_start, kind_start, wall_sta
     elif kind_start == STICK:
         stuck = wall_start
         u = 0.0
+    elif kind_start == RESUME_IMPACT:
+        # resuming right after a recorded impact: apply the chattering rule it would have had
+        tau_inf = _accumulation_time(theta, u, wall_start, gbar, r, v_chatter)
+        if tau_inf >= 0.0:
+            if t + tau_inf > t_end:
+                return i, T_END, lag
+            t += tau_inf
+            theta = (theta + PI * tau_inf) % TWO_PI
+            stuck = wall_start
+            u = 0.0
+            pending = STICK
     while True:
         if pending >= 0:
             if i >= cap:
@@ -173,10 +196,8 @@ def run(d, gbar, r, t_start, theta_start, z_start, v_start, kind_start, wall_sta
                 return i, PERIODIC, lag
             if pending == IMPACT:
                 u = vp
-                a_in = w * (math.cos(theta) + gbar)
-                if a_in > 0.0 and abs(u) < v_chatter:
-                    # chattering: jump to the accumulation point and stick
-                    tau_inf = 2.0 * abs(u) / ((1.0 - r) * a_in)
+                tau_inf = _accumulation_time(theta, u, w, gbar, r, v_chatter)
+                if tau_inf >= 0.0:
                     if t + tau_inf > t_end:
                         return i, T_END, lag
                     t += tau_inf

@@ -74,7 +74,7 @@ class Params:
         omega: float = 5 * math.pi,
         r: float = 0.5,
         g: float = 9.8,
-    ) -> "Params":
+    ) -> Params:
         """Build parameters from the device: length ``s`` (m), incline ``beta`` (rad), cylinder
         mass ``M`` (kg), forcing amplitude ``F`` (N), angular frequency ``omega`` (rad/s),
         restitution ``r`` and gravity ``g`` (m/s^2).

@@ -9,7 +9,7 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
 BOTTOM = "tab:blue"
 TOP = "tab:green"
@@ -77,7 +77,7 @@ def fig0b(datasets):
     """Time series of 1:1, 2:1 and 3:1 motions."""
     use_style()
     fig, axes = plt.subplots(1, len(datasets), figsize=(3.3 * len(datasets), 2.8), squeeze=False)
-    for ax, ds, panel in zip(axes[0], datasets, "abcdefg"):
+    for ax, ds, panel in zip(axes[0], datasets, "abcdefg", strict=False):
         time_series(ax, ds)
         ax.set_title(_title(ds, panel))
     axes[0, 0].legend(loc="lower left")
@@ -90,7 +90,7 @@ def fig4(datasets):
     n = len(datasets)
     fig, axes = plt.subplots(n, 3, figsize=(10, 2.6 * n), squeeze=False)
     letters = iter("abcdefghijkl")
-    for row, ds in zip(axes, datasets):
+    for row, ds in zip(axes, datasets, strict=True):
         a, b, c = next(letters), next(letters), next(letters)
         phase_portrait(row[0], ds)
         row[0].set_title(_title(ds, a))

@@ -59,7 +59,7 @@ def orbit_dataset(
 def caption_summary(datasets: dict[str, xr.Dataset], expected: dict[str, str]) -> xr.Dataset:
     """One row per caption orbit: stated and found motion, and how far the caption lies from the attractor."""
     names = list(datasets)
-    get = lambda key: [datasets[n].attrs.get(key, np.nan) for n in names]  # noqa: E731
+    get = lambda key: [datasets[n].attrs.get(key, np.nan) for n in names]
     out = xr.Dataset(
         {
             "d": ("caption", get("d")),
@@ -75,7 +75,7 @@ def caption_summary(datasets: dict[str, xr.Dataset], expected: dict[str, str]) -
         },
         coords={"caption": names},
     )
-    out["reproduced"] = ("caption", [f.startswith(s + " ") for s, f in zip(out.motion_stated.values, out.motion_found.values)])
+    out["reproduced"] = ("caption", [f.startswith(s + " ") for s, f in zip(out.motion_stated.values, out.motion_found.values, strict=True)])
     for var, (u, ln) in {
         "motion_stated": ("1", "motion stated in the caption (n:m)"),
         "motion_found": ("1", "attractor found by exact simulation"),

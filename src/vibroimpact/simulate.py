@@ -136,9 +136,9 @@ def simulate(
         bufs = tuple(np.concatenate([b, np.zeros(new_cap - cap, b.dtype)]) for b in bufs)
         cap = new_cap
         j = n - 1
-        kind_j = bufs[5][j]
+        resume = {K.STICK: K.STICK, K.IMPACT: K.RESUME_IMPACT, K.GRAZING: K.RESUME_IMPACT}.get(int(bufs[5][j]), K.RESUME)
         n, status, lag = K.run(params.d, params.gbar, params.r, bufs[0][j], bufs[4][j], bufs[6][j],
-                               bufs[3][j], K.STICK if kind_j == K.STICK else -1, bufs[1][j],
+                               bufs[3][j], resume, bufs[1][j],
                                n, t_end, v_chatter, stop_when_periodic, tol, counts, *bufs)
     if status == K.STUCK_FOREVER:
         warnings.warn(
@@ -157,8 +157,8 @@ def simulate(
 
 
 def _alloc(n):
-    f = lambda: np.zeros(n, dtype=np.float64)  # noqa: E731
-    i = lambda: np.zeros(n, dtype=np.int8)  # noqa: E731
+    f = lambda: np.zeros(n, dtype=np.float64)
+    i = lambda: np.zeros(n, dtype=np.int8)
     return (f(), i(), f(), f(), f(), i(), f())
 
 
@@ -316,7 +316,6 @@ def identify_attractor(ds: xr.Dataset, tol: float = 1e-9, max_period_events: int
     """Decide from a run after how long the motion is periodic, and which motion it is."""
     if "run" in ds.dims:
         raise ValueError("identify_attractor takes one run; select one with ds.isel(run=k)")
-    n = int(ds.sizes["impact"])
     i, p = _detect(ds["t"].values, ds["wall"].values, ds["v_minus"].values, ds["phase"].values,
                    ds["kind"].values, float(tol), int(max_period_events))
     if p == 0:
@@ -336,6 +335,5 @@ def identify_attractor(ds: xr.Dataset, tol: float = 1e-9, max_period_events: int
         label = f"{nb}:{nt} over {k} forcing periods"
     if sticking:
         label += " with sticking"
-    _ = n
     return Attractor(periodic=True, period=k, events=p, n_bottom=nb, n_top=nt, sticking=sticking,
                      label=label, t_settled=float(ds["t"][first]), t_identified=float(ds["t"][i]), cycle=cyc)

@@ -7,7 +7,7 @@ from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.portraits import caption_summary, summary_markdown
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
-sets = {n: xr.load_dataset(f, engine="netcdf4") for n, f in zip(snakemake.params.names, snakemake.input)}
+sets = {n: xr.load_dataset(f, engine="netcdf4") for n, f in zip(snakemake.params.names, snakemake.input, strict=True)}
 table = caption_summary(sets, snakemake.params.stated)
 table.attrs.update(provenance(stated=snakemake.params.stated))
 write_netcdf(table, snakemake.output.nc)

@@ -1,0 +1,271 @@
+"""Pseudo-arclength continuation of periodic orbits in d, with stability, critical and grazing points.
+
+Both physical parameterisations of the paper keep ``gbar`` affine in ``d``:
+
+* ``vary="s"`` (cylinder length at fixed force): ``d`` changes, ``gbar`` is fixed;
+* ``vary="F"`` (force at fixed length): ``d = s M omega^2 / (F pi^2)`` and ``gbar = M g sin(beta) / F``
+  both scale with ``1/F``, so ``gbar = (gbar_0 / d_0) d``;
+* ``vary="d"``: non-dimensional ``d`` at fixed ``gbar`` (same as "s", without physical units).
+
+So the branch is continued in ``(z, d)`` with ``gbar(d) = g0 + g1 d``.  Critical points are zeros of
+test functions along the branch, refined by Brent's method on the arclength between two branch
+points with a pseudo-arclength corrector (so folds in d are no obstacle):
+
+* ``B``: period doubling, an eigenvalue -1: ``det(I + DP) = 1 + Tr + Det``;
+* ``fold``: an eigenvalue +1: ``det(I - DP) = 1 - Tr + Det``;
+* ``A``: node <-> focus: ``Delta = Tr^2 - 4 Det``;
+* ``NS``: complex pair on the unit circle: ``Det - 1`` where ``Delta < 0``;
+* ``grazing``: the orbit's clearance (interior tangency with a wall, or an impact speed reaching 0).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+from scipy.optimize import brentq
+
+from .datasets import annotate
+from .orbits import Orbit, OrbitError, _residual_and_jacobian, orbit_from_vector, parse_word
+from .params import Params
+
+__all__ = ["continue_orbit", "branch_parameters"]
+
+TESTS = ("B", "fold", "A", "NS", "grazing")
+
+
+def branch_parameters(orbit: Orbit, vary: str):
+    """``(g0, g1, to_physical)``: ``gbar = g0 + g1 d`` and a function d -> dict of physical values."""
+    p = orbit.params
+    phys = p.physical
+    if vary in ("s", "F") and not phys:
+        raise ValueError(f"vary = {vary!r} needs physical parameters: build the orbit's Params with Params.from_physical")
+    if vary in ("d", "s"):
+        g0, g1 = p.gbar, 0.0
+    elif vary == "F":
+        g0, g1 = 0.0, p.gbar / p.d
+    else:
+        raise ValueError(f"vary = {vary!r}; allowed: 's' (length at fixed force), 'F' (force at fixed length), 'd'")
+
+    def to_physical(d):
+        if not phys:
+            return {}
+        k = phys["M"] * phys["omega"] ** 2 / math.pi**2  # d = k s / F
+        if vary == "F":
+            F = k * phys["s"] / d
+            return dict(s=phys["s"], F=F)
+        return dict(s=d * phys["F"] / k, F=phys["F"])
+
+    return g0, g1, to_physical
+
+
+def _augmented(Y, walls, r, k, g0, g1):
+    """Residual F(z, d) and its Jacobian [F_z | F_d] (2N+1 x 2N+2)."""
+    n = walls.shape[0]
+    z, d = Y[:-1], Y[-1]
+    gbar = g0 + g1 * d
+    F, Jz = _residual_and_jacobian(z, walls, d, gbar, r, k)
+    Fd = np.zeros(2 * n + 1)
+    tau = z[1:n + 1]
+    for j in range(n):
+        jn = (j + 1) % n
+        Fd[2 * j] = -(walls[jn] - walls[j]) * 0.5 + g1 * 0.5 * tau[j] ** 2
+        Fd[2 * j + 1] = g1 * tau[j]
+    return F, np.column_stack([Jz, Fd])
+
+
+def _tangent(J, prev=None):
+    """Unit null vector of the (m x m+1) Jacobian, oriented along ``prev``."""
+    m = J.shape[0]
+    A = np.vstack([J, prev if prev is not None else np.eye(m + 1)[-1]])
+    b = np.zeros(m + 1)
+    b[-1] = 1.0
+    t = np.linalg.solve(A, b)
+    t /= np.linalg.norm(t)
+    if prev is not None and t @ prev < 0:
+        t = -t
+    return t
+
+
+def _correct(Yp, tangent, walls, r, k, g0, g1, tol=1e-13, max_iter=12):
+    """Newton on F = 0 plus tangent . (Y - Yp) = 0."""
+    Y = Yp.copy()
+    for _ in range(max_iter):
+        F, J = _augmented(Y, walls, r, k, g0, g1)
+        G = np.append(F, tangent @ (Y - Yp))
+        A = np.vstack([J, tangent])
+        step = np.linalg.solve(A, -G)
+        Y += step
+        if np.max(np.abs(step)) < tol * max(1.0, np.max(np.abs(Y))):
+            return Y
+    F, _ = _augmented(Y, walls, r, k, g0, g1)
+    if np.max(np.abs(F)) < 1e-10:
+        return Y
+    raise OrbitError("corrector did not converge")
+
+
+def _orbit_at(Y, template: Orbit, g0, g1):
+    d = float(Y[-1])
+    p = Params(d=d, gbar=g0 + g1 * d, r=template.params.r)
+    return orbit_from_vector(p, template.word, template.k, Y[:-1].copy())
+
+
+def _tests(o: Orbit):
+    tr, det = o.trace, o.det
+    disc = tr * tr - 4 * det
+    return {"B": 1 + tr + det, "fold": 1 - tr + det, "A": disc, "NS": (det - 1) if disc < 0 else math.nan,
+            "grazing": o.clearance}
+
+
+def continue_orbit(
+    orbit: Orbit,
+    *,
+    vary: str = "d",
+    d_range: tuple[float, float],
+    step: float = 1e-3,
+    max_points: int = 100_000,
+    locate: bool = True,
+    xtol: float = 1e-13,
+) -> xr.Dataset:
+    """Follow ``orbit`` in both directions along its branch while ``d`` stays within ``d_range``.
+
+    Parameters
+    ----------
+    orbit : Orbit
+        Starting orbit (from :func:`~vibroimpact.orbits.find_orbit`).
+    vary : {"d", "s", "F"}
+        Parameterisation (module docstring).
+    d_range : (float, float)
+        Interval of d to cover.
+    step : float
+        Arclength step in the ``(z, d)`` space (halved on a failed corrector, down to 1e-9).
+    locate : bool
+        Refine the zeros of the test functions (critical and grazing points) to ``xtol`` in d.
+
+    Returns
+    -------
+    xarray.Dataset
+        Along ``point`` (ordered by arclength): ``d``, ``gbar`` (and ``s``, ``F`` for physical
+        parameterisations), per impact ``v_minus``, ``phase``, ``dt``, ``t``; ``eig_real``,
+        ``eig_imag``, ``eig_abs``, ``trace``, ``det``, ``discriminant``, ``stable``, ``stability``,
+        ``admissible``, ``reason``, ``clearance``.  Along ``critical``: ``critical_kind``,
+        ``critical_d`` (and ``critical_s``, ``critical_F``) and ``critical_admissible``.
+    """
+    lo, hi = sorted(float(x) for x in d_range)
+    if not lo < orbit.params.d < hi:
+        raise ValueError(f"d_range = {d_range!r} must contain the orbit's d = {orbit.params.d!r}")
+    if not step > 0:
+        raise ValueError(f"step = {step!r}; allowed: > 0")
+    walls = parse_word(orbit.word)
+    g0, g1, to_physical = branch_parameters(orbit, vary)
+    r, k = orbit.params.r, orbit.k
+    Y0 = np.append(orbit.z, orbit.params.d)
+    _, J0 = _augmented(Y0, walls, r, k, g0, g1)
+    t0 = _tangent(J0)
+    halves = []
+    for sign in (+1.0, -1.0):
+        Ys = [Y0]
+        t = sign * t0
+        h = step
+        Y = Y0
+        while len(Ys) < max_points:
+            try:
+                Yn = _correct(Y + h * t, t, walls, r, k, g0, g1)
+            except (OrbitError, np.linalg.LinAlgError):
+                h *= 0.5
+                if h < 1e-9:
+                    break
+                continue
+            if np.any(Yn[1:1 + len(walls)] <= 0):  # a flight time reached zero: the word degenerates
+                break
+            _, J = _augmented(Yn, walls, r, k, g0, g1)
+            t = _tangent(J, t)
+            Y = Yn
+            Ys.append(Y)
+            h = min(step, 2 * h)
+            if not lo <= Y[-1] <= hi:
+                break
+        halves.append(Ys)
+    Ys = halves[1][::-1] + halves[0][1:]
+    orbits = [_orbit_at(Y, orbit, g0, g1) for Y in Ys]
+    ds = _branch_dataset(orbits, to_physical, vary)
+    crit = _locate(Ys, orbits, orbit, walls, r, k, g0, g1, xtol) if locate else []
+    # keep only the points inside the range (the last step may overshoot)
+    inside = (ds.d >= lo) & (ds.d <= hi)
+    ds = ds.isel(point=np.flatnonzero(inside.values))
+    crit = [c for c in crit if lo <= c[1] <= hi]
+    ds = ds.assign_coords(critical=np.arange(len(crit)))
+    ds["critical_kind"] = ("critical", np.array([c[0] for c in crit], dtype=object).astype(str))
+    ds["critical_d"] = ("critical", np.array([c[1] for c in crit], dtype=float))
+    ds["critical_admissible"] = ("critical", np.array([c[2] for c in crit], dtype=bool))
+    if to_physical(1.0):
+        for key in ("s", "F"):
+            ds[f"critical_{key}"] = ("critical", np.array([to_physical(c[1])[key] for c in crit], dtype=float))
+    ds.attrs.update(word=orbit.word, k=k, r=r, vary=vary, gbar_intercept=g0, gbar_slope=g1, step=step)
+    return ds
+
+
+def _locate(Ys, orbits, template, walls, r, k, g0, g1, xtol):
+    """Zeros of the test functions between consecutive branch points, refined on the arclength."""
+    vals = [_tests(o) for o in orbits]
+    found = []
+    for i in range(len(Ys) - 1):
+        Ya, Yb = Ys[i], Ys[i + 1]
+        chord = Yb - Ya
+        tan = chord / np.linalg.norm(chord)
+        for name in TESTS:
+            fa, fb = vals[i][name], vals[i + 1][name]
+            if not (np.isfinite(fa) and np.isfinite(fb)) or fa * fb > 0 or fa == fb:
+                continue
+
+            def f(sig, name=name):
+                Y = _correct(Ya + sig * chord, tan, walls, r, k, g0, g1)
+                return _tests(_orbit_at(Y, template, g0, g1))[name]
+
+            try:
+                sig = brentq(f, 0.0, 1.0, xtol=xtol / max(abs(chord[-1]), 1e-300), rtol=4e-16)
+                Y = _correct(Ya + sig * chord, tan, walls, r, k, g0, g1)
+            except (ValueError, OrbitError):
+                continue
+            o = _orbit_at(Y, template, g0, g1)
+            val = _tests(o)[name]
+            if name == "grazing" and abs(val) > 1e-7:
+                continue  # a jump of the clearance (an extremum appearing), not a tangency
+            # admissible on at least one side: the critical point belongs to the physical branch
+            adm = orbits[i].admissible or orbits[i + 1].admissible
+            found.append((name, float(Y[-1]), bool(adm)))
+    return found
+
+
+def _branch_dataset(orbits, to_physical, vary) -> xr.Dataset:
+    n = orbits[0].n
+    d = np.array([o.params.d for o in orbits])
+    ev = np.array([np.sort_complex(o.eigenvalues) for o in orbits])
+    ds = xr.Dataset(
+        {
+            "gbar": ("point", np.array([o.params.gbar for o in orbits])),
+            "v_minus": (("point", "impact"), np.array([o.v_minus for o in orbits])),
+            "phase": (("point", "impact"), np.array([o.phase for o in orbits])),
+            "dt": (("point", "impact"), np.array([o.dt for o in orbits])),
+            "t": (("point", "impact"), np.array([o.t for o in orbits])),
+            "wall": ("impact", orbits[0].walls),
+            "eig_real": (("point", "eig"), ev.real),
+            "eig_imag": (("point", "eig"), ev.imag),
+            "eig_abs": (("point", "eig"), np.abs(ev)),
+            "trace": ("point", np.array([o.trace for o in orbits])),
+            "det": ("point", np.array([o.det for o in orbits])),
+            "discriminant": ("point", np.array([o.discriminant for o in orbits])),
+            "stable": ("point", np.array([o.stable for o in orbits])),
+            "stability": ("point", np.array([o.stability for o in orbits]).astype(str)),
+            "admissible": ("point", np.array([o.admissible for o in orbits])),
+            "reason": ("point", np.array([o.reason for o in orbits]).astype(str)),
+            "clearance": ("point", np.array([o.clearance for o in orbits])),
+        },
+        coords={"point": np.arange(len(orbits)), "impact": np.arange(n), "eig": [0, 1], "d": ("point", d)},
+    )
+    phys = [to_physical(x) for x in d]
+    if phys and phys[0]:
+        ds["s"] = ("point", np.array([p["s"] for p in phys]))
+        ds["F"] = ("point", np.array([p["F"] for p in phys]))
+    return annotate(ds)

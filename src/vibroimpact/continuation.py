@@ -224,14 +224,16 @@ def _locate(Ys, orbits, template, walls, r, k, g0, g1, xtol):
                 return _tests(_orbit_at(Y, template, g0, g1))[name]
 
             try:
-                sig = brentq(f, 0.0, 1.0, xtol=xtol / max(abs(chord[-1]), 1e-300), rtol=4e-16)
+                sig = brentq(f, 0.0, 1.0, xtol=xtol / max(abs(chord[-1]), 1e-300), rtol=1e-15)
                 Y = _correct(Ya + sig * chord, tan, walls, r, k, g0, g1)
             except (ValueError, OrbitError):
                 continue
             o = _orbit_at(Y, template, g0, g1)
             val = _tests(o)[name]
-            if name == "grazing" and abs(val) > 1e-7:
-                continue  # a jump of the clearance (an extremum appearing), not a tangency
+            if abs(val) > 1e-7 * max(1.0, min(abs(fa), abs(fb))):
+                # a jump, not a zero: the clearance when an extremum appears, or a pole of the
+                # Jacobian where an impact velocity passes through zero
+                continue
             # admissible on at least one side: the critical point belongs to the physical branch
             adm = orbits[i].admissible or orbits[i + 1].admissible
             found.append((name, float(Y[-1]), bool(adm)))

@@ -21,7 +21,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .events import next_impact
 from .flight import INV_PI, INV_PI2, PI, TWO_PI, one_minus_cos, sin_minus_x
 from .params import Params
 

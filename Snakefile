@@ -1,6 +1,8 @@
 # vibroimpact: regenerate the paper's figures and this project's own from the code.
 # Usage: snakemake --cores 2            (default target: every figure and dataset)
 #        snakemake --cores 2 bench      (speed and accuracy of the simulator)
+import math
+
 from snakemake.utils import min_version, validate
 
 min_version("8.0")
@@ -15,6 +17,8 @@ validate(config, "config/schema.yaml")
 include: "workflow/rules/common.smk"
 include: "workflow/rules/orbits.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/orbits_branches.smk"
+include: "workflow/rules/branch_figures.smk"
 include: "workflow/rules/bench.smk"
 
 
@@ -23,4 +27,8 @@ rule all:
         "results/orbits/captions.nc",
         "results/tables/captions.md",
         expand("results/figures/{scene}.{ext}", scene=SCENES, ext=["pdf", "png"]),
+        expand("results/figures/{scene}.{ext}", scene=BRANCH_SCENES, ext=["pdf", "png"]),
+        "results/tables/table1.csv",
+        [branch_path("orbit", math.pi / 3, "BT")] if "BT" in WORDS else [],  # 1:1 branch of Fig 0
+        "results/tables/table1.md",
     default_target: True

@@ -180,3 +180,55 @@ def test_period_doubling_B_confirmed_by_simulation():
     below = simulated_cycle(vi.Params(d=d_b - 2e-4, gbar=gbar, r=0.5), start.phi, start.v_minus[0], n=200_000)
     assert above.label == "2:1 period-2"
     assert below.label == "2:1 period-4"
+
+
+def test_simulation_agrees_with_the_branch_wherever_it_is_stable(pi6_2to1):
+    from vibroimpact.continuation import simulate_along
+
+    sims = simulate_along(pi6_2to1, 6)
+    assert sims.sizes["sim"] == 6
+    assert (sims.motion == "2:1 period-2").all()
+    assert float(sims.max_dev.max()) < 1e-9
+
+
+def test_1to1_branch_period_doubles_and_grazes():
+    """beta = pi/3 (Fig 0): the 1:1 motion loses stability by period doubling as d decreases."""
+    from vibroimpact.continuation import branch_from_simulation
+
+    p = vi.Params.from_physical(s=0.40 / 0.6225, beta=math.pi / 3)
+    br = branch_from_simulation(p, "BT", vary="s", d_range=(0.12, 0.45), step=2e-3, phi=0.42, v0=0.87)
+    assert br.attrs["status"] == "ok"
+    (d_b,) = critical(br, "B")
+    assert 0.25 < d_b < 0.4
+    # just below d_B the simulated motion is the period-doubled 1:1
+    i = int(np.argmin(np.abs(br.d.values - (d_b + 1e-3))))
+    q = vi.Params(d=d_b - 1e-3, gbar=p.gbar, r=0.5)
+    assert simulated_cycle(q, float(br.phase[i, 0]), float(br.v_minus[i, 0]), n=200_000).label == "1:1 period-4"
+
+
+def test_failed_start_is_recorded_not_raised():
+    from vibroimpact.continuation import branch_from_simulation
+
+    p = vi.Params.from_physical(s=0.40 / 0.6225, beta=math.pi / 3)
+    br = branch_from_simulation(p, "BBT", vary="s", d_range=(0.12, 0.45), step=2e-3, phi=0.42, v0=0.87)
+    assert br.attrs["status"] == "failed" and "1:1 period-2" in br.attrs["reason"]
+    assert br.sizes["point"] == 0
+
+
+def test_force_parameterisation_moves_d_and_gbar_together():
+    """vary="F" at fixed s = 0.85 (paper Fig 0 (c, d)): d and gbar both scale with 1/F."""
+    p = vi.Params.from_physical(s=0.85, beta=math.pi / 3, F=14.0)
+    att = simulated_cycle(p, 0.42, 0.87)
+    b = att.cycle.where(att.cycle.wall == 1, drop=True)
+    word = "".join("B" if w == 1 else "T" for w in att.cycle.wall.values)
+    o = find_orbit(p, word, float(b.phase[0]), float(b.v_minus[0]))
+    br = continue_orbit(o, vary="F", d_range=(0.6225 * 0.85 * 5 / 22, 0.6225 * 0.85 * 5 / 6), step=2e-3)
+    np.testing.assert_allclose(br.gbar / br.d, p.gbar / p.d, rtol=1e-12)
+    np.testing.assert_allclose(br.F * br.d, 14.0 * p.d, rtol=1e-12)
+    assert np.all(br.s == 0.85)
+    # a point of the branch, re-simulated at its own (d, gbar), is the same orbit
+    ok = np.flatnonzero((br.stable & br.admissible).values)
+    i = int(ok[len(ok) // 3])
+    q = vi.Params(d=float(br.d[i]), gbar=float(br.gbar[i]), r=0.5)
+    cyc = simulated_cycle(q, float(br.phase[i, 0]), float(br.v_minus[i, 0])).cycle
+    assert np.min(np.abs(cyc.v_minus.values - float(br.v_minus[i, 0]))) < 1e-9

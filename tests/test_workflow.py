@@ -31,16 +31,27 @@ def test_workflow_runs_end_to_end_on_a_tiny_config(tmp_path):
     cfg["scenes"] = {"fig0b": {"captions": ["fig0b_a"], "t_show": 2.0},
                      "fig4": {"captions": ["fig4_a", "fig4_g"], "t_show": 2.0}}
     cfg["resolution"]["draft"]["samples_per_unit"] = 50
+    cfg["resolution"]["draft"]["branch_step"] = 4e-3
+    cfg["branches"]["simulated_points"] = 3
+    cfg["branches"]["d_range"] = [0.13, 0.25]
+    cfg["branches"]["words"] = {"BBT": cfg["branches"]["words"]["BBT"]}
+    for scene in ("fig2", "fig3"):
+        cfg["branch_scenes"][scene] = {"word": "BBT", "betas": [1.0471975511965976], "s_ranges": [[0.25, 0.37]]}
     (tmp_path / "config" / "config.yaml").write_text(yaml.safe_dump(cfg))
     res = _snakemake(tmp_path)
     assert res.returncode == 0, res.stderr[-3000:]
-    for stem in ("fig0b", "fig4"):
+    for stem in ("fig0b", "fig4", "fig2", "fig3"):
         for ext in ("pdf", "png"):
             assert (tmp_path / "results" / "figures" / f"{stem}.{ext}").stat().st_size > 1000
     ds = xr.open_dataset(tmp_path / "results" / "orbits" / "caption-fig4_g.nc", engine="netcdf4")
     for var in ("Z", "Zdot", "X", "x", "t", "wall", "v_minus", "phase", "cycle_v_minus"):
         assert var in ds and "units" in ds[var].attrs
     assert ds.attrs["motion"] == "3:1 period-2" and "vibroimpact_version" in ds.attrs
+    br = xr.open_dataset(tmp_path / "results" / "branches" / "beta-1.0472_r-0.5000" / "orbit-BBT_vary-s.nc", engine="netcdf4")
+    for var in ("v_minus", "phase", "dt", "eig_real", "trace", "det", "discriminant", "stable", "admissible", "critical_d"):
+        assert var in br
+    assert "B" in br.critical_kind.values
+    assert "d_B" in (tmp_path / "results" / "tables" / "table1.csv").read_text()
     table = xr.open_dataset(tmp_path / "results" / "orbits" / "captions.nc", engine="netcdf4")
     assert bool(table["reproduced"].all())
     # a second run has nothing to do

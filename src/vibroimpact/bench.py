@@ -123,4 +123,31 @@ def report(ds: xr.Dataset) -> str:
         f"| exact simulator (parallel batch, 2 cores) | {v['exact_batch_us_per_impact']:.3g} µs | | |\n"
         f"| solve_ivp DOP853, rtol 1e-12, terminal events | {v['ivp_us_per_impact']:.4g} µs | {v['ivp_max_err_t']:.1e} | {v['ivp_median_err_t']:.1e} |\n"
         f"\nSpeed-up per impact: **{v['speedup']:.0f}×** ({int(v['n_flights_checked'])} flights checked against a 40-digit reference).\n"
+        + (f"\nContinuation of the β = π/3 2:1 branch: {int(v['branch_points'])} points with eigenvalues, stability class, "
+           f"admissibility and {int(v['branch_critical_points'])} located critical points in {v['branch_seconds']:.2f} s.\n"
+           if "branch_points" in v else "")
+    )
+
+
+def branch_benchmark(n_points: int = 1000) -> xr.Dataset:
+    """Time a continuation of the beta = pi/3 2:1 branch with about ``n_points`` points, stability
+    classification, admissibility and located critical points included."""
+    from .continuation import continue_orbit
+    from .orbits import find_orbit
+
+    p = Params.from_physical(s=0.184 / 0.6225, beta=math.pi / 3)
+    orbit = find_orbit(p, "BBT", 1.21, 0.2164)
+    continue_orbit(orbit, vary="s", d_range=(0.15, 0.23), step=1e-2)  # warm up the compiled parts
+    # the arclength of this branch over 0.15 < d < 0.23 is about 1.2 in (z, d): choose the step
+    trial = continue_orbit(orbit, vary="s", d_range=(0.15, 0.23), step=1e-2, locate=False)
+    step = 1e-2 * trial.sizes["point"] / n_points
+    t = time.perf_counter()
+    br = continue_orbit(orbit, vary="s", d_range=(0.15, 0.23), step=step)
+    el = time.perf_counter() - t
+    return xr.Dataset(
+        {
+            "branch_points": ((), br.sizes["point"], dict(units="1", long_name="points on the branch")),
+            "branch_seconds": ((), el, dict(units="s", long_name="continuation with stability, admissibility and critical points")),
+            "branch_critical_points": ((), br.sizes["critical"], dict(units="1", long_name="located critical and grazing points")),
+        }
     )

@@ -27,10 +27,10 @@ import xarray as xr
 from scipy.optimize import brentq
 
 from .datasets import annotate
-from .orbits import Orbit, OrbitError, _residual_and_jacobian, orbit_from_vector, parse_word
+from .orbits import Orbit, OrbitError, _residual_and_jacobian, find_orbit, orbit_from_vector, parse_word
 from .params import Params
 
-__all__ = ["continue_orbit", "branch_parameters"]
+__all__ = ["branch_from_simulation", "branch_parameters", "continue_orbit", "simulate_along"]
 
 TESTS = ("B", "fold", "A", "NS", "grazing")
 
@@ -219,7 +219,7 @@ def _locate(Ys, orbits, template, walls, r, k, g0, g1, xtol):
             if not (np.isfinite(fa) and np.isfinite(fb)) or fa * fb > 0 or fa == fb:
                 continue
 
-            def f(sig, name=name):
+            def f(sig, name=name, Ya=Ya, chord=chord, tan=tan):
                 Y = _correct(Ya + sig * chord, tan, walls, r, k, g0, g1)
                 return _tests(_orbit_at(Y, template, g0, g1))[name]
 
@@ -270,4 +270,78 @@ def _branch_dataset(orbits, to_physical, vary) -> xr.Dataset:
     if phys and phys[0]:
         ds["s"] = ("point", np.array([p["s"] for p in phys]))
         ds["F"] = ("point", np.array([p["F"] for p in phys]))
+    return annotate(ds)
+
+
+def branch_from_simulation(params: Params, word: str, *, k: int = 1, vary: str, d_range, step: float,
+                           phi: float = 1.0, v0: float = 0.2, n_impacts: int = 100_000) -> xr.Dataset:
+    """Find the orbit ``word`` as the simulated attractor at ``params`` and continue it over ``d_range``.
+
+    A failure (the attractor there is another motion, or Newton fails) gives an empty branch whose
+    ``status`` attribute is ``"failed"`` and ``reason`` says why: recorded, not dropped.
+    """
+    from .simulate import identify_attractor, simulate
+
+    try:
+        att = identify_attractor(simulate(params, phi, v0, n_impacts=n_impacts, stop_when_periodic=True))
+        if not att.periodic:
+            raise OrbitError(f"the simulated motion at d={params.d:.6g} is not periodic: no start for {word!r}")
+        seen = "".join("B" if w == 1 else "T" for w in att.cycle.wall.values)
+        if len(seen) != len(word) or seen not in word + word:
+            raise OrbitError(f"the attractor at d={params.d:.6g} is {att.label} ({seen}), not {word!r}")
+        bottom = att.cycle.where(att.cycle.wall == 1, drop=True)
+        orbit = find_orbit(params, word, float(bottom.phase[0]), float(bottom.v_minus[0]), k=k)
+        ds = continue_orbit(orbit, vary=vary, d_range=d_range, step=step)
+        ds.attrs.update(status="ok", reason="")
+    except OrbitError as err:
+        ds = xr.Dataset(coords={"point": np.arange(0)})
+        ds.attrs.update(status="failed", reason=str(err), word=word, k=k, vary=vary)
+    return ds
+
+
+def simulate_along(branch: xr.Dataset, n: int, *, tol: float = 1e-11, n_impacts: int = 200_000) -> xr.Dataset:
+    """Simulated attractors at ``n`` values of d spread over the stable, admissible part of a branch.
+
+    Each run starts on the analytic orbit at that d; the attractor's impacts, rotated to the word's
+    order, are compared with the analytic ones (``max_dev``).  These are the figures' open circles and
+    the evidence that branch and simulation agree where the orbit is stable.
+    """
+    from .simulate import identify_attractor, simulate
+
+    ok = np.flatnonzero((branch.stable & branch.admissible).values) if branch.sizes["point"] else np.array([], int)
+    word, k = branch.attrs["word"], int(branch.attrs["k"])
+    rows = []
+    if ok.size:
+        d_vals = np.linspace(branch.d.values[ok].min(), branch.d.values[ok].max(), n + 2)[1:-1]
+        g0, g1 = branch.attrs["gbar_intercept"], branch.attrs["gbar_slope"]
+        for d in d_vals:
+            i = ok[np.argmin(np.abs(branch.d.values[ok] - d))]
+            p = Params(d=float(d), gbar=g0 + g1 * float(d), r=float(branch.attrs["r"]))
+            try:
+                o = find_orbit(p, word, float(branch.phase[i, 0]), float(branch.v_minus[i, 0]), k=k)
+            except OrbitError:
+                continue
+            att = identify_attractor(simulate(p, o.phi, o.v_minus[0], n_impacts=n_impacts, stop_when_periodic=True, tol=tol), tol=tol)
+            if not att.periodic or att.events != o.n:
+                rows.append((d, att.label, np.full(o.n, np.nan), np.full(o.n, np.nan), np.full(o.n, np.nan), np.nan))
+                continue
+            v = att.cycle.v_minus.values
+            shift = int(np.argmin([np.max(np.abs(np.roll(v, -s) - o.v_minus)) for s in range(o.n)]))
+            v, ph, dt = (np.roll(att.cycle[x].values, -shift) for x in ("v_minus", "phase", "dt"))
+            dt = np.roll(np.diff(np.append(np.roll(att.cycle.t.values, -shift), np.roll(att.cycle.t.values, -shift)[0] + 2 * k)), 1)
+            dev = max(np.max(np.abs(v - o.v_minus)), np.max(np.abs((ph - o.phase + np.pi) % (2 * np.pi) - np.pi)))
+            rows.append((d, att.label, v, ph, dt, dev))
+    m = len(word)
+    ds = xr.Dataset(
+        {
+            "v_minus": (("sim", "impact"), np.array([r[2] for r in rows]).reshape(-1, m)),
+            "phase": (("sim", "impact"), np.array([r[3] for r in rows]).reshape(-1, m)),
+            "dt": (("sim", "impact"), np.array([r[4] for r in rows]).reshape(-1, m)),
+            "motion": ("sim", np.array([r[1] for r in rows], dtype=object).astype(str)),
+            "max_dev": ("sim", np.array([r[5] for r in rows], dtype=float),
+                        {"units": "1", "long_name": "largest difference |simulated - analytic| of Zdot- and phase"}),
+        },
+        coords={"sim": np.arange(len(rows)), "d": ("sim", np.array([r[0] for r in rows], dtype=float))},
+    )
+    ds.attrs.update(word=word, k=k, tol=tol)
     return annotate(ds)

@@ -19,6 +19,9 @@ for _scene, _spec in config["scenes"].items():
 
 wildcard_constraints:
     name="|".join(CAPTIONS),
+    word="[BT]+",
+    beta=r"[0-9.]+",
+    r=r"[0-9.]+",
     scene="|".join(SCENES),
 
 
@@ -42,3 +45,45 @@ def caption_params(name):
         if any(name in s["captions"] for s in config["scenes"].values())
         else 4.0,
     )
+
+
+# ---- branches ----------------------------------------------------------------------------------
+BRANCH_SCENES = config["branch_scenes"]
+WORDS = config["branches"]["words"]
+
+
+def fmt(x):
+    """Path form of a parameter value (4 decimals), e.g. beta-0.5236."""
+    return f"{x:.4f}"
+
+
+def beta_value(key):
+    """Exact beta (rad) for its path form, from the betas the config uses."""
+    betas = {fmt(b) for s in BRANCH_SCENES.values() for b in s["betas"]}
+    betas |= {fmt(s["grazing"]["beta"]) for s in BRANCH_SCENES.values() if "grazing" in s}
+    for s in BRANCH_SCENES.values():
+        for b in s["betas"] + ([s["grazing"]["beta"]] if "grazing" in s else []) + [math.pi / 3]:
+            if fmt(b) == key:
+                return b
+    raise ValueError(f"beta {key} is not among the configured betas {sorted(betas)}")
+
+
+def branch_path(kind, beta, word):
+    r = fmt(config["physics"]["r"])
+    return f"results/branches/beta-{fmt(beta)}_r-{r}/{kind}-{word}_vary-s.nc"
+
+
+def scene_branch_files(scene, kind="orbit"):
+    s = BRANCH_SCENES[scene]
+    files = [branch_path(kind, b, s["word"]) for b in s["betas"]]
+    if "grazing" in s:
+        files.append(branch_path(kind, s["grazing"]["beta"], s["grazing"]["word"]))
+    return files
+
+
+for _scene, _spec in BRANCH_SCENES.items():
+    if len(_spec["betas"]) != len(_spec["s_ranges"]):
+        _fail(f"branch_scenes.{_scene}.s_ranges", _spec["s_ranges"], "one [s_min, s_max] per beta")
+    for _w in [_spec["word"]] + ([_spec["grazing"]["word"]] if "grazing" in _spec else []):
+        if _w not in WORDS:
+            _fail(f"branch_scenes.{_scene}.word", _w, f"a word defined under branches.words: {sorted(WORDS)}")

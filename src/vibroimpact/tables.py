@@ -1,0 +1,88 @@
+"""Tables built from branch datasets (paper Table 1)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from .paper import paper_stable
+
+
+def stable_interval(branch: xr.Dataset):
+    """Longest run of stable, admissible points: (d_lo, d_hi, cause_lo, cause_hi), each end snapped
+    to the located critical point (B, fold, grazing, NS) nearest to it."""
+    if branch.attrs.get("status") == "failed" or not branch.sizes.get("point", 0):
+        return math.nan, math.nan, "", ""
+    ok = (branch.stable & branch.admissible).values
+    if not ok.any():
+        return math.nan, math.nan, "", ""
+    # longest contiguous run along the branch
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], ok.astype(int), [0]])))
+    runs = edges.reshape(-1, 2)
+    a, b = runs[np.argmax(runs[:, 1] - runs[:, 0])]
+    d = branch.d.values[a:b]
+    lo, hi = float(d.min()), float(d.max())
+    kinds = branch.critical_kind.values
+    crit = branch.critical_d.values
+    ends = []
+    for x in (lo, hi):
+        mask = np.isin(kinds, ["B", "fold", "grazing", "NS"])
+        if mask.any():
+            j = np.argmin(np.abs(crit[mask] - x))
+            if abs(crit[mask][j] - x) < 5 * float(branch.attrs.get("step", 1e-3)):
+                ends.append((float(crit[mask][j]), str(kinds[mask][j])))
+                continue
+        ends.append((x, "end of range"))
+    return ends[0][0], ends[1][0], ends[0][1], ends[1][1]
+
+
+def table1(branches: list[xr.Dataset]) -> pd.DataFrame:
+    """One row per incline: the stable interval with its causes, the period-doubling point B, the
+    node/focus points A_i inside it and the fold, next to the paper's stable interval."""
+    rows = []
+    for br in branches:
+        beta = float(br.attrs["beta"])
+        row = {"beta": beta, "beta_deg": round(math.degrees(beta), 6)}
+        if br.attrs.get("status") == "failed":
+            row["note"] = br.attrs["reason"]
+            rows.append(row)
+            continue
+        lo, hi, clo, chi = stable_interval(br)
+        kinds, crit = br.critical_kind.values, br.critical_d.values
+        a_pts = np.sort(crit[(kinds == "A") & (crit > lo) & (crit < hi)])
+        row.update(stable_from=lo, stable_to=hi, lower_cause=clo, upper_cause=chi,
+                   d_B=float(np.max(crit[kinds == "B"])) if (kinds == "B").any() else np.nan,
+                   d_A=", ".join(f"{x:.6f}" for x in a_pts),
+                   d_fold=float(np.max(crit[kinds == "fold"])) if (kinds == "fold").any() else np.nan)
+        paper = paper_stable(beta)
+        row.update(paper_from=paper[0] if paper else np.nan, paper_to=paper[1] if paper else np.nan)
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def table1_markdown(df: pd.DataFrame) -> str:
+    lines = ["| β | 2:1 stable for d in | ends by | paper | d_B (λ = −1) | A points (node ↔ focus) | fold |",
+             "|---|---|---|---|---|---|---|"]
+    names = {90.0: "π/2", 60.0: "π/3", 45.0: "π/4", 30.0: "π/6"}
+    for _, r in df.iterrows():
+        name = names.get(round(r.beta_deg, 6), f"{r.beta:.4f}")
+        lines.append(
+            f"| {name} | ({r.stable_from:.6f}, {r.stable_to:.6f}) | {r.lower_cause} / {r.upper_cause} | "
+            f"({r.paper_from:g}, {r.paper_to:g}) | {r.d_B:.6f} | {r.d_A} | {r.d_fold:.6f} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def grazing_lines(branches: list[xr.Dataset], scene: dict) -> dict:
+    """G1 (grazing of the scene's branch at the graze incline) and G2 (fold of the other word's
+    branch, e.g. 3:1): the ends of the bistable interval (paper Fig 2 (j)-(l), Fig BiS)."""
+    n = len(scene["betas"])
+    beta = scene["grazing"]["beta"]
+    main = next(b for b in branches[:n] if abs(float(b.attrs["beta"]) - beta) < 1e-9)
+    other = branches[n]
+    lo, hi, *_ = stable_interval(other)
+    g1 = stable_interval(main)[0]
+    return {"beta": beta, "G1": g1, "G2": hi}

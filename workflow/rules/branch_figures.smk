@@ -1,0 +1,37 @@
+# Figures of the analytic branches with simulated points (paper Figs 2 and 3).
+
+
+rule fig2:
+    input:
+        branches=scene_branch_files("fig2"),
+        sims=scene_branch_files("fig2", kind="sim"),
+    output:
+        pdf="results/figures/fig2.pdf",
+        png="results/figures/fig2.png",
+    params:
+        scene=BRANCH_SCENES["fig2"],
+        k_s=config["physics"]["M"] * config["physics"]["omega"] ** 2 / (config["physics"]["F"] * math.pi**2),
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/figures/fig2.log",
+    script:
+        "../scripts/branch_figure.py"
+
+
+rule fig3:
+    input:
+        branches=scene_branch_files("fig3"),
+        sims=scene_branch_files("fig3", kind="sim"),
+    output:
+        pdf="results/figures/fig3.pdf",
+        png="results/figures/fig3.png",
+    params:
+        scene=BRANCH_SCENES["fig3"],
+        k_s=config["physics"]["M"] * config["physics"]["omega"] ** 2 / (config["physics"]["F"] * math.pi**2),
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/figures/fig3.log",
+    script:
+        "../scripts/branch_figure.py"

@@ -1,0 +1,55 @@
+# Analytic branches of periodic orbits with stability and located critical/grazing points.
+
+
+rule branch:
+    output:
+        "results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-s.nc",
+    params:
+        beta=lambda wc: beta_value(wc.beta),
+        physics=config["physics"],
+        word=lambda wc: wc.word,
+        spec=lambda wc: WORDS[wc.word],
+        d_range=config["branches"]["d_range"],
+        step=RESOLUTION["branch_step"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/branches/beta-{beta}_r-{r}/orbit-{word}.log",
+    benchmark:
+        "benchmarks/branches/beta-{beta}_r-{r}/orbit-{word}.tsv"
+    script:
+        "../scripts/branch.py"
+
+
+rule branch_simulated:
+    input:
+        "results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-s.nc",
+    output:
+        "results/branches/beta-{beta}_r-{r}/sim-{word}_vary-s.nc",
+    params:
+        n=config["branches"]["simulated_points"],
+        tol=config["attractor"]["tol"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/branches/beta-{beta}_r-{r}/sim-{word}.log",
+    benchmark:
+        "benchmarks/branches/beta-{beta}_r-{r}/sim-{word}.tsv"
+    script:
+        "../scripts/branch_simulated.py"
+
+
+rule table1:
+    input:
+        lambda wc: scene_branch_files("fig3"),
+    output:
+        csv="results/tables/table1.csv",
+        md="results/tables/table1.md",
+    params:
+        betas=BRANCH_SCENES["fig3"]["betas"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/tables/table1.log",
+    script:
+        "../scripts/table1.py"

@@ -1,0 +1,21 @@
+"""Draw a branch figure (Fig 2 or Fig 3) from the saved branch datasets."""
+import logging
+
+import xarray as xr
+
+from vibroimpact import plotting
+from vibroimpact.tables import grazing_lines
+
+logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+scene, k_s = snakemake.params.scene, snakemake.params.k_s
+n = len(scene["betas"])
+branches = [xr.load_dataset(f, engine="netcdf4") for f in snakemake.input.branches]
+sims = [xr.load_dataset(f, engine="netcdf4") for f in snakemake.input.sims]
+d_ranges = [(lo * k_s, hi * k_s) for lo, hi in scene["s_ranges"]]
+name = snakemake.rule
+if name == "fig2":
+    grazing = grazing_lines(branches, scene) if "grazing" in scene else None
+    fig = plotting.fig2(branches[:n], sims[:n], d_ranges, grazing)
+else:
+    fig = plotting.fig3(branches[:n], d_ranges)
+plotting.save(fig, snakemake.output.pdf.removesuffix(".pdf"))

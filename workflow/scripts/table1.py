@@ -1,0 +1,13 @@
+"""Table 1: stability intervals and critical points of the 2:1 branches, per incline."""
+import logging
+
+import xarray as xr
+
+from vibroimpact.tables import table1, table1_markdown
+
+logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+branches = [xr.load_dataset(f, engine="netcdf4") for f in snakemake.input[: len(snakemake.params.betas)]]
+df = table1(branches)
+df.to_csv(snakemake.output.csv, index=False)
+with open(snakemake.output.md, "w") as fh:
+    fh.write(table1_markdown(df))

@@ -153,18 +153,22 @@ def run(d, gbar, r, t_start, theta_start, z_start, v_start, kind_start, wall_sta
     elif kind_start == STICK:
         stuck = wall_start
         u = 0.0
-    elif kind_start == RESUME_IMPACT:
-        # resuming right after a recorded impact: apply the chattering rule it would have had
-        tau_inf = _accumulation_time(theta, u, wall_start, gbar, r, v_chatter)
-        if tau_inf >= 0.0:
-            if t + tau_inf > t_end:
-                return i, T_END, lag
-            t += tau_inf
-            theta = (theta + PI * tau_inf) % TWO_PI
-            stuck = wall_start
-            u = 0.0
-            pending = STICK
+    chatter_wall = 0  # wall of an impact just recorded: the chattering rule is checked there
+    if kind_start == RESUME_IMPACT:
+        chatter_wall = wall_start
     while True:
+        if chatter_wall != 0:
+            tau_inf = _accumulation_time(theta, u, chatter_wall, gbar, r, v_chatter)
+            if tau_inf >= 0.0:
+                # chattering: jump to the accumulation point and stick
+                if t + tau_inf > t_end:
+                    return i, T_END, lag
+                t += tau_inf
+                theta = (theta + PI * tau_inf) % TWO_PI
+                stuck = chatter_wall
+                u = 0.0
+                pending = STICK
+            chatter_wall = 0
         if pending >= 0:
             if i >= cap:
                 return i, FULL, lag
@@ -196,17 +200,10 @@ def run(d, gbar, r, t_start, theta_start, z_start, v_start, kind_start, wall_sta
                 return i, PERIODIC, lag
             if pending == IMPACT:
                 u = vp
-                tau_inf = _accumulation_time(theta, u, w, gbar, r, v_chatter)
-                if tau_inf >= 0.0:
-                    if t + tau_inf > t_end:
-                        return i, T_END, lag
-                    t += tau_inf
-                    theta = (theta + PI * tau_inf) % TWO_PI
-                    stuck = w
-                    u = 0.0
-                    pending = STICK
-                    continue
-            elif pending == RELEASE:
+                chatter_wall = w
+                pending = -1
+                continue
+            if pending == RELEASE:
                 stuck = 0
             pending = -1
         if stuck != 0:

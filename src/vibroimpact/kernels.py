@@ -79,8 +79,13 @@ def period_update(i, t, wall, vm, phase, kind, counts, tol):
             ok = k >= 1 and abs(lag - 2.0 * k) <= tol * max(1.0, lag)
         if ok:
             counts[p] += 1
-            if found == 0 and counts[p] >= 2 * p and _no_shorter_period(i, p, vm, phase, tol):
-                found = p
+            if found == 0 and counts[p] >= 2 * p:
+                if _no_shorter_period(i, p, vm, phase, tol):
+                    found = p
+                else:
+                    # a shorter period is still converging: count again from here rather than
+                    # re-checking at every event (the check would keep failing until it matches)
+                    counts[p] = 0
         else:
             counts[p] = 0
     return found
@@ -253,3 +258,73 @@ def run_batch(d, gbar, r, theta0, v0, n_events, t_end, v_chatter, detect, tol, p
         out_n[k] = n
         out_status[k] = status
         out_lag[k] = lag
+
+
+@njit(cache=True)
+def _resume_code(kind):
+    if kind == STICK:
+        return STICK
+    if kind == IMPACT or kind == GRAZING:
+        return RESUME_IMPACT
+    return RESUME
+
+
+@njit(cache=True)
+def run_window(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, cap,
+               win_t, win_wall, win_vm, win_phase, win_kind):
+    """Run from a bottom impact at t = 0 until the motion is periodic, ``t_end`` or ``max_events``,
+    keeping only a sliding buffer of ``cap`` events; copy the last ``len(win_t)`` events out.
+
+    Returns ``(status, lag, n_total, n_window)``.
+    """
+    bt = np.zeros(cap)
+    bw = np.zeros(cap, dtype=np.int8)
+    bvm = np.zeros(cap)
+    bvp = np.zeros(cap)
+    bph = np.zeros(cap)
+    bk = np.zeros(cap, dtype=np.int8)
+    bz = np.zeros(cap)
+    counts = np.zeros(pmax + 1, dtype=np.int64)
+    keep = 3 * pmax + 1
+    n, status, lag = run(d, gbar, r, 0.0, theta0, 0.5 * d, v0, IMPACT, 1, 0, t_end, v_chatter, True, tol,
+                         counts, bt, bw, bvm, bvp, bph, bk, bz)
+    total = n
+    while status == FULL and total < max_events:
+        # slide: keep the last `keep` events (enough for the period test), continue after them
+        shift = n - keep
+        for j in range(keep):
+            bt[j] = bt[j + shift]
+            bw[j] = bw[j + shift]
+            bvm[j] = bvm[j + shift]
+            bvp[j] = bvp[j + shift]
+            bph[j] = bph[j + shift]
+            bk[j] = bk[j + shift]
+            bz[j] = bz[j + shift]
+        last = keep - 1
+        room = min(cap, keep + max_events - total)
+        n, status, lag = run(d, gbar, r, bt[last], bph[last], bz[last], bvp[last], _resume_code(bk[last]),
+                             bw[last], keep, t_end, v_chatter, True, tol, counts,
+                             bt[:room], bw[:room], bvm[:room], bvp[:room], bph[:room], bk[:room], bz[:room])
+        total += n - keep
+    m = min(win_t.shape[0], n)
+    for j in range(m):
+        src = n - m + j
+        win_t[j] = bt[src]
+        win_wall[j] = bw[src]
+        win_vm[j] = bvm[src]
+        win_phase[j] = bph[src]
+        win_kind[j] = bk[src]
+    return status, lag, total, m
+
+
+@njit(cache=True, parallel=True)
+def window_batch(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, cap,
+                 win_t, win_wall, win_vm, win_phase, win_kind, out_status, out_lag, out_total, out_n):
+    """:func:`run_window` for many runs in parallel (numba prange); outputs of shape (m, window)."""
+    for k in prange(d.shape[0]):
+        st, lag, tot, nw = run_window(d[k], gbar[k], r[k], theta0[k], v0[k], max_events, t_end, v_chatter, tol,
+                                      pmax, cap, win_t[k], win_wall[k], win_vm[k], win_phase[k], win_kind[k])
+        out_status[k] = st
+        out_lag[k] = lag
+        out_total[k] = tot
+        out_n[k] = nw

@@ -289,6 +289,26 @@ def _detect(t, wall, vm, phase, kind, tol, pmax):
     return -1, 0
 
 
+def cycle_class(wall, kind, t_span):
+    """``(k, n_bottom, n_top, sticking, label)`` of one cycle of events lasting ``t_span``.
+
+    ``k`` is the period in forcing periods; impacts and grazing contacts count, per wall; the label
+    is the paper's name, e.g. ``"2:1 period-2"``, ``"1:1 period-4"``, with ``" with sticking"``.
+    """
+    k = int(round(t_span / 2.0))
+    is_hit = (kind == K.IMPACT) | (kind == K.GRAZING)
+    nb = int(((wall == 1) & is_hit).sum())
+    nt = int(((wall == -1) & is_hit).sum())
+    sticking = bool((kind == K.STICK).any())
+    if nb % k == 0 and nt % k == 0:
+        label = f"{nb // k}:{nt // k} period-{2 * k}"
+    else:
+        label = f"{nb}:{nt} over {k} forcing periods"
+    if sticking:
+        label += " with sticking"
+    return k, nb, nt, sticking, label
+
+
 @dataclass(frozen=True)
 class Attractor:
     """What a run settled on.
@@ -323,17 +343,7 @@ def identify_attractor(ds: xr.Dataset, tol: float = 1e-9, max_period_events: int
     # settled from the first event of the matched stretch; the cycle is the last full period seen
     first = max(i - 3 * p + 1, 0)
     cyc = ds.isel(impact=slice(i - p + 1, i + 1))
-    k = int(round((float(ds["t"][i]) - float(ds["t"][i - p])) / 2.0))
-    kind = cyc["kind"].values
-    is_hit = (kind == K.IMPACT) | (kind == K.GRAZING)
-    nb = int(((cyc["wall"].values == 1) & is_hit).sum())
-    nt = int(((cyc["wall"].values == -1) & is_hit).sum())
-    sticking = bool((kind == K.STICK).any())
-    if nb % k == 0 and nt % k == 0:
-        label = f"{nb // k}:{nt // k} period-{2 * k}"
-    else:
-        label = f"{nb}:{nt} over {k} forcing periods"
-    if sticking:
-        label += " with sticking"
+    k, nb, nt, sticking, label = cycle_class(cyc["wall"].values, cyc["kind"].values,
+                                             float(ds["t"][i]) - float(ds["t"][i - p]))
     return Attractor(periodic=True, period=k, events=p, n_bottom=nb, n_top=nt, sticking=sticking,
                      label=label, t_settled=float(ds["t"][first]), t_identified=float(ds["t"][i]), cycle=cyc)

@@ -19,6 +19,7 @@ include: "workflow/rules/orbits.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/orbits_branches.smk"
 include: "workflow/rules/branch_figures.smk"
+include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/bench.smk"
 
 
@@ -30,5 +31,11 @@ rule all:
         expand("results/figures/{scene}.{ext}", scene=BRANCH_SCENES, ext=["pdf", "png"]),
         "results/tables/table1.csv",
         [branch_path("orbit", math.pi / 3, "BT")] if "BT" in WORDS else [],  # 1:1 branch of Fig 0
+        [sweep_path(n) for n in SWEEPS],
+        [sweep_path(n, "-transitions") for n in SWEEPS],
+        "results/tables/transitions.md",
+        [basin_path(n) for n in config["basins"]],
+        [map_path(n) for n in config["maps"]],
+        expand("results/figures/{fig}.{ext}", fig=["figBiS", "basins", "regime_map"], ext=["pdf", "png"]),
         "results/tables/table1.md",
     default_target: True

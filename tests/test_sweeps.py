@@ -7,8 +7,14 @@ import pytest
 
 import vibroimpact as vi
 from vibroimpact.orbits import find_orbit
-from vibroimpact.sweeps import (APERIODIC, basins, bistable_intervals, locate_transitions, parameter_grid,
-                                regime_map, sweep)
+from vibroimpact.sweeps import (
+    basins,
+    bistable_intervals,
+    locate_transitions,
+    parameter_grid,
+    regime_map,
+    sweep,
+)
 
 K_S = 0.1245 * (5 * math.pi) ** 2 / (5 * math.pi**2)  # d = K_S s at the paper's force
 G1_ANALYTIC = 0.1376002140  # tests/test_orbits.py: 2:1 grazing point (beta = pi/6)

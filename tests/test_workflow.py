@@ -35,12 +35,16 @@ def test_workflow_runs_end_to_end_on_a_tiny_config(tmp_path):
     cfg["branches"]["simulated_points"] = 3
     cfg["branches"]["d_range"] = [0.13, 0.25]
     cfg["branches"]["words"] = {"BBT": cfg["branches"]["words"]["BBT"]}
+    cfg["resolution"]["draft"].update(sweep_points=12, basin_grid=[6, 4], map_grid=[5, 3])
+    cfg["sweeps"]["scenes"] = {"figBiS": cfg["sweeps"]["scenes"]["figBiS"]}
+    cfg["sweeps"]["locate"].update(xtol=1e-5, max_trials=20)
+    cfg["branches"]["words"]["BBBT"] = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["branches"]["words"]["BBBT"]
     for scene in ("fig2", "fig3"):
         cfg["branch_scenes"][scene] = {"word": "BBT", "betas": [1.0471975511965976], "s_ranges": [[0.25, 0.37]]}
     (tmp_path / "config" / "config.yaml").write_text(yaml.safe_dump(cfg))
     res = _snakemake(tmp_path)
     assert res.returncode == 0, res.stderr[-3000:]
-    for stem in ("fig0b", "fig4", "fig2", "fig3"):
+    for stem in ("fig0b", "fig4", "fig2", "fig3", "figBiS", "basins", "regime_map"):
         for ext in ("pdf", "png"):
             assert (tmp_path / "results" / "figures" / f"{stem}.{ext}").stat().st_size > 1000
     ds = xr.open_dataset(tmp_path / "results" / "orbits" / "caption-fig4_g.nc", engine="netcdf4")
@@ -52,6 +56,10 @@ def test_workflow_runs_end_to_end_on_a_tiny_config(tmp_path):
         assert var in br
     assert "B" in br.critical_kind.values
     assert "d_B" in (tmp_path / "results" / "tables" / "table1.csv").read_text()
+    sw = xr.open_dataset(tmp_path / "results" / "sweeps" / "beta-0.5236_r-0.5000" / "figBiS.nc", engine="netcdf4")
+    assert sw.sizes["point"] == 12 and list(sw.direction.values) == ["up", "down"] and "label" in sw
+    tr = xr.open_dataset(tmp_path / "results" / "sweeps" / "beta-0.5236_r-0.5000" / "figBiS-transitions.nc", engine="netcdf4")
+    assert {"d", "kind", "d_lo", "d_hi"} <= set(tr.variables)
     table = xr.open_dataset(tmp_path / "results" / "orbits" / "captions.nc", engine="netcdf4")
     assert bool(table["reproduced"].all())
     # a second run has nothing to do

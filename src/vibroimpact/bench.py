@@ -126,6 +126,9 @@ def report(ds: xr.Dataset) -> str:
         + (f"\nContinuation of the β = π/3 2:1 branch: {int(v['branch_points'])} points with eigenvalues, stability class, "
            f"admissibility and {int(v['branch_critical_points'])} located critical points in {v['branch_seconds']:.2f} s.\n"
            if "branch_points" in v else "")
+        + (f"\nSweep of d through s at β = π/3 (Fig 0 range), {int(v['sweep_points'])} points up and {int(v['sweep_points'])} down "
+           f"(≤ 200 forcing periods of transient each, {int(v['sweep_events'])} events, {int(v['sweep_no_period'])} points without a period): "
+           f"{v['sweep_seconds']:.2f} s on one core.\n" if "sweep_points" in v else "")
     )
 
 
@@ -149,5 +152,27 @@ def branch_benchmark(n_points: int = 1000) -> xr.Dataset:
             "branch_points": ((), br.sizes["point"], dict(units="1", long_name="points on the branch")),
             "branch_seconds": ((), el, dict(units="s", long_name="continuation with stability, admissibility and critical points")),
             "branch_critical_points": ((), br.sizes["critical"], dict(units="1", long_name="located critical and grazing points")),
+        }
+    )
+
+
+def sweep_benchmark(n_points: int = 1000, max_periods: float = 200) -> xr.Dataset:
+    """Time a sweep of d through s at beta = pi/3 over the paper's Fig 0 range (1:1, period
+    doubling, chaos, 2:1, 3:1), up and down: ``2 n_points`` attractors, each with up to
+    ``max_periods`` forcing periods of transient."""
+    from .sweeps import sweep
+
+    values = np.linspace(0.19, 0.72, n_points)
+    sweep("s", values[:5], beta=math.pi / 3, max_periods=max_periods)  # compile outside the timing
+    t = time.perf_counter()
+    sw = sweep("s", values, beta=math.pi / 3, phi=0.42, v0=0.87, max_periods=max_periods)
+    el = time.perf_counter() - t
+    return xr.Dataset(
+        {
+            "sweep_points": ((), n_points, dict(units="1", long_name="points per direction")),
+            "sweep_seconds": ((), el, dict(units="s", long_name="up and down sweep, one thread")),
+            "sweep_events": ((), int(sw.n_events.sum()), dict(units="1", long_name="events simulated in the sweep")),
+            "sweep_no_period": ((), int((sw.label == "no period found").sum()),
+                                dict(units="1", long_name="points with no period within max_periods")),
         }
     )

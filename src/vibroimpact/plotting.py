@@ -219,3 +219,125 @@ def fig3(branches, d_ranges):
                 row[1 if kind == "B" else 0].plot(x, -1 if kind == "B" else 0, mk, mfc="none", color="tab:red", ms=6)
     axes[0, 1].legend(loc="best")
     return fig
+
+
+# ---------------------------------------------------------------------------------------------
+# Sweeps, bistability, basins, regime maps
+# ---------------------------------------------------------------------------------------------
+
+
+def _cycle_points(sw, direction, var):
+    """(d, value) of the last period's events of every point of one sweep direction."""
+    import numpy as np
+
+    s = sw.sel(direction=direction)
+    xs, ys, walls = [], [], []
+    for i in range(s.sizes["point"]):
+        t = s.t.values[i]
+        m = int(np.isfinite(t).sum())
+        n = int(s.period_events.values[i]) or min(m, 24)
+        sl = slice(m - n, m)
+        xs.append(np.full(n, float(s.d[i])))
+        ys.append(s[var].values[i, sl])
+        walls.append(s.wall.values[i, sl])
+    return np.concatenate(xs), np.concatenate(ys), np.concatenate(walls)
+
+
+def fig_bis(sw, transitions, portraits, branches):
+    """Bistable 2:1 (down sweep, circles) and 3:1 (up sweep, crosses) near grazing with the analytic
+    branches, and the phase portraits at G1, d = 0.14 (both) and G2 (paper Fig BiS)."""
+    import numpy as np
+
+    use_style()
+    fig = plt.figure(figsize=(11, 6))
+    gs = fig.add_gridspec(2, 4)
+    g1, g2 = portraits.attrs["G1"], portraits.attrs["G2"]
+    lo, hi = float(sw.d.min()), float(sw.d.max())
+    for col, (var, ylabel) in enumerate([("v_minus", r"$|\dot Z_k|$"), ("phase", r"$\varphi_k$"), ("dt", r"$\Delta t_k$")]):
+        ax = fig.add_subplot(gs[0, col])
+        for br, color in zip(branches, ("0.6", "tab:blue"), strict=True):
+            m = (br.admissible & (br.d >= lo) & (br.d <= hi)).values
+            for j in range(br.sizes["impact"]):
+                y = br[var].values[m, j]
+                y = np.abs(y) if var == "v_minus" else y
+                branch_line(ax, br.d.values[m], y, br.stable.values[m], color, lw=0.8)
+        for direction, marker, color, lab in (("down", "o", "k", "2:1 (d decreasing)"), ("up", "+", "tab:blue", "3:1 (d increasing)")):
+            if var == "dt":
+                s = sw.sel(direction=direction)
+                xs, ys = [], []
+                for i in range(s.sizes["point"]):
+                    t = s.t.values[i]
+                    m = int(np.isfinite(t).sum())
+                    n = int(s.period_events.values[i]) or min(m, 24)
+                    xs.append(np.full(n, float(s.d[i])))
+                    ys.append(np.diff(t[m - n - 1:m]))
+                x, y = np.concatenate(xs), np.concatenate(ys)
+            else:
+                x, y, _ = _cycle_points(sw, direction, var)
+                y = np.abs(y) if var == "v_minus" else y
+            ax.plot(x, y, marker, mfc="none", color=color, ms=3.5, ls="none", label=lab)
+        for g, c in ((g1, "k"), (g2, "tab:red")):
+            ax.axvline(g, color=c, ls="-.", lw=0.8)
+        ax.set_xlabel("d")
+        ax.set_ylabel(ylabel)
+        ax.set_title(f"({'abc'[col]})")
+    fig.axes[0].legend(loc="best")
+    for k in range(portraits.sizes["panel"]):
+        ax = fig.add_subplot(gs[1, k])
+        p = portraits.isel(panel=k)
+        d = float(p.d)
+        ax.plot(p.Z, p.Zdot, color="k", lw=0.8)
+        ax.axvline(d / 2, color=BOTTOM, ls="--", lw=0.8)
+        ax.axvline(-d / 2, color=TOP, ls="--", lw=0.8)
+        ax.set_title(f"({'defg'[k]}) {str(p.panel.values)}: {str(p.word.values)}, d={d:.6f}")
+        ax.set_xlabel("Z")
+        ax.set_ylabel(r"$\dot Z$")
+    return fig
+
+
+def _class_image(ax, da, x, y, legend, n_show=9):
+    """Draw integer attractor codes with a discrete colormap; the n_show most frequent named."""
+    import numpy as np
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.patches import Patch
+
+    codes = np.where(da.values < n_show, da.values, n_show)
+    colors = list(plt.get_cmap("tab10").colors[:n_show]) + [(0.85, 0.85, 0.85)]
+    names = list(legend[:n_show]) + (["other"] if len(legend) > n_show else [])
+    cmap = ListedColormap(colors[: len(names)])
+    norm = BoundaryNorm(np.arange(len(names) + 1) - 0.5, len(names))
+    ax.pcolormesh(x, y, codes, cmap=cmap, norm=norm, shading="nearest")
+    ax.legend(handles=[Patch(color=colors[i], label=names[i]) for i in range(len(names))], loc="upper left",
+              bbox_to_anchor=(1.01, 1.0), fontsize=6)
+
+
+def fig_basins(b):
+    import json
+
+    use_style()
+    fig, ax = plt.subplots(figsize=(7, 4))
+    _class_image(ax, b.attractor.T, b.phi.values, b.v0.values, json.loads(b.attrs["legend"]))
+    ax.set_xlabel(r"phase $\varphi$ of the first bottom impact")
+    ax.set_ylabel(r"pre-impact velocity $\dot Z(t_0)$")
+    ax.set_title(f"Basins of attraction, d = {b.attrs['d']:.4g}, " r"$\bar g$" f" = {b.attrs['gbar']:.4g}")
+    return fig
+
+
+def fig_regime_map(maps):
+    """Regime maps side by side, one colour per motion across all panels."""
+    import numpy as np
+
+    use_style()
+    labels, counts = np.unique(np.concatenate([m.label.values.ravel() for m in maps]), return_counts=True)
+    legend = list(labels[np.argsort(-counts, kind="stable")])
+    index = {lab: i for i, lab in enumerate(legend)}
+    fig, axes = plt.subplots(1, len(maps), figsize=(6.2 * len(maps), 3.8), squeeze=False)
+    for ax, m in zip(axes[0], maps, strict=True):
+        ydim, xdim = m.label.dims
+        codes = m.label.copy(data=np.vectorize(index.__getitem__)(m.label.values))
+        _class_image(ax, codes, m[xdim].values, m[ydim].values, legend)
+        ax.set_xlabel(f"{m[xdim].attrs.get('long_name', xdim)} ({m[xdim].attrs.get('units', '')})")
+        ax.set_ylabel(f"{m[ydim].attrs.get('long_name', ydim)} ({m[ydim].attrs.get('units', '')})")
+        fixed = {k: m.attrs[k] for k in ("beta", "F", "s") if k in m.attrs and k not in (xdim, ydim)}
+        ax.set_title("Attractor from one start; " + ", ".join(f"{k}={v:.4g}" for k, v in fixed.items()))
+    return fig

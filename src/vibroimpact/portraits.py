@@ -9,7 +9,7 @@ from .datasets import annotate
 from .params import Params
 from .simulate import identify_attractor, simulate, trajectory
 
-__all__ = ["orbit_dataset", "caption_summary", "summary_markdown"]
+__all__ = ["bistability_dataset", "caption_summary", "orbit_dataset", "summary_markdown"]
 
 
 def orbit_dataset(
@@ -101,3 +101,38 @@ def summary_markdown(table: xr.Dataset) -> str:
             f"{float(r.phi):.4g} → {float(r.phase_attractor):.6f} ({float(r.dphase):+.1e}) |"
         )
     return "\n".join(rows) + "\n"
+
+
+def bistability_dataset(branch21: xr.Dataset, branch31: xr.Dataset, g1: float, g2: float, *, d_mid: float = 0.14,
+                        samples_per_unit: int = 400, offset: float = 1e-6) -> xr.Dataset:
+    """Phase portraits of the bistable 2:1 and 3:1 motions (paper Fig BiS (d)-(g)): the 2:1 orbit just
+    above G1, both orbits at ``d_mid``, and the 3:1 orbit just below G2, each over one period."""
+    from .orbits import find_orbit
+
+    gbar = float(branch21.gbar.values[0])
+    slope = float(branch21.attrs.get("gbar_slope", 0.0))
+    r = float(branch21.attrs["r"])
+    panels = [("G1", branch21, g1 + offset), (f"d={d_mid:g} (2:1)", branch21, d_mid),
+              (f"d={d_mid:g} (3:1)", branch31, d_mid), ("G2", branch31, g2 - offset)]
+    n_t = int(round(2.0 * samples_per_unit)) + 1
+    Z = np.full((len(panels), n_t), np.nan)
+    V = np.full((len(panels), n_t), np.nan)
+    ds_attrs = {}
+    words, ds_d = [], []
+    for k, (name, br, d) in enumerate(panels):
+        i = int(np.argmin(np.abs(br.d.values - d)))
+        p = Params(d=float(d), gbar=gbar + slope * (float(d) - float(branch21.d.values[0])), r=r)
+        o = find_orbit(p, str(br.attrs["word"]), float(br.phase[i, 0]), float(br.v_minus[i, 0]))
+        run = simulate(p, o.phi, float(o.v_minus[0]), t_end=2.0 * o.k + 1e-9)
+        tr = trajectory(run, np.linspace(0.0, 2.0 * o.k, n_t))
+        Z[k], V[k] = tr.Z.values, tr.Zdot.values
+        words.append(o.word)
+        ds_d.append(float(d))
+        ds_attrs[f"panel{k}_stable"] = int(o.stable)
+    ds = xr.Dataset(
+        {"Z": (("panel", "sample"), Z), "Zdot": (("panel", "sample"), V),
+         "word": ("panel", np.array(words, dtype=object).astype(str)), "d": ("panel", np.array(ds_d))},
+        coords={"panel": [p_[0] for p_ in panels]},
+    )
+    ds.attrs.update(G1=g1, G2=g2, gbar=gbar, r=r, **ds_attrs)
+    return annotate(ds)

@@ -281,7 +281,7 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
             after = labels[j]
             y_checked = False  # y re-run from an attractor within 1e-3 grid steps of it
             for _ in range(max_trials):
-                if abs(y - x) < 1e-3 * h_grid and not y_checked:
+                if (abs(y - x) < max(1e-3 * h_grid, 4 * xtol) or h <= xtol) and not y_checked:
                     # a failure far from the attractor it started on may be a jump out of a thin basin
                     lab, nxt = follow(y, start)
                     y_checked = True

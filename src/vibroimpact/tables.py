@@ -86,3 +86,20 @@ def grazing_lines(branches: list[xr.Dataset], scene: dict) -> dict:
     lo, hi, *_ = stable_interval(other)
     g1 = stable_interval(main)[0]
     return {"beta": beta, "G1": g1, "G2": hi}
+
+
+def transitions_markdown(named: dict[str, xr.Dataset]) -> str:
+    """Located transitions and bistable intervals of several sweeps as Markdown."""
+    lines = ["| sweep | direction | d | ± | from | to | kind |", "|---|---|---|---|---|---|---|"]
+    for name, tr in named.items():
+        for k in range(tr.sizes.get("transition", 0)):
+            r = tr.isel(transition=k)
+            lines.append(f"| {name} | {str(r.direction.values)} | {float(r.d):.7f} | {float(r.d_width) / 2:.0e} | "
+                         f"{str(r.before.values)} | {str(r.after.values)} | {str(r.kind.values)} |")
+    lines += ["", "| sweep | bistable for d in | up sweep | down sweep |", "|---|---|---|---|"]
+    for name, tr in named.items():
+        for k in range(tr.sizes.get("interval", 0)):
+            r = tr.isel(interval=k)
+            lines.append(f"| {name} | ({float(r.d_lo):.7f}, {float(r.d_hi):.7f}) | {str(r.label_up.values)} | "
+                         f"{str(r.label_down.values)} |")
+    return "\n".join(lines) + "\n"

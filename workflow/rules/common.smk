@@ -20,6 +20,9 @@ for _scene, _spec in config["scenes"].items():
 wildcard_constraints:
     name="|".join(CAPTIONS),
     word="[BT]+",
+    sweep="|".join(config["sweeps"]["scenes"]),
+    basin="|".join(config["basins"]),
+    map="|".join(config["maps"]),
     beta=r"[0-9.]+",
     r=r"[0-9.]+",
     scene="|".join(SCENES),
@@ -58,14 +61,16 @@ def fmt(x):
 
 
 def beta_value(key):
-    """Exact beta (rad) for its path form, from the betas the config uses."""
-    betas = {fmt(b) for s in BRANCH_SCENES.values() for b in s["betas"]}
-    betas |= {fmt(s["grazing"]["beta"]) for s in BRANCH_SCENES.values() if "grazing" in s}
-    for s in BRANCH_SCENES.values():
-        for b in s["betas"] + ([s["grazing"]["beta"]] if "grazing" in s else []) + [math.pi / 3]:
-            if fmt(b) == key:
-                return b
-    raise ValueError(f"beta {key} is not among the configured betas {sorted(betas)}")
+    """Exact beta (rad) for its path form, from every incline the config names."""
+    betas = [b for s in BRANCH_SCENES.values() for b in s["betas"]]
+    betas += [s["grazing"]["beta"] for s in BRANCH_SCENES.values() if "grazing" in s]
+    betas += [s["beta"] for s in config["sweeps"]["scenes"].values()]
+    betas += [s["beta"] for s in config["basins"].values()] + [c["beta"] for c in CAPTIONS.values()]
+    betas.append(math.pi / 3)  # Fig 0's 1:1 branch
+    for b in betas:
+        if fmt(b) == key:
+            return b
+    raise ValueError(f"beta {key} is not among the configured betas {sorted({fmt(b) for b in betas})}")
 
 
 def branch_path(kind, beta, word):
@@ -87,3 +92,24 @@ for _scene, _spec in BRANCH_SCENES.items():
     for _w in [_spec["word"]] + ([_spec["grazing"]["word"]] if "grazing" in _spec else []):
         if _w not in WORDS:
             _fail(f"branch_scenes.{_scene}.word", _w, f"a word defined under branches.words: {sorted(WORDS)}")
+
+
+# ---- sweeps ------------------------------------------------------------------------------------
+SWEEPS = config["sweeps"]["scenes"]
+
+
+def sweep_path(name, suffix=""):
+    sc = SWEEPS[name]
+    return f"results/sweeps/beta-{fmt(sc['beta'])}_r-{fmt(config['physics']['r'])}/{name}{suffix}.nc"
+
+
+def basin_path(name):
+    return f"results/basins/beta-{fmt(config['basins'][name]['beta'])}_r-{fmt(config['physics']['r'])}/{name}.nc"
+
+
+def map_path(name):
+    return f"results/maps/{name}_r-{fmt(config['physics']['r'])}.nc"
+
+
+if "figBiS" in SWEEPS and not {"BBT", "BBBT"} <= set(WORDS):
+    _fail("branches.words", sorted(WORDS), "BBT and BBBT, which Fig BiS draws")

@@ -1,0 +1,158 @@
+# Numerical sweeps, located transitions and bistability, basins and regime maps.
+
+
+def sweep_scene(wc):
+    sc = SWEEPS[wc.sweep]
+    if wc.beta != fmt(sc["beta"]) or wc.r != fmt(config["physics"]["r"]):
+        raise ValueError(f"sweep {wc.sweep}: the path's beta-{wc.beta}_r-{wc.r} does not match the config")
+    return sc
+
+
+rule sweep:
+    output:
+        "results/sweeps/beta-{beta}_r-{r}/{sweep}.nc",
+    params:
+        scene=sweep_scene,
+        physics=config["physics"],
+        sweeps={k: v for k, v in config["sweeps"].items() if k != "scenes"},
+        points=RESOLUTION["sweep_points"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/sweeps/beta-{beta}_r-{r}/{sweep}.log",
+    benchmark:
+        "benchmarks/sweeps/beta-{beta}_r-{r}/{sweep}.tsv"
+    script:
+        "../scripts/sweep.py"
+
+
+rule transitions:
+    input:
+        "results/sweeps/beta-{beta}_r-{r}/{sweep}.nc",
+    output:
+        "results/sweeps/beta-{beta}_r-{r}/{sweep}-transitions.nc",
+    params:
+        locate=config["sweeps"]["locate"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/sweeps/beta-{beta}_r-{r}/{sweep}-transitions.log",
+    benchmark:
+        "benchmarks/sweeps/beta-{beta}_r-{r}/{sweep}-transitions.tsv"
+    script:
+        "../scripts/transitions.py"
+
+
+rule basins:
+    output:
+        "results/basins/beta-{beta}_r-{r}/{basin}.nc",
+    params:
+        spec=lambda wc: config["basins"][wc.basin],
+        physics=config["physics"],
+        grid=RESOLUTION["basin_grid"],
+        tol=config["sweeps"]["tol"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/basins/beta-{beta}_r-{r}/{basin}.log",
+    benchmark:
+        "benchmarks/basins/beta-{beta}_r-{r}/{basin}.tsv"
+    script:
+        "../scripts/basins.py"
+
+
+rule regime_map:
+    output:
+        "results/maps/{map}_r-{r}.nc",
+    params:
+        spec=lambda wc: config["maps"][wc.map],
+        physics=config["physics"],
+        grid=RESOLUTION["map_grid"],
+        max_periods=config["sweeps"]["max_periods"],
+        tol=config["sweeps"]["tol"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/maps/{map}_r-{r}.log",
+    benchmark:
+        "benchmarks/maps/{map}_r-{r}.tsv"
+    script:
+        "../scripts/regime_map.py"
+
+
+rule bistability_portraits:
+    input:
+        branch21=branch_path("orbit", SWEEPS["figBiS"]["beta"], "BBT"),
+        branch31=branch_path("orbit", SWEEPS["figBiS"]["beta"], "BBBT"),
+        transitions=sweep_path("figBiS", "-transitions"),
+    output:
+        sweep_path("figBiS", "-portraits"),
+    params:
+        samples_per_unit=RESOLUTION["samples_per_unit"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/sweeps/figBiS-portraits.log",
+    script:
+        "../scripts/bistability_portraits.py"
+
+
+rule figBiS:
+    input:
+        sweep=sweep_path("figBiS"),
+        transitions=sweep_path("figBiS", "-transitions"),
+        portraits=sweep_path("figBiS", "-portraits"),
+        branch21=branch_path("orbit", SWEEPS["figBiS"]["beta"], "BBT"),
+        branch31=branch_path("orbit", SWEEPS["figBiS"]["beta"], "BBBT"),
+    output:
+        pdf="results/figures/figBiS.pdf",
+        png="results/figures/figBiS.png",
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/figures/figBiS.log",
+    script:
+        "../scripts/fig_bis.py"
+
+
+rule fig_basins:
+    input:
+        basin_path("figBiS"),
+    output:
+        pdf="results/figures/basins.pdf",
+        png="results/figures/basins.png",
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/figures/basins.log",
+    script:
+        "../scripts/fig_basins.py"
+
+
+rule fig_regime_map:
+    input:
+        [map_path(m) for m in config["maps"]],
+    output:
+        pdf="results/figures/regime_map.pdf",
+        png="results/figures/regime_map.png",
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/figures/regime_map.log",
+    script:
+        "../scripts/fig_regime_map.py"
+
+
+rule transitions_table:
+    input:
+        [sweep_path(n, "-transitions") for n in SWEEPS],
+    output:
+        "results/tables/transitions.md",
+    params:
+        names=list(SWEEPS),
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/tables/transitions.log",
+    script:
+        "../scripts/transitions_table.py"

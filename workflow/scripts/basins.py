@@ -1,0 +1,18 @@
+"""Basins of attraction over first bottom impacts (phase x velocity) at one parameter point."""
+import logging
+
+import numpy as np
+
+import vibroimpact as vi
+from vibroimpact.datasets import provenance, write_netcdf
+from vibroimpact.sweeps import basins
+
+logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+sp, ph = snakemake.params.spec, snakemake.params.physics
+k_s = ph["M"] * ph["omega"] ** 2 / (ph["F"] * np.pi**2)
+p = vi.Params.from_physical(s=sp["d"] / k_s, beta=sp["beta"], M=ph["M"], F=ph["F"], omega=ph["omega"], r=ph["r"], g=ph["g"])
+n_phi, n_v = snakemake.params.grid
+ds = basins(p, np.linspace(0, 2 * np.pi, n_phi, endpoint=False), np.linspace(*sp["v0_range"], n_v),
+            max_periods=sp["max_periods"], tol=snakemake.params.tol)
+ds.attrs.update(beta=sp["beta"], **provenance(**dict(snakemake.params)))
+write_netcdf(ds, snakemake.output[0])

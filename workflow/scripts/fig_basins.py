@@ -1,0 +1,10 @@
+"""Basins-of-attraction figure from its dataset."""
+import logging
+
+import xarray as xr
+
+from vibroimpact import plotting
+
+logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+fig = plotting.fig_basins(xr.load_dataset(snakemake.input[0], engine="netcdf4"))
+plotting.save(fig, snakemake.output.pdf.removesuffix(".pdf"))

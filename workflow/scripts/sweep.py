@@ -1,0 +1,17 @@
+"""One numerical sweep (up and down), following the attractor."""
+import logging
+
+import numpy as np
+
+from vibroimpact.datasets import provenance, write_netcdf
+from vibroimpact.sweeps import sweep
+
+logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+sc, ph, sw = snakemake.params.scene, snakemake.params.physics, snakemake.params.sweeps
+values = np.linspace(sc["range"][0], sc["range"][1], snakemake.params.points)
+fixed = {"F": sc.get("F", ph["F"])} if sc["vary"] == "s" else {"s": sc["s"]}
+ds = sweep(sc["vary"], values, beta=sc["beta"], phi=sc["phi"], v0=sc["v0"], max_periods=sw["max_periods"],
+           tol=sw["tol"], window=sw["window"], M=ph["M"], omega=ph["omega"], g=ph["g"], r=ph["r"], **fixed)
+ds.attrs.update(provenance(**dict(snakemake.params)))
+write_netcdf(ds, snakemake.output[0])
+logging.info("labels: %s", sorted(set(ds.label.values.ravel())))

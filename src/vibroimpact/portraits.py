@@ -119,7 +119,7 @@ def bistability_dataset(branch21: xr.Dataset, branch31: xr.Dataset, g1: float, g
     V = np.full((len(panels), n_t), np.nan)
     ds_attrs = {}
     words, ds_d = [], []
-    for k, (name, br, d) in enumerate(panels):
+    for k, (_name, br, d) in enumerate(panels):
         i = int(np.argmin(np.abs(br.d.values - d)))
         p = Params(d=float(d), gbar=gbar + slope * (float(d) - float(branch21.d.values[0])), r=r)
         o = find_orbit(p, str(br.attrs["word"]), float(br.phase[i, 0]), float(br.v_minus[i, 0]))

@@ -268,8 +268,8 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
             w = [sw[v].values[k_dir, i] for v in _EVENT_VARS]
             start = _last_bottom(*w, n) or (float(sw["start_phi"][k_dir, i]), float(sw["start_v0"][k_dir, i]))
             slope = (g0[j] - g0[i]) / (dvals[j] - dvals[i])  # gbar is affine in d for both sweeps
-            def follow(trial, start):
-                win, st, lag, _, nw = _run_one(trial, g0[i] + slope * (trial - dvals[i]), r, start[0], start[1],
+            def follow(trial, start, gi=g0[i], slope=slope, di=dvals[i]):
+                win, st, lag, _, nw = _run_one(trial, gi + slope * (trial - di), r, start[0], start[1],
                                                max_periods, max_events, tol, 65, 64)
                 return _classify(win, nw, st, lag)[3], _last_bottom(*win, nw) or start
 

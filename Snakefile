@@ -20,6 +20,7 @@ include: "workflow/rules/figures.smk"
 include: "workflow/rules/orbits_branches.smk"
 include: "workflow/rules/branch_figures.smk"
 include: "workflow/rules/sweeps.smk"
+include: "workflow/rules/energy.smk"
 include: "workflow/rules/bench.smk"
 
 
@@ -37,5 +38,7 @@ rule all:
         [basin_path(n) for n in config["basins"]],
         [map_path(n) for n in config["maps"]],
         expand("results/figures/{fig}.{ext}", fig=["figBiS", "basins", "regime_map"], ext=["pdf", "png"]),
+        expand("results/figures/{fig}.{ext}", fig=list(config["energy"]["figures"]) + ["design"], ext=["pdf", "png"]),
+        "results/tables/design.md",
         "results/tables/table1.md",
     default_target: True

@@ -341,3 +341,120 @@ def fig_regime_map(maps):
         fixed = {k: m.attrs[k] for k in ("beta", "F", "s") if k in m.attrs and k not in (xdim, ydim)}
         ax.set_title("Attractor from one start; " + ", ".join(f"{k}={v:.4g}" for k, v in fixed.items()))
     return fig
+
+
+# ---------------------------------------------------------------------------------------------
+# Energy (paper Figs 0 and 5) and design guidance
+# ---------------------------------------------------------------------------------------------
+
+U_I_COLOR = "tab:red"
+U_T_COLOR = "tab:cyan"
+
+
+def _window_values(sw, var, direction="down"):
+    """(d, values) of the events each point of a sweep direction averages over (its last period,
+    or its last 24 events where no period was found)."""
+    import numpy as np
+
+    s = sw.sel(direction=direction)
+    xs, ys = [], []
+    for i in range(s.sizes["point"]):
+        vals = s[var].values[i]
+        m = int(np.isfinite(s["t"].values[i]).sum()) if "t" in s else int(np.isfinite(vals).sum())
+        n = int(s["period_events"].values[i]) if "period_events" in s else 0
+        n = n or min(m, 24)
+        v = vals[m - n:m]
+        v = v[np.isfinite(v)]
+        xs.append(np.full(v.size, float(s.d[i])))
+        ys.append(v)
+    return np.concatenate(xs), np.concatenate(ys)
+
+
+def _analytic(ax, branches, var, *, averages=False):
+    import numpy as np
+
+    for br in branches:
+        if not br.sizes.get("point", 0):
+            continue
+        m = br.admissible.values
+        d = br.d.values[m]
+        st = br.stable.values[m]
+        if averages:
+            branch_line(ax, d, br.U_I.values[m], st, U_I_COLOR, lw=0.8)
+            branch_line(ax, d, br.U_T.values[m], st, U_T_COLOR, lw=0.8)
+            continue
+        for j in range(br.sizes["impact"]):
+            y = np.abs(br[var].values[m, j])
+            branch_line(ax, d, y, st, BOTTOM if br.wall.values[j] == 1 else TOP)
+
+
+def _panel_title(sw, letter):
+    vary = sw.attrs["vary"]
+    rng = sw[vary].values
+    fixed = f"||F||={sw.F.values[0]:g} N" if vary == "s" else f"s={sw.s.values[0]:g} m"
+    return f"({letter}) {_beta_label(sw.attrs['beta'])}, {rng.min():g} < {vary} < {rng.max():g}, {fixed}"
+
+
+def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False):
+    """Output voltage U_k - U_in (analytic 1:1 and 2:1 lines, stable solid / unstable dashed;
+    simulated points: open circles), U_I (red stars) and U_T (cyan diamonds) against d; with
+    ``velocities`` also |Zdot_k| (paper Fig 0 (a), (c))."""
+    import numpy as np
+
+    use_style()
+    n = len(panels)
+    if velocities:
+        fig, axes = plt.subplots(n, 2, figsize=(10, 3.3 * n), squeeze=False)
+        pairs = [(row[0], row[1]) for row in axes]
+    else:
+        ncol = 2 if n > 1 else 1
+        nrow = int(np.ceil(n / ncol))
+        fig, axes = plt.subplots(nrow, ncol, figsize=(5.2 * ncol, 3.3 * nrow), squeeze=False)
+        pairs = [(None, ax) for ax in axes.ravel()[:n]]
+        for ax in axes.ravel()[n:]:
+            ax.remove()
+    letters = iter("abcdefghijklmnop")
+    for (vax, uax), sw, en, brs in zip(pairs, sweeps, energies, branch_sets, strict=True):
+        if vax is not None:
+            _analytic(vax, brs, "v_minus")
+            x, y = _window_values(sw, "v_minus")
+            vax.plot(x, abs(y), "o", mfc="none", color="k", ms=2.5, ls="none")
+            vax.set_xlabel("d")
+            vax.set_ylabel(r"$|\dot Z_k|$")
+            vax.set_title(_panel_title(sw, next(letters)))
+        _analytic(uax, brs, "gain")
+        _analytic(uax, brs, "gain", averages=True)
+        x, y = _window_values(en, "gain")
+        uax.plot(x, y, "o", mfc="none", color="k", ms=2.5, ls="none", label=r"$U_k-U_{in}$ (simulated)")
+        dn = en.sel(direction="down")
+        uax.plot(dn.d, dn.U_T, "D", mfc="none", color=U_T_COLOR, ms=3.5, ls="none", label=r"$\overline{U}_T$")
+        uax.plot(dn.d, dn.U_I, "*", color=U_I_COLOR, ms=3, ls="none", zorder=5, label=r"$\overline{U}_I$")
+        uax.set_xlabel("d")
+        uax.set_ylabel("output voltage (V)")
+        uax.set_title(_panel_title(sw, next(letters)))
+    pairs[0][1].legend(loc="best")
+    return fig
+
+
+def fig_design(s_sets, F_sets, table):
+    """U_T (solid) and U_I (dashed) against s at fixed force and against F at fixed s, per incline,
+    with the maxima of the design table marked."""
+    use_style()
+    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+    colors = plt.get_cmap("tab10").colors
+    for ax, sets, vary in ((axes[0], s_sets, "s"), (axes[1], F_sets, "F")):
+        for k, e in enumerate(sets):
+            dn = e.sel(direction="down")
+            c = colors[k % 10]
+            ax.plot(e[vary], dn.U_T, "-", color=c, lw=1.0, label=_beta_label(e.attrs["beta"]) + r": $\overline{U}_T$")
+            ax.plot(e[vary], dn.U_I, "--", color=c, lw=0.8)
+            rows = table[(table.vary == vary) & (abs(table.beta - float(e.attrs["beta"])) < 1e-9)]
+            for _, r in rows.iterrows():
+                ax.plot(r.best, r.U_T if r.maximise == "U_T" else r.U_I, "o" if r.maximise == "U_T" else "s",
+                        mfc="none", color=c, ms=8)
+        ax.set_xlabel("cylinder length s (m)" if vary == "s" else "forcing amplitude ||F|| (N)")
+        ax.set_ylabel("average output voltage (V)")
+        ax.set_title(("(a) length sweep at fixed force" if vary == "s" else "(b) force sweep at s = 0.85 m")
+                     + r"; dashed: $\overline{U}_I$; circles/squares: maxima")
+    axes[0].legend(loc="best", fontsize=6)
+    return fig

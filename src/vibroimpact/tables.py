@@ -103,3 +103,34 @@ def transitions_markdown(named: dict[str, xr.Dataset]) -> str:
             lines.append(f"| {name} | ({float(r.d_lo):.7f}, {float(r.d_hi):.7f}) | {str(r.label_up.values)} | "
                          f"{str(r.label_down.values)} |")
     return "\n".join(lines) + "\n"
+
+
+def design_table(energies: list[xr.Dataset]) -> pd.DataFrame:
+    """For each sweep energy (an incline and a swept s or F): where U_T and U_I are largest, and
+    the motion there (both sweep directions considered)."""
+    rows = []
+    for e in energies:
+        vary = e.attrs["vary"]
+        for q in ("U_T", "U_I"):
+            vals = e[q].values
+            if not np.isfinite(vals).any():
+                continue
+            a, i = np.unravel_index(np.nanargmax(vals), vals.shape)
+            rows.append({
+                "beta": float(e.attrs["beta"]), "beta_deg": round(math.degrees(float(e.attrs["beta"])), 6),
+                "vary": vary, "maximise": q, "best": float(e[vary].values[i]), "d": float(e.d.values[i]),
+                "U_T": float(e.U_T.values[a, i]), "U_I": float(e.U_I.values[a, i]),
+                "motion": str(e.label.values[a, i]), "direction": str(e.direction.values[a]),
+                "s": float(e.s.values[i]), "F": float(e.F.values[i]),
+            })
+    return pd.DataFrame(rows)
+
+
+def design_markdown(df: pd.DataFrame) -> str:
+    names = {90.0: "π/2", 60.0: "π/3", 45.0: "π/4", 30.0: "π/6"}
+    lines = ["| β | vary | maximises | at | d | Ū_T (V) | Ū_I (V) | motion |", "|---|---|---|---|---|---|---|---|"]
+    for _, r in df.iterrows():
+        at = f"s = {r.best:.3f} m (F = {r.F:g} N)" if r.vary == "s" else f"F = {r.best:.2f} N (s = {r.s:g} m)"
+        lines.append(f"| {names.get(r.beta_deg, f'{r.beta:.4f}')} | {r.vary} | {r.maximise} | {at} | {r.d:.4f} | "
+                     f"{r.U_T:.4g} | {r.U_I:.4g} | {r.motion} |")
+    return "\n".join(lines) + "\n"

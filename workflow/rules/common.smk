@@ -20,6 +20,7 @@ for _scene, _spec in config["scenes"].items():
 wildcard_constraints:
     name="|".join(CAPTIONS),
     word="[BT]+",
+    vary="s|F",
     sweep="|".join(config["sweeps"]["scenes"]),
     basin="|".join(config["basins"]),
     map="|".join(config["maps"]),
@@ -73,9 +74,9 @@ def beta_value(key):
     raise ValueError(f"beta {key} is not among the configured betas {sorted({fmt(b) for b in betas})}")
 
 
-def branch_path(kind, beta, word):
+def branch_path(kind, beta, word, vary="s"):
     r = fmt(config["physics"]["r"])
-    return f"results/branches/beta-{fmt(beta)}_r-{r}/{kind}-{word}_vary-s.nc"
+    return f"results/branches/beta-{fmt(beta)}_r-{r}/{kind}-{word}_vary-{vary}.nc"
 
 
 def scene_branch_files(scene, kind="orbit"):
@@ -113,3 +114,28 @@ def map_path(name):
 
 if "figBiS" in SWEEPS and not {"BBT", "BBBT"} <= set(WORDS):
     _fail("branches.words", sorted(WORDS), "BBT and BBBT, which Fig BiS draws")
+
+
+# ---- energy ------------------------------------------------------------------------------------
+def energy_path(kind, beta, name, vary=None):
+    r = fmt(config["physics"]["r"])
+    stem = f"orbit-{name}_vary-{vary}" if kind == "branch" else name
+    return f"results/energy/beta-{fmt(beta)}_r-{r}/{stem}.nc"
+
+
+def energy_panel_inputs(sweep_name):
+    """A sweep's energy and the energies of the 1:1 and 2:1 branches at its incline and parameterisation."""
+    sc = SWEEPS[sweep_name]
+    return [energy_path("sweep", sc["beta"], sweep_name)] + [
+        energy_path("branch", sc["beta"], w, sc["vary"]) for w in ("BT", "BBT") if w in WORDS
+    ]
+
+
+for _fig, _spec in config["energy"]["figures"].items():
+    for _p in _spec["panels"]:
+        if _p not in SWEEPS:
+            _fail(f"energy.figures.{_fig}.panels", _p, f"a sweep under sweeps.scenes: {sorted(SWEEPS)}")
+for _v in ("s", "F"):
+    for _p in config["energy"]["design"][_v]:
+        if _p not in SWEEPS or SWEEPS[_p]["vary"] != _v:
+            _fail(f"energy.design.{_v}", _p, f"a sweep under sweeps.scenes with vary: {_v}")

@@ -3,38 +3,40 @@
 
 rule branch:
     output:
-        "results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-s.nc",
+        "results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
     params:
         beta=lambda wc: beta_value(wc.beta),
         physics=config["physics"],
         word=lambda wc: wc.word,
+        vary=lambda wc: wc.vary,
         spec=lambda wc: WORDS[wc.word],
         d_range=config["branches"]["d_range"],
+        force=config["branches"]["force"],
         step=RESOLUTION["branch_step"],
     conda:
         "../envs/vibroimpact.yaml"
     log:
-        "logs/branches/beta-{beta}_r-{r}/orbit-{word}.log",
+        "logs/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.log",
     benchmark:
-        "benchmarks/branches/beta-{beta}_r-{r}/orbit-{word}.tsv"
+        "benchmarks/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.tsv"
     script:
         "../scripts/branch.py"
 
 
 rule branch_simulated:
     input:
-        "results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-s.nc",
+        "results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
     output:
-        "results/branches/beta-{beta}_r-{r}/sim-{word}_vary-s.nc",
+        "results/branches/beta-{beta}_r-{r}/sim-{word}_vary-{vary}.nc",
     params:
         n=config["branches"]["simulated_points"],
         tol=config["attractor"]["tol"],
     conda:
         "../envs/vibroimpact.yaml"
     log:
-        "logs/branches/beta-{beta}_r-{r}/sim-{word}.log",
+        "logs/branches/beta-{beta}_r-{r}/sim-{word}_vary-{vary}.log",
     benchmark:
-        "benchmarks/branches/beta-{beta}_r-{r}/sim-{word}.tsv"
+        "benchmarks/branches/beta-{beta}_r-{r}/sim-{word}_vary-{vary}.tsv"
     script:
         "../scripts/branch_simulated.py"
 

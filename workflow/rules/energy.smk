@@ -1,0 +1,73 @@
+# Output voltage per impact and its averages, for analytic branches and numerical sweeps; Figs 0, 5
+# and the design guidance.
+
+
+rule branch_energy:
+    input:
+        "results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
+    output:
+        "results/energy/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
+    params:
+        membrane=config["membrane"],
+        physics=config["physics"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/energy/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.log",
+    script:
+        "../scripts/energy.py"
+
+
+rule sweep_energy:
+    input:
+        "results/sweeps/beta-{beta}_r-{r}/{sweep}.nc",
+    output:
+        "results/energy/beta-{beta}_r-{r}/{sweep}.nc",
+    params:
+        membrane=config["membrane"],
+        physics=config["physics"],
+        window_time=config["energy"]["window_time"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/energy/beta-{beta}_r-{r}/{sweep}.log",
+    script:
+        "../scripts/energy.py"
+
+
+rule energy_figure:
+    input:
+        lambda wc: [f for p in config["energy"]["figures"][wc.efig]["panels"] for f in energy_panel_inputs(p)],
+        lambda wc: [sweep_path(p) for p in config["energy"]["figures"][wc.efig]["panels"]],
+    output:
+        pdf="results/figures/{efig}.pdf",
+        png="results/figures/{efig}.png",
+    params:
+        panels=lambda wc: config["energy"]["figures"][wc.efig]["panels"],
+        velocities=lambda wc: config["energy"]["figures"][wc.efig].get("velocities", False),
+        words=[w for w in ("BT", "BBT") if w in WORDS],
+    wildcard_constraints:
+        efig="|".join(config["energy"]["figures"]),
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/figures/{efig}.log",
+    script:
+        "../scripts/energy_figure.py"
+
+
+rule design:
+    input:
+        s=[energy_path("sweep", SWEEPS[p]["beta"], p) for p in config["energy"]["design"]["s"]],
+        F=[energy_path("sweep", SWEEPS[p]["beta"], p) for p in config["energy"]["design"]["F"]],
+    output:
+        csv="results/tables/design.csv",
+        md="results/tables/design.md",
+        pdf="results/figures/design.pdf",
+        png="results/figures/design.png",
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/tables/design.log",
+    script:
+        "../scripts/design.py"

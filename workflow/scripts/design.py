@@ -1,0 +1,16 @@
+"""Design guidance: per incline, the length and the force that maximise each average output."""
+import logging
+
+import xarray as xr
+
+from vibroimpact import plotting
+from vibroimpact.tables import design_markdown, design_table
+
+logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+s_sets = [xr.load_dataset(f, engine="netcdf4") for f in snakemake.input.s]
+F_sets = [xr.load_dataset(f, engine="netcdf4") for f in snakemake.input.F]
+df = design_table(s_sets + F_sets)
+df.to_csv(snakemake.output.csv, index=False)
+with open(snakemake.output.md, "w") as fh:
+    fh.write(design_markdown(df))
+plotting.save(plotting.fig_design(s_sets, F_sets, df), snakemake.output.pdf.removesuffix(".pdf"))

@@ -8,12 +8,18 @@ import vibroimpact as vi
 M, F, OMEGA, G = 0.1245, 5.0, 5 * math.pi, 9.8
 
 
-def gbar_of(beta):
-    return M * G * math.sin(beta) / F
+def gbar_of(beta, force=F):
+    return M * G * math.sin(beta) / force
 
 
-#: Caption orbits of MODEL.md section 5: name -> (beta, d, Zdot(t0), phi, n_bottom, n_top, period)
+#: Caption orbits of MODEL.md section 5 and Fig FN2: name -> (beta, d, Zdot(t0), phi, n_bottom, n_top,
+#: period in forcing periods, force in N); Fig FN2 (a)-(c) state 61 N.
 CAPTIONS = {
+    "figFN2_a": (math.pi / 2, 0.197, 0.5474, 6.211, 1, 1, 1, 61.0),
+    "figFN2_b": (math.pi / 2, 0.193, 0.561, 6.229, 2, 2, 2, 61.0),
+    "figFN2_c": (math.pi / 2, 0.189, 0.465, 6.177, 2, 1, 1, 61.0),
+    "figFN2_e": (math.pi / 6, 0.222, 0.676, 0.242, 4, 4, 4),
+    "figFN2_f": (math.pi / 6, 0.213, 0.674, 0.321, 5, 5, 5),
     "fig0b_a": (math.pi / 3, 0.38, 0.8673, 0.4217, 1, 1, 1),
     "fig0b_b": (math.pi / 3, 0.184, 0.2164, 1.21, 2, 1, 1),
     "fig0b_c": (math.pi / 3, 0.137, 0.2059, 0.6503, 3, 1, 1),

@@ -84,6 +84,24 @@ def fig0b(datasets):
     return fig
 
 
+def figFN2(datasets):
+    """Phase portraits along 1:1 -> period doubling -> grazing -> 2:1 (paper Fig FN2): the part of
+    each run after its first forcing period, so that the attractor is drawn."""
+    use_style()
+    n = len(datasets)
+    ncol = 4
+    nrow = (n + ncol - 1) // ncol
+    fig, axes = plt.subplots(nrow, ncol, figsize=(3.2 * ncol, 2.9 * nrow), squeeze=False)
+    for ax, ds, panel in zip(axes.ravel(), datasets, "abcdefghij", strict=False):
+        keep = ds.time.values >= 2.0
+        sub = ds.isel(time=keep)
+        phase_portrait(ax, sub)
+        ax.set_title(_title(ds, panel) + ("\n" + r"$\bar g$" + f"={ds.attrs['gbar']:.4f}"), fontsize=7)
+    for ax in axes.ravel()[n:]:
+        ax.remove()
+    return fig
+
+
 def fig4(datasets):
     """Phase portrait, Z(t) and the time series for each orbit: one row each."""
     use_style()

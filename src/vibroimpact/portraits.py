@@ -75,7 +75,8 @@ def caption_summary(datasets: dict[str, xr.Dataset], expected: dict[str, str]) -
         },
         coords={"caption": names},
     )
-    out["reproduced"] = ("caption", [f.startswith(s + " ") for s, f in zip(out.motion_stated.values, out.motion_found.values, strict=True)])
+    out["reproduced"] = ("caption", [f == s or f.startswith(s + " ") for s, f in
+                                     zip(out.motion_stated.values, out.motion_found.values, strict=True)])
     for var, (u, ln) in {
         "motion_stated": ("1", "motion stated in the caption (n:m)"),
         "motion_found": ("1", "attractor found by exact simulation"),

@@ -36,7 +36,9 @@ def caption_params(name):
     return dict(
         name=name,
         d=c["d"],
-        gbar=ph["M"] * ph["g"] * math.sin(c["beta"]) / ph["F"],
+        gbar=ph["M"] * ph["g"] * math.sin(c["beta"]) / c.get("F", ph["F"]),
+        F=c.get("F", ph["F"]),
+        period=c.get("period", 0),
         beta=c["beta"],
         r=ph["r"],
         phi=c["phi"],

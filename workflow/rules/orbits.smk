@@ -24,7 +24,7 @@ rule caption_summary:
         md="results/tables/captions.md",
     params:
         names=list(CAPTIONS),
-        stated={n: c["motion"] for n, c in CAPTIONS.items()},
+        stated={n: c["motion"] + (f" period-{c['period']}" if "period" in c else "") for n, c in CAPTIONS.items()},
     conda:
         "../envs/vibroimpact.yaml"
     log:

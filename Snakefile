@@ -1,7 +1,9 @@
 # vibroimpact: regenerate the paper's figures and this project's own from the code.
-# Usage: snakemake --cores 2            (default target: every figure and dataset)
+# Usage: snakemake --cores 2            (default target: every figure, table and dataset)
+#        snakemake --cores 2 check      (which of the paper's numbers are reproduced)
 #        snakemake --cores 2 bench      (speed and accuracy of the simulator)
 import math
+import re
 
 from snakemake.utils import min_version, validate
 
@@ -9,6 +11,21 @@ min_version("8.0")
 
 
 configfile: "config/config.yaml"
+
+
+# `--config 'studies=[{beta: 0.4, r: 0.6}]'` reaches us as strings (Snakemake parses nested values
+# with YAML's BaseLoader): turn numeric strings into numbers; anything else is left for the schema.
+_NUMERIC = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
+config["studies"] = [
+    {
+        k: [float(x) if isinstance(x, str) and _NUMERIC.fullmatch(x) else x for x in v] if isinstance(v, list)
+        else (float(v) if isinstance(v, str) and _NUMERIC.fullmatch(v) else v)
+        for k, v in st.items()
+    }
+    if isinstance(st, dict)
+    else st
+    for st in config.get("studies") or []
+]
 
 
 validate(config, "config/schema.yaml")
@@ -21,6 +38,7 @@ include: "workflow/rules/orbits_branches.smk"
 include: "workflow/rules/branch_figures.smk"
 include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/energy.smk"
+include: "workflow/rules/checks.smk"
 include: "workflow/rules/bench.smk"
 
 
@@ -40,5 +58,7 @@ rule all:
         expand("results/figures/{fig}.{ext}", fig=["figBiS", "basins", "regime_map"], ext=["pdf", "png"]),
         expand("results/figures/{fig}.{ext}", fig=list(config["energy"]["figures"]) + ["design"], ext=["pdf", "png"]),
         "results/tables/design.md",
+        "results/checks/paper_values.csv",
+        [study_figure(st) for st in STUDIES],
         "results/tables/table1.md",
     default_target: True

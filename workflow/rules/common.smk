@@ -1,5 +1,6 @@
 # Shared helpers: config checks that a schema cannot express, and parameter lookups.
 import math
+import os
 
 
 def _fail(key, value, allowed):
@@ -21,7 +22,7 @@ wildcard_constraints:
     name="|".join(CAPTIONS),
     word="[BT]+",
     vary="s|F",
-    sweep="|".join(config["sweeps"]["scenes"]),
+    sweep="|".join(list(config["sweeps"]["scenes"]) + ["study_s"]),
     basin="|".join(config["basins"]),
     map="|".join(config["maps"]),
     beta=r"[0-9.]+",
@@ -69,6 +70,7 @@ def beta_value(key):
     betas += [s["grazing"]["beta"] for s in BRANCH_SCENES.values() if "grazing" in s]
     betas += [s["beta"] for s in config["sweeps"]["scenes"].values()]
     betas += [s["beta"] for s in config["basins"].values()] + [c["beta"] for c in CAPTIONS.values()]
+    betas += [st["beta"] for st in config.get("studies", [])]
     betas.append(math.pi / 3)  # Fig 0's 1:1 branch
     for b in betas:
         if fmt(b) == key:
@@ -141,3 +143,41 @@ for _v in ("s", "F"):
     for _p in config["energy"]["design"][_v]:
         if _p not in SWEEPS or SWEEPS[_p]["vary"] != _v:
             _fail(f"energy.design.{_v}", _p, f"a sweep under sweeps.scenes with vary: {_v}")
+
+
+# ---- studies: new beta or r beside the defaults ------------------------------------------------
+STUDIES = config.get("studies", []) or []
+
+
+def r_value(key):
+    """Exact restitution for its path form: the physics' r or a study's."""
+    for r in [config["physics"]["r"]] + [st["r"] for st in STUDIES]:
+        if fmt(r) == key:
+            return r
+    raise ValueError(f"r {key} is neither physics.r nor a study's r")
+
+
+def study_dir(st):
+    return f"results/studies/beta-{fmt(st['beta'])}_r-{fmt(st['r'])}"
+
+
+def study_figure(st):
+    return os.path.join(study_dir(st), "study.png")
+
+
+def study_for(beta_key, r_key):
+    for st in STUDIES:
+        if fmt(st["beta"]) == beta_key and fmt(st["r"]) == r_key:
+            return st
+    raise ValueError(f"no study with beta-{beta_key}_r-{r_key} in the config")
+
+
+def sweep_scene(wc):
+    if wc.sweep == "study_s":  # a study's length sweep: its beta and r come from the path
+        st = study_for(wc.beta, wc.r)
+        return dict(beta=st["beta"], vary="s", range=st.get("s_range", [0.19, 0.72]), F=config["physics"]["F"],
+                    phi=0.42, v0=0.87)
+    sc = SWEEPS[wc.sweep]
+    if wc.beta != fmt(sc["beta"]) or wc.r != fmt(config["physics"]["r"]):
+        raise ValueError(f"sweep {wc.sweep}: the path's beta-{wc.beta}_r-{wc.r} does not match the config")
+    return sc

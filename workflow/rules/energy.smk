@@ -71,3 +71,25 @@ rule design:
         "logs/tables/design.log",
     script:
         "../scripts/design.py"
+
+
+rule study_figure:
+    input:
+        lambda wc: [
+            f"results/energy/beta-{wc.beta}_r-{wc.r}/study_s.nc",
+            *[f"results/energy/beta-{wc.beta}_r-{wc.r}/orbit-{w}_vary-s.nc" for w in ("BT", "BBT") if w in WORDS],
+            f"results/sweeps/beta-{wc.beta}_r-{wc.r}/study_s.nc",
+        ],
+    output:
+        pdf="results/studies/beta-{beta}_r-{r}/study.pdf",
+        png="results/studies/beta-{beta}_r-{r}/study.png",
+    params:
+        panels=["study_s"],
+        velocities=True,
+        words=[w for w in ("BT", "BBT") if w in WORDS],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/studies/beta-{beta}_r-{r}.log",
+    script:
+        "../scripts/energy_figure.py"

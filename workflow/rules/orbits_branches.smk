@@ -7,6 +7,7 @@ rule branch:
     params:
         beta=lambda wc: beta_value(wc.beta),
         physics=config["physics"],
+        r=lambda wc: r_value(wc.r),
         word=lambda wc: wc.word,
         vary=lambda wc: wc.vary,
         spec=lambda wc: WORDS[wc.word],

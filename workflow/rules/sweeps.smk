@@ -1,19 +1,13 @@
 # Numerical sweeps, located transitions and bistability, basins and regime maps.
 
 
-def sweep_scene(wc):
-    sc = SWEEPS[wc.sweep]
-    if wc.beta != fmt(sc["beta"]) or wc.r != fmt(config["physics"]["r"]):
-        raise ValueError(f"sweep {wc.sweep}: the path's beta-{wc.beta}_r-{wc.r} does not match the config")
-    return sc
-
-
 rule sweep:
     output:
         "results/sweeps/beta-{beta}_r-{r}/{sweep}.nc",
     params:
         scene=sweep_scene,
         physics=config["physics"],
+        r=lambda wc: r_value(wc.r),
         sweeps={k: v for k, v in config["sweeps"].items() if k != "scenes"},
         points=RESOLUTION["sweep_points"],
     conda:
@@ -44,6 +38,7 @@ rule transitions:
 
 
 rule basins:
+    threads: 2
     output:
         "results/basins/beta-{beta}_r-{r}/{basin}.nc",
     params:
@@ -62,6 +57,7 @@ rule basins:
 
 
 rule regime_map:
+    threads: 2
     output:
         "results/maps/{map}_r-{r}.nc",
     params:

@@ -1,6 +1,7 @@
 """Basins of attraction over first bottom impacts (phase x velocity) at one parameter point."""
 import logging
 
+import numba
 import numpy as np
 
 import vibroimpact as vi
@@ -8,6 +9,7 @@ from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.sweeps import basins
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+numba.set_num_threads(max(1, min(snakemake.threads, numba.config.NUMBA_NUM_THREADS)))
 sp, ph = snakemake.params.spec, snakemake.params.physics
 k_s = ph["M"] * ph["omega"] ** 2 / (ph["F"] * np.pi**2)
 p = vi.Params.from_physical(s=sp["d"] / k_s, beta=sp["beta"], M=ph["M"], F=ph["F"], omega=ph["omega"], r=ph["r"], g=ph["g"])

@@ -16,7 +16,8 @@ else:
     s = snakemake.params.force["s"]
     F = k * s / spec["start_d"]
     d_range = tuple(sorted(k * s / f for f in snakemake.params.force["F_range"]))
-params = vi.Params.from_physical(s=s, beta=snakemake.params.beta, M=ph["M"], F=F, omega=ph["omega"], r=ph["r"], g=ph["g"])
+params = vi.Params.from_physical(s=s, beta=snakemake.params.beta, M=ph["M"], F=F, omega=ph["omega"],
+                                 r=snakemake.params.r, g=ph["g"])
 ds = branch_from_simulation(params, snakemake.params.word, k=spec["k"], vary=vary, d_range=d_range,
                             step=snakemake.params.step, phi=spec["phi"], v0=spec["v0"])
 ds.attrs.update(beta=snakemake.params.beta, **provenance(**dict(snakemake.params)))

@@ -1,12 +1,14 @@
 """Regime map: the attractor over two physical parameters."""
 import logging
 
+import numba
 import numpy as np
 
 from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.sweeps import regime_map
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+numba.set_num_threads(max(1, min(snakemake.threads, numba.config.NUMBA_NUM_THREADS)))
 sp, ph = snakemake.params.spec, snakemake.params.physics
 nx, ny = snakemake.params.grid
 fixed = {k: sp[k] for k in ("beta", "s", "F") if k in sp}

@@ -11,7 +11,7 @@ sc, ph, sw = snakemake.params.scene, snakemake.params.physics, snakemake.params.
 values = np.linspace(sc["range"][0], sc["range"][1], snakemake.params.points)
 fixed = {"F": sc.get("F", ph["F"])} if sc["vary"] == "s" else {"s": sc["s"]}
 ds = sweep(sc["vary"], values, beta=sc["beta"], phi=sc["phi"], v0=sc["v0"], max_periods=sw["max_periods"],
-           tol=sw["tol"], window=sw["window"], M=ph["M"], omega=ph["omega"], g=ph["g"], r=ph["r"], **fixed)
+           tol=sw["tol"], window=sw["window"], M=ph["M"], omega=ph["omega"], g=ph["g"], r=snakemake.params.r, **fixed)
 ds.attrs.update(provenance(**dict(snakemake.params)))
 write_netcdf(ds, snakemake.output[0])
 logging.info("labels: %s", sorted(set(ds.label.values.ravel())))

@@ -1,0 +1,166 @@
+"""Which of the paper's published numbers and claims the current code reproduces.
+
+Each row: the item, the paper's value, the value computed now (from the workflow's datasets), the
+tolerance and a status: ``pass``, ``fail``, or ``known discrepancy`` when the item fails but is
+listed in the configuration with the reason it is believed (and independently checked) that the
+paper, not the code, is off.  A known discrepancy that passes is reported as ``pass``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from .paper import PI6_D_B, PI6_G1, PI6_G2, STABLE_2TO1
+
+BETA_NAMES = {90.0: "pi/2", 60.0: "pi/3", 45.0: "pi/4", 30.0: "pi/6"}
+
+
+def _unit(x: float) -> float:
+    """One unit in the last printed digit of a published value."""
+    s = repr(float(x)).rstrip("0")
+    return 10.0 ** -(len(s.split(".")[1]) if "." in s and s.split(".")[1] else 0)
+
+
+def _beta_name(beta):
+    return BETA_NAMES.get(round(math.degrees(beta), 6), f"{beta:.4f}")
+
+
+def _row(item, where, paper, computed, tol, ok, note=""):
+    return {"item": item, "where": where, "paper": paper, "computed": computed, "tolerance": tol,
+            "status": "pass" if ok else "fail", "note": note}
+
+
+def caption_rows(captions: xr.Dataset) -> list[dict]:
+    rows = []
+    for k, name in enumerate(captions.caption.values):
+        c = captions.isel(caption=k)
+        stated, found = str(c.motion_stated.values), str(c.motion_found.values)
+        rows.append(_row(f"{name}: motion", "caption", stated, found, "", bool(c.reproduced.values)))
+        v0, va = float(c.v0), float(c.v_attractor)
+        tol = 1.5 * _unit(v0)
+        rows.append(_row(f"{name}: Zdot(t0)", "caption", v0, va, tol, abs(va - v0) <= tol,
+                         "attractor's bottom impact nearest the caption's"))
+        rows.append(_row(f"{name}: phi", "caption", float(c.phi), float(c.phase_attractor), 1.2e-3,
+                         abs(float(c.dphase)) <= 1.2e-3, "captions' phases sit 2e-4 to 1.1e-3 off the exact attractor"))
+    return rows
+
+
+def stability_rows(table1: pd.DataFrame) -> list[dict]:
+    rows = []
+    for _, r in table1.iterrows():
+        paper = None
+        for b, v in STABLE_2TO1.items():
+            if abs(b - r.beta) < 1e-9:
+                paper = v
+        if paper is None:
+            continue
+        name = _beta_name(r.beta)
+        for end, p_val, c_val, cause in (("lower", paper[0], r.stable_from, r.lower_cause),
+                                          ("upper", paper[1], r.stable_to, r.upper_cause)):
+            tol = _unit(p_val)
+            rows.append(_row(f"2:1 stable interval, {end} end, beta={name}", "section 3", p_val, float(c_val), tol,
+                             abs(float(c_val) - p_val) <= tol, f"analytic: ends by {cause}"))
+        if name == "pi/6":
+            rows.append(_row("lambda_1 < -1 for d < 0.133 (d_B), beta=pi/6", "section 4", PI6_D_B, float(r.d_B),
+                             _unit(PI6_D_B), float(r.d_B) <= PI6_D_B and abs(float(r.d_B) - PI6_D_B) <= _unit(PI6_D_B),
+                             "analytic period doubling"))
+    return rows
+
+
+def grazing_rows(bis: xr.Dataset) -> list[dict]:
+    down = bis.where(bis.direction == "down", drop=True)
+    up = bis.where(bis.direction == "up", drop=True)
+    g1 = float(down.d.values[np.argmin(np.abs(down.d.values - PI6_G1))]) if down.sizes["transition"] else math.nan
+    g2 = float(up.d.values[np.argmin(np.abs(up.d.values - PI6_G2))]) if up.sizes["transition"] else math.nan
+    return [
+        _row("G1: 2:1 -> 3:1 grazing, d decreasing, beta=pi/6", "section 4.2", PI6_G1, g1, _unit(PI6_G1),
+             abs(g1 - PI6_G1) <= _unit(PI6_G1), "located in the down sweep"),
+        _row("G2: 3:1 -> 2:1, d increasing, beta=pi/6", "section 4.2", PI6_G2, g2, _unit(PI6_G2),
+             abs(g2 - PI6_G2) <= _unit(PI6_G2), "located in the up sweep (a fold of the 3:1 orbit)"),
+    ]
+
+
+def _is_n_to_n(label):
+    head = str(label).split(" ")[0]
+    return "period-" in str(label) and head.split(":")[0] == head.split(":")[1]
+
+
+def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], sweeps: list[xr.Dataset]) -> list[dict]:
+    rows = []
+    # U_I = U_T for 1:1 period-2 (two impacts per two time units)
+    dev = max(float(np.nanmax(np.abs(b.U_I - b.U_T) / b.U_T)) for b in branches_s + branches_F if b.sizes.get("point"))
+    rows.append(_row("U_I = U_T for 1:1 period-2 motion", "section 5", "equal", f"max relative difference {dev:.1e}",
+                     1e-12, dev <= 1e-12))
+    # 1:1 -> 2:1 and 2:1 -> 3:1 jumps along every sweep's down direction
+    n11, ok11_i, ok11_t, n23, ok23_i, ok23_t = 0, 0, 0, 0, 0, 0
+    for e in sweeps:
+        dn = e.sel(direction="down")
+        lab, d = dn.label.values, dn.d.values
+        i21 = [i for i in range(len(d)) if lab[i] == "2:1 period-2"]
+        if not i21:
+            continue
+        top = max(i21, key=lambda i: d[i])
+        above = [i for i in range(len(d)) if d[i] > d[top] and _is_n_to_n(lab[i])]
+        if above:
+            j = min(above, key=lambda i: d[i])
+            n11 += 1
+            ok11_i += bool(dn.U_I.values[top] < dn.U_I.values[j])
+            ok11_t += bool(dn.U_T.values[top] > dn.U_T.values[j])
+        for i in range(len(d) - 1):
+            if {str(lab[i]), str(lab[i + 1])} == {"2:1 period-2", "3:1 period-2"}:
+                three, two = (i, i + 1) if str(lab[i]).startswith("3") else (i + 1, i)
+                n23 += 1
+                ok23_i += bool(dn.U_I.values[three] < dn.U_I.values[two])
+                ok23_t += bool(dn.U_T.values[three] > dn.U_T.values[two])
+    rows.append(_row("1:1 -> 2:1: U_I drops", "section 5", "drops", f"drops in {ok11_i} of {n11} sweeps", "", n11 > 0 and ok11_i == n11))
+    rows.append(_row("1:1 -> 2:1: U_T rises", "section 5", "rises", f"rises in {ok11_t} of {n11} sweeps", "", n11 > 0 and ok11_t == n11))
+    rows.append(_row("2:1 -> 3:1: U_I drops", "section 5", "drops", f"drops at {ok23_i} of {n23} transitions", "", n23 > 0 and ok23_i == n23))
+    rows.append(_row("2:1 -> 3:1: U_T rises", "section 5", "rises", f"rises at {ok23_t} of {n23} transitions", "", n23 > 0 and ok23_t == n23))
+    # output grows with s (fixed F) and with F (fixed s) on the stable 1:1 branches
+    for label, brs, var in (("s at fixed force", branches_s, "s"), ("F at fixed length", branches_F, "F")):
+        good, total = 0, 0
+        for b in brs:
+            if not b.sizes.get("point"):
+                continue
+            m = (b.stable & b.admissible).values
+            order = np.argsort(b[var].values[m])
+            total += 1
+            good += bool(np.all(np.diff(b.U_T.values[m][order]) > 0))
+        rows.append(_row(f"1:1 output grows with {label}", "section 5", "grows",
+                         f"monotone on {good} of {total} stable branches", "", total > 0 and good == total))
+    # the maximum 1:1 output over 0.19 < s < 0.72 varies by less than 1 % with beta
+    maxima = [float(b.U_T.where(b.stable & b.admissible & (b.s <= 0.72)).max()) for b in branches_s if b.sizes.get("point")]
+    spread = (max(maxima) - min(maxima)) / np.mean(maxima) if maxima else math.nan
+    rows.append(_row("max 1:1 output changes < 1 % with beta", "section 5", "< 1 %", f"{100 * spread:.2f} %", 0.01,
+                     spread < 0.01))
+    return rows
+
+
+def apply_known(df: pd.DataFrame, known: dict[str, str]) -> pd.DataFrame:
+    """Mark listed failing items as known discrepancies, with their reason; unknown keys are an error."""
+    missing = sorted(set(known) - set(df["item"]))
+    if missing:
+        raise ValueError(f"checks.known names items that are not checked: {missing}; allowed: {sorted(df['item'])}")
+    for item, reason in known.items():
+        sel = (df["item"] == item) & (df["status"] == "fail")
+        df.loc[sel, "status"] = "known discrepancy"
+        df.loc[sel, "note"] = reason
+    return df
+
+
+def markdown(df: pd.DataFrame) -> str:
+    def fmt(x):
+        return f"{x:.6g}" if isinstance(x, float) else str(x).replace("|", "\\|")
+
+    lines = ["| item | paper | computed | tolerance | status | note |", "|---|---|---|---|---|---|"]
+    for _, r in df.iterrows():
+        lines.append(f"| {r['item']} | {fmt(r['paper'])} | {fmt(r['computed'])} | {fmt(r['tolerance'])} | "
+                     f"{'**' + r['status'] + '**' if r['status'] != 'pass' else 'pass'} | {fmt(r['note'])} |")
+    counts = df["status"].value_counts().to_dict()
+    lines.append("")
+    lines.append("Summary: " + ", ".join(f"{v} {k}" for k, v in sorted(counts.items())) + ".")
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,23 @@
+"""Compare every published number and claim with the datasets; fail if anything unexpected fails."""
+import logging
+
+import pandas as pd
+import xarray as xr
+
+from vibroimpact import checks
+
+logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+load = lambda f: xr.load_dataset(f, engine="netcdf4")
+i = snakemake.input
+rows = (checks.caption_rows(load(i.captions)) + checks.stability_rows(pd.read_csv(i.table1))
+        + checks.grazing_rows(load(i.bis))
+        + checks.energy_rows([load(f) for f in i.branches_s], [load(f) for f in i.branches_F], [load(f) for f in i.sweeps]))
+df = checks.apply_known(pd.DataFrame(rows), snakemake.params.known)
+table = checks.markdown(df)
+logging.info("\n%s", table)
+failed = df[df["status"] == "fail"]
+if len(failed):
+    raise SystemExit(f"{len(failed)} of the paper's values are not reproduced:\n{checks.markdown(failed)}")
+df.to_csv(snakemake.output.csv, index=False)
+with open(snakemake.output.md, "w") as fh:
+    fh.write(table)

@@ -5,15 +5,16 @@ import math
 import numpy as np
 
 import vibroimpact as vi
-from vibroimpact.bench import ivp_run, report, simulator_benchmark
+from vibroimpact.bench import report, simulator_benchmark
+from vibroimpact.methods import run_ivp
 
 
 def test_ivp_baseline_follows_the_same_orbit_on_a_stable_2_1():
     p = vi.Params(d=0.16, gbar=0.1245 * 9.8 * math.sin(math.pi / 6) / 5, r=0.5)
     ours = vi.simulate(p, 1.015, 0.1924, n_impacts=31)
-    ivp = ivp_run(p, 1.015, 0.1924, 30)
-    np.testing.assert_array_equal(ivp[:, 1], ours["wall"].values[1:])
-    np.testing.assert_allclose(ivp[:, 0], ours["t"].values[1:], atol=1e-8)
+    ivp = run_ivp(p, 1.015, 0.1924, 30)
+    np.testing.assert_array_equal(ivp.wall, ours["wall"].values[1:])
+    np.testing.assert_allclose(ivp.t, ours["t"].values[1:], atol=1e-8)
 
 
 def test_benchmark_reports_speed_and_accuracy():

@@ -68,3 +68,46 @@ def grazing_state(theta_e, tau_e, d, gbar, wall, eps):
     disp = u0 * te + g / 2 * te**2 - (mp.cos(th_e) - mp.cos(th0)) / PI**2 - mp.sin(th0) / PI * te
     z0 = ze - disp
     return float(th0 % (2 * PI)), float(z0), float(u0)
+
+
+def trajectory(d, gbar, r, phi, v0, n, horizon=12.0, step=2e-4):
+    """The first ``n`` impacts after a bottom impact at phase ``phi`` with pre-impact velocity ``v0``
+    (paper convention), chained in 40-digit arithmetic: ``(t, wall, Zdot-)`` as mpf lists.
+
+    Each flight is bracketed by dense float sampling and refined in mpmath from the mpmath state, so
+    rounding does not accumulate along the run; the package's impact location is not used.
+    """
+    d, gbar, r = mp.mpf(d), mp.mpf(gbar), mp.mpf(r)
+    theta = mp.mpf(phi)
+    z0 = d / 2
+    u = -r * mp.mpf(v0)
+    t = mp.mpf(0)
+    out = []
+    for _ in range(n):
+        tau, wall, _ = _first_impact_mp(theta, z0, u, d, gbar, horizon, step)
+        if wall == 0:
+            break
+        v = velocity(theta, u, gbar)(tau)
+        t += tau
+        theta = theta + PI * tau
+        z0 = wall * d / 2
+        u = -r * v
+        out.append((t, wall, v))
+    return out
+
+
+def _first_impact_mp(theta, z0, u, d, gbar, horizon, step):
+    tau = np.arange(0.0, horizon, step)[1:]
+    th, zf, uf, gf, df = float(theta), float(z0), float(u), float(gbar), float(d)
+    z = zf + uf * tau + gf / 2 * tau**2 - (np.cos(th + np.pi * tau) - np.cos(th)) / np.pi**2 - np.sin(th) / np.pi * tau
+    above = z >= df / 2
+    below = z <= -df / 2
+    hit = np.flatnonzero(above | below)
+    if hit.size == 0:
+        return math.inf, 0, math.inf
+    k = hit[0]
+    wall = 1 if above[k] else -1
+    lo = tau[k - 1] if k > 0 else 0.0
+    f = gap(theta, z0, u, gbar, wall * d / 2)
+    root = mp.findroot(f, (mp.mpf(lo), mp.mpf(tau[k])), solver="anderson")
+    return root, wall, None

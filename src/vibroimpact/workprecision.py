@@ -1,0 +1,190 @@
+"""Work-precision of the simulation methods and where each fails (issue 7).
+
+Errors are measured against the 40-digit reference of :mod:`vibroimpact.reference` (never against
+the package's own simulator); costs are wall-clock seconds measured in one process, one method
+after another.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from . import methods as M
+from .datasets import annotate
+from .events import next_impact
+from .params import Params
+from .reference import first_impact, grazing_state, trajectory
+
+#: Scenes from the paper's captions and its chaotic window: (beta, d, phi, v0)
+SCENES = {
+    "1:1": (math.pi / 3, 0.38, 0.4217, 0.8673),
+    "2:1": (math.pi / 6, 0.16, 1.015, 0.1924),
+    "3:1": (math.pi / 6, 0.138, 0.7342, 0.1845),
+    "chaotic": (math.pi / 3, 0.235, 0.4, 0.6),
+}
+
+
+def _params(beta, d, r=0.5):
+    return Params(d=d, gbar=0.1245 * 9.8 * math.sin(beta) / 5.0, r=r)
+
+
+def method_ladder(ivp_methods, ivp_tols, rk4_steps):
+    """(family, setting, label) of every method configuration."""
+    out = [("exact", math.nan, "exact (numba)"), ("python", math.nan, "same algorithm, plain Python")]
+    out += [(f"ivp-{m}", tol, f"solve_ivp {m} rtol={tol:g}") for m in ivp_methods for tol in ivp_tols]
+    out += [("rk4", h, f"RK4 + bisection h={h:g}") for h in rk4_steps]
+    return out
+
+
+def _run(family, setting, p, phi, v0, n, t_end=math.inf, max_seconds=30.0):
+    if family == "exact":
+        return M.run_exact(p, phi, v0, n, t_end=t_end)
+    if family == "python":
+        return M.run_python(p, phi, v0, n, t_end=t_end)
+    if family.startswith("ivp-"):
+        return M.run_ivp(p, phi, v0, n, method=family[4:], rtol=setting, atol=setting * 1e-2, t_end=t_end,
+                         max_seconds=max_seconds)
+    return M.run_rk4(p, phi, v0, n, h=setting, t_end=t_end)
+
+
+def _errors(run, ref):
+    """Largest impact-time and impact-velocity errors over the reference impacts, and the index of
+    the first impact on the wrong wall (-1 if none)."""
+    n = min(len(ref), len(run.t))
+    rt = np.array([float(x[0]) for x in ref[:n]])
+    rw = np.array([x[1] for x in ref[:n]])
+    rv = np.array([float(x[2]) for x in ref[:n]])
+    wrong = np.flatnonzero(run.wall[:n] != rw)
+    if wrong.size or n < len(ref):
+        return math.inf, math.inf, int(wrong[0]) if wrong.size else n
+    return float(np.max(np.abs(run.t[:n] - rt))), float(np.max(np.abs(run.v[:n] - rv))), -1
+
+
+def work_precision(*, n_err=20, n_cost=None, ivp_methods=("RK45", "DOP853", "LSODA", "Radau"),
+                   ivp_tols=(1e-3, 1e-5, 1e-7, 1e-9, 1e-11), rk4_steps=(1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4),
+                   scenes=None) -> xr.Dataset:
+    """Errors against the reference over the first ``n_err`` impacts, and cost per impact over
+    ``n_cost[family]`` impacts, for every method configuration and scene."""
+    scenes = scenes or SCENES
+    n_cost = {"exact": 20_000, "python": 400, "ivp": 60, "rk4": 2_000} | (n_cost or {})
+    ladder = method_ladder(ivp_methods, ivp_tols, rk4_steps)
+    shape = (len(ladder), len(scenes))
+    err_t, err_v, cost, total = (np.full(shape, np.nan) for _ in range(4))
+    wrong = np.full(shape, -1, dtype=np.int64)
+    for j, (_, (beta, d, phi, v0)) in enumerate(scenes.items()):
+        p = _params(beta, d)
+        ref = trajectory(p.d, p.gbar, p.r, phi, v0, n_err)
+        for i, (family, setting, _) in enumerate(ladder):
+            n = max(n_err, n_cost["ivp" if family.startswith("ivp") else family])
+            run = _run(family, setting, p, phi, v0, n)
+            err_t[i, j], err_v[i, j], wrong[i, j] = _errors(run, ref)
+            cost[i, j] = run.seconds / max(len(run.t), 1) * 1e6
+            total[i, j] = run.seconds
+    ds = xr.Dataset(
+        {
+            "err_t": (("method", "scene"), err_t, {"units": "1", "long_name": "largest impact-time error over the first impacts (inf: wrong walls)"}),
+            "err_v": (("method", "scene"), err_v, {"units": "1", "long_name": "largest pre-impact velocity error (inf: wrong walls)"}),
+            "us_per_impact": (("method", "scene"), cost, {"units": "us", "long_name": "wall-clock cost per impact"}),
+            "seconds": (("method", "scene"), total, {"units": "s", "long_name": "wall-clock time of the timed run"}),
+            "first_wrong_wall": (("method", "scene"), wrong, {"units": "1", "long_name": "first impact on the wrong wall (-1: none)"}),
+            "family": ("method", [m[0] for m in ladder]),
+            "setting": ("method", [m[1] for m in ladder], {"long_name": "rtol (solve_ivp) or step h (RK4)"}),
+        },
+        coords={"method": [m[2] for m in ladder], "scene": list(scenes)},
+    )
+    ds.attrs.update(n_err=n_err, n_cost=str(n_cost), reference="40-digit mpmath chain of flights (vibroimpact.reference)")
+    return annotate(ds)
+
+
+# ---------------------------------------------------------------------------------------------
+# Failure map
+# ---------------------------------------------------------------------------------------------
+
+OUTCOMES = ("correct", "wrong time", "missed impact", "spurious impact", "wrong sequence", "stalled", "crashed")
+
+
+def _flight(family, setting, theta, z0, u, d, gbar):
+    if family in ("exact", "python"):
+        return next_impact(theta, z0, u, d, gbar, math.inf)
+    if family.startswith("ivp-"):
+        tau, w, _ = M.ivp_flight(theta, z0, u, d, gbar, setting, setting * 1e-2, family[4:])
+        return tau, w
+    return M.rk4_flight(theta, z0, u, d, gbar, setting, 50.0)
+
+
+def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=("RK45", "DOP853", "LSODA", "Radau"),
+                ivp_tols=(1e-6, 1e-10), rk4_steps=(1e-2, 1e-3), chaos_impacts=100, chatter_t_end=20.0,
+                max_seconds=20.0) -> xr.Dataset:
+    """Outcome of every method on hard cases: near-grazing flights whose extremum passes eps inside
+    a wall (no impact) or crosses it by eps (an impact) at both walls; chattering into sticking;
+    a long chaotic run followed against the reference."""
+    ladder = [m for m in method_ladder(ivp_methods, ivp_tols, rk4_steps) if m[0] != "python"]
+    d, gbar = 0.3, 0.2
+    cases, outcome, detail = [], [], []
+    rng = np.random.default_rng(7)
+    grazing = []
+    for wall in (1, -1):
+        for eps in epsilons:
+            for side in ("miss", "hit"):
+                # an extremum at tau = 0.6 with |Z''| > 0.2: the whole excursion past the wall lies
+                # inside the flight, and the flight starts strictly inside the cylinder
+                while True:
+                    theta_e = rng.uniform(0, 2 * np.pi)
+                    if wall * (math.cos(theta_e) + gbar) >= -0.2:
+                        continue
+                    state = grazing_state(theta_e, 0.6, d, gbar, wall, eps if side == "miss" else -eps)
+                    ref_tau, ref_wall, clearance = first_impact(*state, d, gbar)
+                    if abs(state[1]) < 0.45 * d and (side == "miss" or abs(float(ref_tau) - 0.6) < 0.5):
+                        break
+                grazing.append((f"{'B' if wall == 1 else 'T'} {side} by {eps:.0e}", state, float(ref_tau), ref_wall, side, wall))
+    cases = [g[0] for g in grazing] + ["chattering into sticking", f"chaotic run ({chaos_impacts} impacts)"]
+    outcome = np.empty((len(ladder), len(cases)), dtype=object)
+    detail = np.empty((len(ladder), len(cases)), dtype=object)
+    for i, (family, setting, _) in enumerate(ladder):
+        for j, (_, state, ref_tau, ref_wall, side, wall) in enumerate(grazing):
+            tau, w = _flight(family, setting, *state, d, gbar)
+            if w == ref_wall and abs(tau - ref_tau) <= 1e-8 * max(1.0, ref_tau):
+                out = "correct"
+            elif side == "hit" and (w != wall or tau > ref_tau + 1e-3):
+                out = "missed impact"
+            elif side == "miss" and w == wall and abs(tau - 0.6) < 0.05:
+                out = "spurious impact"
+            else:
+                out = "wrong time"
+            outcome[i, j], detail[i, j] = out, f"tau={tau:.12g} wall={w} (reference {ref_tau:.12g}, {ref_wall})"
+        # chattering into sticking: does the method get to t_end?
+        p = Params(d=0.3, gbar=0.9, r=0.5)
+        run = _run(family, setting, p, 0.3, 0.5, 200_000, t_end=chatter_t_end, max_seconds=max_seconds)
+        reached = len(run.t) and run.t[-1] > 0.9 * chatter_t_end or (family == "exact" and run.status == M.OK)
+        j = len(grazing)
+        outcome[i, j] = ("correct" if (reached and run.status == M.OK)
+                         else "crashed" if run.status.startswith(M.CRASHED) else "stalled")
+        detail[i, j] = f"{len(run.t)} impacts to t={run.t[-1] if len(run.t) else 0:.6g} in {run.seconds:.3g} s ({run.status})"
+    # long chaotic run against the reference
+    beta, dc, phi, v0 = SCENES["chaotic"]
+    pc = _params(beta, dc)
+    ref = trajectory(pc.d, pc.gbar, pc.r, phi, v0, chaos_impacts)
+    rt = np.array([float(x[0]) for x in ref])
+    rw = np.array([x[1] for x in ref])
+    for i, (family, setting, _) in enumerate(ladder):
+        run = _run(family, setting, pc, phi, v0, chaos_impacts, max_seconds=max_seconds)
+        n = min(len(run.t), len(rt))
+        bad = np.flatnonzero((run.wall[:n] != rw[:n]) | (np.abs(run.t[:n] - rt[:n]) > 1e-3))
+        followed = int(bad[0]) if bad.size else n
+        j = len(grazing) + 1
+        outcome[i, j] = "correct" if followed == len(rt) else "wrong sequence"
+        detail[i, j] = f"follows the reference for {followed} of {len(rt)} impacts"
+    ds = xr.Dataset(
+        {
+            "outcome": (("method", "case"), outcome.astype(str), {"long_name": "outcome", "flag_meanings": " / ".join(OUTCOMES)}),
+            "detail": (("method", "case"), detail.astype(str)),
+            "family": ("method", [m[0] for m in ladder]),
+            "setting": ("method", [m[1] for m in ladder]),
+        },
+        coords={"method": [m[2] for m in ladder], "case": cases},
+    )
+    ds.attrs.update(d=d, gbar=gbar, note="the plain-Python run of the exact algorithm takes the same decisions as the compiled one")
+    return ds

@@ -59,6 +59,8 @@ rule all:
         expand("results/figures/{fig}.{ext}", fig=list(config["energy"]["figures"]) + ["design"], ext=["pdf", "png"]),
         "results/tables/design.md",
         "results/checks/paper_values.csv",
+        expand("results/figures/{fig}.png", fig=["work_precision", "failure_map", "analytics_accuracy"]),
+        "results/tables/workflow_cost.md",
         [study_figure(st) for st in STUDIES],
         "results/tables/table1.md",
     default_target: True

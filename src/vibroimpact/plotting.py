@@ -476,3 +476,98 @@ def fig_design(s_sets, F_sets, table):
                      + r"; dashed: $\overline{U}_I$; circles/squares: maxima")
     axes[0].legend(loc="best", fontsize=6)
     return fig
+
+
+# ---------------------------------------------------------------------------------------------
+# Speed against accuracy (issue 7)
+# ---------------------------------------------------------------------------------------------
+
+FAMILY_STYLE = {
+    "exact": ("k", "*", "exact (numba)"),
+    "python": ("0.5", "*", "same algorithm, plain Python"),
+    "ivp-RK45": ("tab:blue", "o", "solve_ivp RK45"),
+    "ivp-DOP853": ("tab:orange", "s", "solve_ivp DOP853"),
+    "ivp-LSODA": ("tab:green", "^", "solve_ivp LSODA"),
+    "ivp-Radau": ("tab:purple", "v", "solve_ivp Radau"),
+    "rk4": ("tab:red", "D", "RK4 + bisection"),
+}
+
+
+def fig_work_precision(wp):
+    """Error in impact times against cost per impact, log-log, one line per method (tolerance or
+    step ladder); a cross at the top where the method put impacts on the wrong walls."""
+    import numpy as np
+
+    use_style()
+    scenes = list(wp.scene.values)
+    fig, axes = plt.subplots(1, len(scenes), figsize=(3.6 * len(scenes), 3.6), squeeze=False, sharey=True)
+    top = 1.0
+    for ax, sc in zip(axes[0], scenes, strict=True):
+        sub = wp.sel(scene=sc)
+        for fam, (color, marker, label) in FAMILY_STYLE.items():
+            m = sub.family.values == fam
+            if not m.any():
+                continue
+            x, y = sub.us_per_impact.values[m], sub.err_t.values[m]
+            finite = np.isfinite(y)
+            ax.loglog(x[finite], np.maximum(y[finite], 1e-17), marker=marker, color=color, lw=1, ms=5, label=label)
+            if (~finite).any():
+                ax.plot(x[~finite], np.full((~finite).sum(), top), "x", color=color, ms=7)
+        ax.set_title(f"{sc} motion")
+        ax.set_xlabel("cost per impact (µs)")
+        ax.axhline(top, color="0.7", lw=0.6, ls=":")
+    axes[0, 0].set_ylabel("largest impact-time error\n(first 20 impacts; x: wrong walls)")
+    axes[0, -1].legend(loc="lower right", fontsize=6)
+    return fig
+
+
+def fig_failure_map(fm):
+    import numpy as np
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+
+    from .workprecision import OUTCOMES
+
+    use_style()
+    colors = ["#4daf4a", "#ffd92f", "#e41a1c", "#984ea3", "#ff7f00", "#377eb8", "#000000"]
+    codes = np.vectorize(OUTCOMES.index)(fm.outcome.values)
+    fig, ax = plt.subplots(figsize=(12, 4.2))
+    ax.imshow(codes, cmap=ListedColormap(colors), vmin=-0.5, vmax=len(OUTCOMES) - 0.5, aspect="auto")
+    ax.set_yticks(range(fm.sizes["solver"]), fm.solver.values, fontsize=7)
+    ax.set_xticks(range(fm.sizes["case"]), fm.case.values, rotation=70, ha="right", fontsize=7)
+    ax.legend(handles=[Patch(color=c, label=o) for c, o in zip(colors, OUTCOMES, strict=True)],
+              loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
+    ax.set_title("Where each method fails: near-grazing flights (extremum eps inside a wall: no impact; "
+                 "eps past it: an impact), chattering into sticking, a long chaotic run", fontsize=8)
+    return fig
+
+
+def fig_analytics_accuracy(a):
+    """Located vs grid-only critical points (continuation step) and grazing points (sweep points),
+    error against cost."""
+    use_style()
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
+    ax = axes[0]
+    for k, (kind, color) in enumerate((("B", "tab:blue"), ("fold", "tab:orange"))):
+        x = a.branch_seconds.values
+        ax.loglog(x, a.branch_grid_err.values[:, k].clip(1e-17), "o--", color=color, mfc="none", label=f"{kind}: grid only")
+        ax.loglog(x, a.branch_located_err.values[:, k].clip(1e-17), "o-", color=color, label=f"{kind}: located")
+        for xi, h, y in zip(x, a.step.values, a.branch_grid_err.values[:, k], strict=True):
+            if k == 0:
+                ax.annotate(f"{h:g}", (xi, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+    ax.set_xlabel("continuation time (s)")
+    ax.set_ylabel("error in d")
+    ax.set_title(r"(a) 2:1 branch, $\beta=\pi/3$: by arclength step (labels)")
+    ax.legend(fontsize=6)
+    ax = axes[1]
+    for k, (kind, color) in enumerate((("G1", "k"), ("G2", "tab:red"))):
+        x = a.sweep_seconds.values.sum(axis=1)
+        ax.loglog(x, a.sweep_grid_err.values[:, k], "s--", color=color, mfc="none", label=f"{kind}: grid only")
+        ax.loglog(x, a.sweep_located_err.values[:, k], "s-", color=color, label=f"{kind}: located")
+        if k == 0:
+            for xi, n, y in zip(x, a.points.values, a.sweep_grid_err.values[:, k], strict=True):
+                ax.annotate(str(n), (xi, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+    ax.set_xlabel("sweep + location time (s)")
+    ax.set_title(r"(b) grazing points from sweeps, $\beta=\pi/6$: by sweep points (labels)")
+    ax.legend(fontsize=6)
+    return fig

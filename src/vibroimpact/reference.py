@@ -49,8 +49,7 @@ def first_impact(theta, z0, u, d, gbar, horizon=12.0, step=2e-4):
     clearance = float(np.min(d / 2 - np.abs(z[:k]))) if k > 0 else math.inf
     lo = tau[k - 1] if k > 0 else 0.0
     f = gap(theta, z0, u, gbar, wall * d / 2)
-    root = mp.findroot(f, (mp.mpf(lo), mp.mpf(tau[k])), solver="anderson")
-    return root, wall, clearance
+    return _bracketed_root(f, lo, tau[k]), wall, clearance
 
 
 def grazing_state(theta_e, tau_e, d, gbar, wall, eps):
@@ -109,5 +108,12 @@ def _first_impact_mp(theta, z0, u, d, gbar, horizon, step):
     wall = 1 if above[k] else -1
     lo = tau[k - 1] if k > 0 else 0.0
     f = gap(theta, z0, u, gbar, wall * d / 2)
-    root = mp.findroot(f, (mp.mpf(lo), mp.mpf(tau[k])), solver="anderson")
-    return root, wall, None
+    return _bracketed_root(f, lo, tau[k]), wall, None
+
+
+def _bracketed_root(f, lo, hi):
+    """Root of f in [lo, hi] (a sign change): Anderson-Bjorck, or bisection where it stalls."""
+    try:
+        return mp.findroot(f, (mp.mpf(lo), mp.mpf(hi)), solver="anderson")
+    except ValueError:
+        return mp.findroot(f, (mp.mpf(lo), mp.mpf(hi)), solver="bisect", verify=False)

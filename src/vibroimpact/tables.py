@@ -134,3 +134,88 @@ def design_markdown(df: pd.DataFrame) -> str:
         lines.append(f"| {names.get(r.beta_deg, f'{r.beta:.4f}')} | {r.vary} | {r.maximise} | {at} | {r.d:.4f} | "
                      f"{r.U_T:.4g} | {r.U_I:.4g} | {r.motion} |")
     return "\n".join(lines) + "\n"
+
+
+def failure_markdown(fm: xr.Dataset) -> str:
+    """Counts of outcomes per method, and what happened in the chattering and chaotic cases."""
+    from .workprecision import OUTCOMES
+
+    grazing = [c for c in fm.case.values if " by " in str(c)]
+    head = "| method | " + " | ".join(OUTCOMES) + " | chattering into sticking | long chaotic run |"
+    lines = [head, "|" + "---|" * (len(OUTCOMES) + 3)]
+    for i, m in enumerate(fm.solver.values):
+        row = fm.isel(solver=i)
+        g = row.sel(case=grazing).outcome.values
+        counts = " | ".join(str(int((g == o).sum())) for o in OUTCOMES)
+        chat = row.sel(case="chattering into sticking")
+        chaos = row.isel(case=-1)
+        lines.append(f"| {m} | {counts} | {str(chat.outcome.values)}: {str(chat.detail.values)} | "
+                     f"{str(chaos.detail.values)} |")
+    lines.append("")
+    lines.append(f"Near-grazing counts are over {len(grazing)} flights: both walls, extremum eps inside (no "
+                 "impact) or past the wall (an impact), eps = " + ", ".join(sorted({str(c).split(' by ')[1] for c in grazing},
+                                                                                   key=float, reverse=True)) + ".")
+    return "\n".join(lines) + "\n"
+
+
+def work_precision_markdown(wp: xr.Dataset) -> str:
+    """Cheapest configuration of each method family reaching 1e-9 in impact times, per scene."""
+    lines = ["| scene | method | cheapest setting reaching 1e-9 | error | µs per impact |", "|---|---|---|---|---|"]
+    for sc in wp.scene.values:
+        sub = wp.sel(scene=sc)
+        for fam in dict.fromkeys(sub.family.values):
+            m = (sub.family.values == fam) & (sub.err_t.values <= 1e-9)
+            if not m.any():
+                best = np.nanmin(sub.err_t.values[sub.family.values == fam])
+                lines.append(f"| {sc} | {fam} | none (best error {best:.1e}) | | |")
+                continue
+            i = np.flatnonzero(m)[np.argmin(sub.us_per_impact.values[m])]
+            setting = sub.setting.values[i]
+            lines.append(f"| {sc} | {fam} | {'' if np.isnan(setting) else f'{setting:g}'} | "
+                         f"{sub.err_t.values[i]:.1e} | {sub.us_per_impact.values[i]:.3g} |")
+    return "\n".join(lines) + "\n"
+
+
+#: Benchmark files (globs under benchmarks/) behind each figure, for the workflow-cost summary.
+FIGURE_SOURCES = {
+    "fig0b, fig4, figFN2 (caption orbits)": ["orbits/*.tsv"],
+    "fig2, fig3, table1 (2:1 branches)": ["branches/*/orbit-BBT_vary-s.tsv", "branches/*/sim-BBT_vary-s.tsv"],
+    "figBiS": ["sweeps/*/figBiS*.tsv", "branches/beta-0.5236*/orbit-BBBT_vary-s.tsv"],
+    "fig0": ["sweeps/*/fig0_*.tsv", "branches/beta-1.0472*/orbit-B*T_vary-*.tsv"],
+    "fig5": ["sweeps/*/fig5_*.tsv", "branches/*/orbit-BT_vary-*.tsv"],
+    "design": ["sweeps/*/design_*.tsv"],
+    "basins": ["basins/*/*.tsv"],
+    "regime_map": ["maps/*.tsv"],
+    "bench (simulator speed)": ["bench/simulator.tsv"],
+    "work_precision": ["bench/work_precision.tsv"],
+    "failure_map": ["bench/failure_map.tsv"],
+    "analytics_accuracy": ["bench/analytics_accuracy.tsv"],
+}
+
+
+def workflow_cost(bench_dir) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Wall-clock seconds of every benchmarked job (from Snakemake ``benchmark:`` files), summed per
+    rule family and per figure.  A job feeding several figures counts in each."""
+    from pathlib import Path
+
+    bench_dir = Path(bench_dir)
+    jobs = []
+    for f in sorted(bench_dir.rglob("*.tsv")):
+        t = pd.read_csv(f, sep="\t")
+        jobs.append({"file": str(f.relative_to(bench_dir)), "seconds": float(t["s"].iloc[-1]),
+                     "max_rss_mb": float(t["max_rss"].iloc[-1]) if "max_rss" in t and t["max_rss"].iloc[-1] != "-" else np.nan})
+    jobs = pd.DataFrame(jobs)
+    per_fig = []
+    for fig, globs in FIGURE_SOURCES.items():
+        files = {str(p.relative_to(bench_dir)) for g in globs for p in bench_dir.glob(g)}
+        sel = jobs[jobs.file.isin(files)] if len(jobs) else jobs
+        per_fig.append({"figure": fig, "jobs": len(sel), "seconds": float(sel.seconds.sum()) if len(sel) else 0.0})
+    return jobs, pd.DataFrame(per_fig)
+
+
+def workflow_cost_markdown(jobs: pd.DataFrame, per_fig: pd.DataFrame) -> str:
+    lines = ["| figure | benchmarked jobs | total seconds |", "|---|---|---|"]
+    for _, r in per_fig.iterrows():
+        lines.append(f"| {r.figure} | {r.jobs} | {r.seconds:.1f} |")
+    lines.append(f"| **all benchmarked jobs** | {len(jobs)} | {jobs.seconds.sum():.1f} |")
+    return "\n".join(lines) + "\n"

@@ -85,15 +85,15 @@ def work_precision(*, n_err=20, n_cost=None, ivp_methods=("RK45", "DOP853", "LSO
             total[i, j] = run.seconds
     ds = xr.Dataset(
         {
-            "err_t": (("method", "scene"), err_t, {"units": "1", "long_name": "largest impact-time error over the first impacts (inf: wrong walls)"}),
-            "err_v": (("method", "scene"), err_v, {"units": "1", "long_name": "largest pre-impact velocity error (inf: wrong walls)"}),
-            "us_per_impact": (("method", "scene"), cost, {"units": "us", "long_name": "wall-clock cost per impact"}),
-            "seconds": (("method", "scene"), total, {"units": "s", "long_name": "wall-clock time of the timed run"}),
-            "first_wrong_wall": (("method", "scene"), wrong, {"units": "1", "long_name": "first impact on the wrong wall (-1: none)"}),
-            "family": ("method", [m[0] for m in ladder]),
-            "setting": ("method", [m[1] for m in ladder], {"long_name": "rtol (solve_ivp) or step h (RK4)"}),
+            "err_t": (("solver", "scene"), err_t, {"units": "1", "long_name": "largest impact-time error over the first impacts (inf: wrong walls)"}),
+            "err_v": (("solver", "scene"), err_v, {"units": "1", "long_name": "largest pre-impact velocity error (inf: wrong walls)"}),
+            "us_per_impact": (("solver", "scene"), cost, {"units": "us", "long_name": "wall-clock cost per impact"}),
+            "seconds": (("solver", "scene"), total, {"units": "s", "long_name": "wall-clock time of the timed run"}),
+            "first_wrong_wall": (("solver", "scene"), wrong, {"units": "1", "long_name": "first impact on the wrong wall (-1: none)"}),
+            "family": ("solver", [m[0] for m in ladder]),
+            "setting": ("solver", [m[1] for m in ladder], {"long_name": "rtol (solve_ivp) or step h (RK4)"}),
         },
-        coords={"method": [m[2] for m in ladder], "scene": list(scenes)},
+        coords={"solver": [m[2] for m in ladder], "scene": list(scenes)},
     )
     ds.attrs.update(n_err=n_err, n_cost=str(n_cost), reference="40-digit mpmath chain of flights (vibroimpact.reference)")
     return annotate(ds)
@@ -117,7 +117,7 @@ def _flight(family, setting, theta, z0, u, d, gbar):
 
 def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=("RK45", "DOP853", "LSODA", "Radau"),
                 ivp_tols=(1e-6, 1e-10), rk4_steps=(1e-2, 1e-3), chaos_impacts=100, chatter_t_end=20.0,
-                max_seconds=20.0) -> xr.Dataset:
+                max_seconds=2.0) -> xr.Dataset:
     """Outcome of every method on hard cases: near-grazing flights whose extremum passes eps inside
     a wall (no impact) or crosses it by eps (an impact) at both walls; chattering into sticking;
     a long chaotic run followed against the reference."""
@@ -179,12 +179,91 @@ def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=
         detail[i, j] = f"follows the reference for {followed} of {len(rt)} impacts"
     ds = xr.Dataset(
         {
-            "outcome": (("method", "case"), outcome.astype(str), {"long_name": "outcome", "flag_meanings": " / ".join(OUTCOMES)}),
-            "detail": (("method", "case"), detail.astype(str)),
-            "family": ("method", [m[0] for m in ladder]),
-            "setting": ("method", [m[1] for m in ladder]),
+            "outcome": (("solver", "case"), outcome.astype(str), {"long_name": "outcome", "flag_meanings": " / ".join(OUTCOMES)}),
+            "detail": (("solver", "case"), detail.astype(str)),
+            "family": ("solver", [m[0] for m in ladder]),
+            "setting": ("solver", [m[1] for m in ladder]),
         },
-        coords={"method": [m[2] for m in ladder], "case": cases},
+        coords={"solver": [m[2] for m in ladder], "case": cases},
     )
     ds.attrs.update(d=d, gbar=gbar, note="the plain-Python run of the exact algorithm takes the same decisions as the compiled one")
     return ds
+
+
+# ---------------------------------------------------------------------------------------------
+# Accuracy of the analytics against resolution and cost
+# ---------------------------------------------------------------------------------------------
+
+
+def analytics_accuracy(*, steps=(2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4), points=(25, 50, 100, 200, 400, 800),
+                       g1=0.1376002140001645, g2=0.1419540498496398) -> xr.Dataset:
+    """How critical points converge with the continuation step, and how the sweep-located grazing
+    points converge with the sweep resolution, against cost.
+
+    (a) The beta = pi/3 2:1 branch: the period doubling B and the fold located by refinement, and
+    the grid-only estimate (middle of the branch interval where the test function changes sign),
+    against the finest step's located values.  (b) beta = pi/6 sweeps over 0.136 < d < 0.144: G1
+    and G2 from the grid alone (middle of the interval where the motion changes) and located
+    (followed attractor, xtol 1e-9), against the analytic points ``g1``, ``g2`` (issue 3).
+    """
+    import time
+
+    from .continuation import continue_orbit
+    from .orbits import find_orbit
+    from .sweeps import locate_transitions, sweep
+
+    p = Params.from_physical(s=0.184 / 0.6225, beta=math.pi / 3)
+    orbit = find_orbit(p, "BBT", 1.21, 0.2164)
+    continue_orbit(orbit, vary="s", d_range=(0.15, 0.23), step=2e-2)  # compile outside the timing
+    located, grid, cost_a = [], [], []
+    for h in steps:
+        t0 = time.perf_counter()
+        br = continue_orbit(orbit, vary="s", d_range=(0.15, 0.23), step=h)
+        cost_a.append(time.perf_counter() - t0)
+        kinds, crit = br.critical_kind.values, br.critical_d.values
+        located.append([float(crit[kinds == k][0]) for k in ("B", "fold")])
+        tr, det = br.trace.values, br.det.values
+        est = []
+        for f in (1 + tr + det, 1 - tr + det):
+            i = np.flatnonzero(np.diff(np.sign(f)) != 0)
+            ok = i[np.abs(f[i]) + np.abs(f[i + 1]) < 10]  # sign changes through zero, not through a pole
+            est.append(float(0.5 * (br.d.values[ok[0]] + br.d.values[ok[0] + 1])))
+        grid.append(est)
+    located, grid = np.array(located), np.array(grid)
+    ref = located[-1]
+    k_s = 0.1245 * (5 * math.pi) ** 2 / (5 * math.pi**2)
+    sw_grid, sw_loc, cost_b = [], [], []
+    sweep("s", np.linspace(0.136, 0.144, 5) / k_s, beta=math.pi / 6)  # compile
+    for n in points:
+        t0 = time.perf_counter()
+        sw = sweep("s", np.linspace(0.136, 0.144, n) / k_s, beta=math.pi / 6, phi=5.855, v0=0.4185)
+        t1 = time.perf_counter()
+        tr = locate_transitions(sw, xtol=1e-9)
+        t2 = time.perf_counter()
+        est = []
+        for k_dir, target in ((1, g1), (0, g2)):
+            lab = sw.label.values[k_dir]
+            i = np.flatnonzero(lab[:-1] != lab[1:])
+            j = i[np.argmin(np.abs(sw.d.values[i] - target))]
+            est.append(0.5 * (sw.d.values[j] + sw.d.values[j + 1]))
+        down = tr.d.values[tr.direction.values == "down"]
+        up = tr.d.values[tr.direction.values == "up"]
+        sw_grid.append(est)
+        sw_loc.append([down[np.argmin(np.abs(down - g1))], up[np.argmin(np.abs(up - g2))]])
+        cost_b.append([t1 - t0, t2 - t1])
+    sw_grid, sw_loc, cost_b = np.array(sw_grid), np.array(sw_loc), np.array(cost_b)
+    exact = np.array([g1, g2])
+    ds = xr.Dataset(
+        {
+            "branch_located_err": (("step", "point_kind"), np.abs(located - ref), {"units": "1", "long_name": "located critical point: |d - d(finest step)|"}),
+            "branch_grid_err": (("step", "point_kind"), np.abs(grid - ref), {"units": "1", "long_name": "grid-only estimate: |d - d(finest step)|"}),
+            "branch_seconds": ("step", np.array(cost_a), {"units": "s", "long_name": "continuation with stability and located points"}),
+            "sweep_grid_err": (("points", "grazing"), np.abs(sw_grid - exact), {"units": "1", "long_name": "grid-only estimate: |d - analytic|"}),
+            "sweep_located_err": (("points", "grazing"), np.abs(sw_loc - exact), {"units": "1", "long_name": "located transition: |d - analytic|"}),
+            "sweep_seconds": (("points", "stage"), cost_b, {"units": "s", "long_name": "sweep (up and down) and transition location"}),
+        },
+        coords={"step": list(steps), "point_kind": ["B", "fold"], "points": list(points), "grazing": ["G1", "G2"],
+                "stage": ["sweep", "locate"]},
+    )
+    ds.attrs.update(branch_reference=str(dict(zip(["B", "fold"], ref.tolist(), strict=True))), G1=g1, G2=g2)
+    return annotate(ds)

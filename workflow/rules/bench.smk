@@ -4,6 +4,8 @@
 rule bench:
     input:
         "results/bench/simulator.nc",
+        "results/figures/work_precision.png",
+        "results/figures/failure_map.png",
 
 
 rule bench_simulator:
@@ -18,6 +20,80 @@ rule bench_simulator:
         "logs/bench/simulator.log",
     benchmark:
         "benchmarks/bench/simulator.tsv"
-    threads: 1
+    threads: workflow.cores  # timed: run alone
     script:
         "../scripts/bench_simulator.py"
+
+
+rule work_precision:
+    output:
+        nc="results/bench/work_precision.nc",
+        md="results/tables/work_precision.md",
+        pdf="results/figures/work_precision.pdf",
+        png="results/figures/work_precision.png",
+    params:
+        **config["work_precision"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/bench/work_precision.log",
+    benchmark:
+        "benchmarks/bench/work_precision.tsv"
+    threads: workflow.cores  # timed: run alone
+    script:
+        "../scripts/work_precision.py"
+
+
+rule failure_map:
+    output:
+        nc="results/bench/failure_map.nc",
+        md="results/tables/failure_map.md",
+        pdf="results/figures/failure_map.pdf",
+        png="results/figures/failure_map.png",
+    params:
+        **config["failure_map"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/bench/failure_map.log",
+    benchmark:
+        "benchmarks/bench/failure_map.tsv"
+    threads: workflow.cores  # timed: run alone
+    script:
+        "../scripts/failure_map.py"
+
+
+rule analytics_accuracy:
+    output:
+        nc="results/bench/analytics_accuracy.nc",
+        pdf="results/figures/analytics_accuracy.pdf",
+        png="results/figures/analytics_accuracy.png",
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/bench/analytics_accuracy.log",
+    benchmark:
+        "benchmarks/bench/analytics_accuracy.tsv"
+    threads: workflow.cores  # timed: run alone
+    script:
+        "../scripts/analytics_accuracy.py"
+
+
+rule workflow_cost:
+    input:
+        # everything else first, so that its benchmark files exist
+        "results/checks/paper_values.csv",
+        "results/figures/work_precision.png",
+        "results/figures/failure_map.png",
+        "results/figures/analytics_accuracy.png",
+    output:
+        csv="results/tables/workflow_cost.csv",
+        md="results/tables/workflow_cost.md",
+    params:
+        bench_dir="benchmarks",
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/tables/workflow_cost.log",
+    script:
+        "../scripts/workflow_cost.py"

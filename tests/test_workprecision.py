@@ -1,0 +1,59 @@
+"""The work-precision machinery: methods against the reference, failure outcomes, cost tables.
+Costs are reported, never asserted."""
+
+import math
+
+import numpy as np
+
+import vibroimpact as vi
+from vibroimpact import methods as M
+from vibroimpact.reference import trajectory
+from vibroimpact.tables import workflow_cost
+from vibroimpact.workprecision import failure_map, work_precision
+
+P21 = vi.Params(d=0.16, gbar=0.1245 * 9.8 * 0.5 / 5, r=0.5)
+
+
+def test_every_method_follows_a_stable_2to1_orbit():
+    ref = trajectory(P21.d, P21.gbar, P21.r, 1.015, 0.1924, 10)
+    rt = np.array([float(x[0]) for x in ref])
+    for run, tol in ((M.run_exact(P21, 1.015, 0.1924, 10), 1e-13), (M.run_python(P21, 1.015, 0.1924, 10), 1e-13),
+                     (M.run_ivp(P21, 1.015, 0.1924, 10, method="DOP853", rtol=1e-10, atol=1e-12), 1e-8),
+                     (M.run_rk4(P21, 1.015, 0.1924, 10, h=1e-3), 1e-10)):
+        assert run.status == M.OK
+        np.testing.assert_array_equal(run.wall, [x[1] for x in ref])
+        assert np.max(np.abs(run.t - rt)) < tol
+
+
+def test_plain_python_run_is_the_same_algorithm():
+    a = M.run_exact(P21, 1.015, 0.1924, 50)
+    b = M.run_python(P21, 1.015, 0.1924, 50)
+    np.testing.assert_allclose(a.t, b.t, rtol=0, atol=1e-13)
+
+
+def test_work_precision_errors_fall_with_step_and_tolerance():
+    wp = work_precision(n_err=8, n_cost={"exact": 200, "python": 20, "ivp": 8, "rk4": 50}, ivp_methods=("DOP853",),
+                        ivp_tols=(1e-4, 1e-9), rk4_steps=(3e-2, 3e-3), scenes={"2:1": (math.pi / 6, 0.16, 1.015, 0.1924)})
+    e = wp.err_t.sel(scene="2:1")
+    assert float(e.sel(solver="exact (numba)")) < 1e-13
+    assert float(e.sel(solver="solve_ivp DOP853 rtol=1e-09")) < float(e.sel(solver="solve_ivp DOP853 rtol=0.0001"))
+    assert float(e.sel(solver="RK4 + bisection h=0.003")) < float(e.sel(solver="RK4 + bisection h=0.03"))
+    assert np.all(wp.us_per_impact.values > 0)
+
+
+def test_failure_map_exact_is_always_right_and_event_detection_misses_short_crossings():
+    fm = failure_map(epsilons=(1e-2, 1e-10), ivp_methods=("DOP853",), ivp_tols=(1e-10,), rk4_steps=(1e-2,),
+                     chaos_impacts=30, chatter_t_end=5.0, max_seconds=1.0)
+    exact = fm.sel(solver="exact (numba)").outcome.values
+    assert set(exact) == {"correct"}
+    ivp = fm.sel(solver="solve_ivp DOP853 rtol=1e-10")
+    assert str(ivp.sel(case="B hit by 1e-10").outcome.values) == "missed impact"
+    assert str(ivp.sel(case="chattering into sticking").outcome.values) in ("stalled", "crashed")
+
+
+def test_workflow_cost_reads_benchmark_files(tmp_path):
+    (tmp_path / "maps").mkdir()
+    (tmp_path / "maps" / "s_beta.tsv").write_text("s\th:m:s\tmax_rss\n1.5\t0:00:01\t100\n")
+    jobs, per_fig = workflow_cost(tmp_path)
+    assert float(jobs.seconds.sum()) == 1.5
+    assert float(per_fig.set_index("figure").loc["regime_map", "seconds"]) == 1.5

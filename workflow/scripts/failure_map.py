@@ -1,0 +1,16 @@
+"""Where each method fails: near grazing, chattering into sticking, a long chaotic run."""
+import logging
+
+from vibroimpact import plotting
+from vibroimpact.datasets import provenance, write_netcdf
+from vibroimpact.tables import failure_markdown
+from vibroimpact.workprecision import failure_map
+
+logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+p = dict(snakemake.params)
+ds = failure_map(**p)
+ds.attrs.update(provenance(**p))
+write_netcdf(ds, snakemake.output.nc)
+with open(snakemake.output.md, "w") as fh:
+    fh.write(failure_markdown(ds))
+plotting.save(plotting.fig_failure_map(ds), snakemake.output.pdf.removesuffix(".pdf"))

@@ -1,0 +1,10 @@
+"""Each figure's cost from the Snakemake benchmark files."""
+import logging
+
+from vibroimpact.tables import workflow_cost, workflow_cost_markdown
+
+logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+jobs, per_fig = workflow_cost(snakemake.params.bench_dir)
+jobs.to_csv(snakemake.output.csv, index=False)
+with open(snakemake.output.md, "w") as fh:
+    fh.write(workflow_cost_markdown(jobs, per_fig))

@@ -79,9 +79,4 @@ def admissibility(z, walls, d, gbar, r):
     return (not reason), reason, float(clearance)
 
 
-def grazing_function(orbit) -> float:
-    """Signed distance to grazing of an orbit (its ``clearance``): > 0 admissible, 0 at grazing."""
-    return orbit.clearance
-
-
-__all__ = ["admissibility", "grazing_function", "interior_clearance"]
+__all__ = ["admissibility", "interior_clearance"]

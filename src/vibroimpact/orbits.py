@@ -58,7 +58,7 @@ def _flight(tau, theta, u, gbar):
     acc = math.cos(theta + x) + gbar
     disp_th = (-s * omc + c * smx) * INV_PI2
     vel_th = (-s * sx - c * omc) * INV_PI
-    return disp, vel, acc, disp_th, vel_th, tau
+    return disp, vel, acc, disp_th, vel_th
 
 
 def _residual_and_jacobian(z, walls, d, gbar, r, k):
@@ -73,7 +73,7 @@ def _residual_and_jacobian(z, walls, d, gbar, r, k):
     for j in range(n):
         jn = (j + 1) % n
         u = -r * v[j]
-        disp, vel, acc, disp_th, vel_th, _ = _flight(tau[j], theta, u, gbar)
+        disp, vel, acc, disp_th, vel_th = _flight(tau[j], theta, u, gbar)
         # position: w_j d/2 + disp = w_{j+1} d/2   (eq. zj_p1)
         F[2 * j] = disp - (walls[jn] - walls[j]) * 0.5 * d
         # velocity: v_{j+1} = vel               (eq. zdotj_p1)
@@ -141,7 +141,7 @@ def map_jacobian(z, walls, gbar, r):
     DP = np.eye(2)
     for j in range(n):
         u = -r * v[j]
-        _, vel, acc, disp_th, vel_th, _ = _flight(tau[j], theta, u, gbar)
+        _, vel, acc, disp_th, vel_th = _flight(tau[j], theta, u, gbar)
         # implicit flight time: disp(tau; theta_j, u_j) = const, theta_j = pi t_j + phi, u_j = -r v_j
         dtau_dt = -PI * disp_th / vel
         dtau_dv = r * tau[j] / vel

@@ -34,6 +34,21 @@ VARIABLES: dict[str, tuple[str, str, str]] = {
     "n_events": ("1", "number of recorded events", ""),
     "status": ("1", "run status", "see flag_values and flag_meanings"),
     "period_events": ("1", "events per period of the attractor", "0 when no period was identified"),
+    # energy (MODEL.md section 4, paper eq. V1)
+    "gain": ("V", "output voltage U_k - U_in at each impact", ""),
+    "U_I": ("V", "average output voltage per impact (eq. V1)", ""),
+    "U_T": ("V", "average output voltage per unit of non-dimensional time (eq. V1)", ""),
+    "speed": ("m/s", "dimensional impact speed", "|Zdot-| F pi / (M omega)"),
+    "window_time": ("1", "non-dimensional time the averages are taken over", ""),
+    "window_impacts": ("1", "impacts the averages are taken over", ""),
+    # caption orbits against the exact attractor
+    "motion_stated": ("1", "motion stated in the caption (n:m)", ""),
+    "motion_found": ("1", "attractor found by exact simulation", ""),
+    "v_attractor": ("1", "attractor's bottom impact velocity Zdot- nearest the caption's", ""),
+    "phase_attractor": ("rad", "attractor's bottom impact phase nearest the caption's", ""),
+    "dv": ("1", "v_attractor minus the caption's Zdot(t0)", ""),
+    "dphase": ("rad", "phase_attractor minus the caption's phi (wrapped)", ""),
+    "reproduced": ("1", "the stated n:m motion is the attractor", ""),
 }
 
 

@@ -89,23 +89,6 @@ def orbit_energy(orbit, membrane: Membrane, *, F: float, M: float, omega: float)
     return {"gain": gain, "U_I": float(u_i), "U_T": float(u_t)}
 
 
-_ATTRS = {
-    "gain": ("V", "output voltage U_k - U_in at each impact"),
-    "U_I": ("V", "average output voltage per impact (eq. V1)"),
-    "U_T": ("V", "average output voltage per unit of non-dimensional time (eq. V1)"),
-    "speed": ("m/s", "dimensional impact speed"),
-    "window_time": ("1", "non-dimensional time the averages are taken over"),
-    "window_impacts": ("1", "impacts the averages are taken over"),
-}
-
-
-def _annotate_energy(ds):
-    for name, (u, ln) in _ATTRS.items():
-        if name in ds:
-            ds[name].attrs.update(units=u, long_name=ln)
-    return annotate(ds)
-
-
 def branch_energy(branch: xr.Dataset, membrane: Membrane, *, M: float, omega: float) -> xr.Dataset:
     """Gains and averages along an analytic branch (exact over one period at every point)."""
     if not branch.sizes.get("point", 0):
@@ -123,7 +106,7 @@ def branch_energy(branch: xr.Dataset, membrane: Membrane, *, M: float, omega: fl
     )
     ds.attrs.update({k_: v for k_, v in branch.attrs.items() if k_ in ("word", "k", "beta", "r", "vary")})
     ds.attrs.update({f"membrane_{k_}": v for k_, v in asdict(membrane).items()})
-    return _annotate_energy(ds)
+    return annotate(ds)
 
 
 def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, window_time: float = 30.0) -> xr.Dataset:
@@ -175,4 +158,4 @@ def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, 
     )
     ds.attrs.update({k: sw.attrs[k] for k in ("vary", "beta", "r") if k in sw.attrs}, window_time=window_time)
     ds.attrs.update({f"membrane_{k}": v for k, v in asdict(membrane).items()})
-    return _annotate_energy(ds)
+    return annotate(ds)

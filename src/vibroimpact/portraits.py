@@ -77,16 +77,6 @@ def caption_summary(datasets: dict[str, xr.Dataset], expected: dict[str, str]) -
     )
     out["reproduced"] = ("caption", [f == s or f.startswith(s + " ") for s, f in
                                      zip(out.motion_stated.values, out.motion_found.values, strict=True)])
-    for var, (u, ln) in {
-        "motion_stated": ("1", "motion stated in the caption (n:m)"),
-        "motion_found": ("1", "attractor found by exact simulation"),
-        "v_attractor": ("1", "attractor's bottom impact velocity Zdot- nearest the caption's"),
-        "phase_attractor": ("rad", "attractor's bottom impact phase nearest the caption's"),
-        "dv": ("1", "v_attractor minus the caption's Zdot(t0)"),
-        "dphase": ("rad", "phase_attractor minus the caption's phi (wrapped)"),
-        "reproduced": ("1", "the stated n:m motion is the attractor"),
-    }.items():
-        out[var].attrs.update(units=u, long_name=ln)
     return annotate(out)
 
 

@@ -145,8 +145,7 @@ def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, 
             n = int(hit[a, i, sl].sum())
             if n == 0 or duration <= 0:
                 continue
-            gains = gain_all[a, i, sl][hit[a, i, sl]]
-            u_i[a, i], u_t[a, i] = gains.sum() / n, gains.sum() / duration
+            u_i[a, i], u_t[a, i] = averages(gain_all[a, i, sl][hit[a, i, sl]], duration)
             span[a, i], count[a, i] = duration, n
     ds = xr.Dataset(
         {"speed": (("direction", "point", "event"), np.where(hit, speed, np.nan)),

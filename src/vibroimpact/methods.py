@@ -155,48 +155,18 @@ def _rk4_step(theta, gbar, t, z, v, h):
 
 
 @njit(cache=True)
-def _rk4_loop(d, gbar, r, phi, v0, n, h, t_end, max_steps, out_t, out_w, out_v):
-    half = 0.5 * d
-    z, v, t = half, -r * v0, 0.0
-    k = 0
-    steps = 0
-    while k < n and t < t_end:
-        if steps >= max_steps:
-            return k, 1
-        zn, vn = _rk4_step(phi, gbar, t, z, v, h)
-        steps += 1
-        w = 1 if zn >= half and vn > 0 else (-1 if zn <= -half and vn < 0 else 0)
-        if w == 0:
-            z, v, t = zn, vn, t + h
-            continue
-        wall = w * half
-        lo, hi = 0.0, h
-        for _ in range(60):  # bisection on the length of one RK4 step from the step's start
-            mid = 0.5 * (lo + hi)
-            zm, _ = _rk4_step(phi, gbar, t, z, v, mid)
-            if (zm - wall) * w >= 0:
-                hi = mid
-            else:
-                lo = mid
-            if hi - lo < 1e-15 * max(1.0, t):
-                break
-        z_hit, v_hit = _rk4_step(phi, gbar, t, z, v, hi)
-        t += hi
-        out_t[k] = t
-        out_w[k] = w
-        out_v[k] = v_hit
-        k += 1
-        z, v = wall, -r * v_hit
-    return k, 0
+def rk4_flight(theta, z0, u, d, gbar, h, tau_max, max_steps):
+    """One flight by fixed-step RK4 from (z0, u) at phase theta: a step ending beyond a wall is an
+    impact, located by bisection on the length of that step (re-taking one RK4 step from its start).
 
-
-@njit(cache=True)
-def rk4_flight(theta, z0, u, d, gbar, h, tau_max):
-    """First wall crossing detected by fixed-step RK4 from (z0, u) at phase theta: (tau, wall)."""
+    Returns ``(tau, wall, Zdot-, steps)``; ``wall = 0`` when ``tau_max`` or ``max_steps`` came first.
+    """
     half = 0.5 * d
     z, v, t = z0, u, 0.0
-    while t < tau_max:
+    steps = 0
+    while t < tau_max and steps < max_steps:
         zn, vn = _rk4_step(theta, gbar, t, z, v, h)
+        steps += 1
         w = 1 if zn >= half and vn > 0 else (-1 if zn <= -half and vn < 0 else 0)
         if w != 0:
             lo, hi = 0.0, h
@@ -209,9 +179,32 @@ def rk4_flight(theta, z0, u, d, gbar, h, tau_max):
                     lo = mid
                 if hi - lo < 1e-15 * max(1.0, t):
                     break
-            return t + hi, w
+            _, v_hit = _rk4_step(theta, gbar, t, z, v, hi)
+            return t + hi, w, v_hit, steps
         z, v, t = zn, vn, t + h
-    return math.inf, 0
+    return math.inf, 0, math.nan, steps
+
+
+@njit(cache=True)
+def _rk4_loop(d, gbar, r, phi, v0, n, h, t_end, max_steps, out_t, out_w, out_v):
+    """Chain RK4 flights from a bottom impact; returns (impacts, 1 if the step budget ran out)."""
+    half = 0.5 * d
+    z, v, t = half, -r * v0, 0.0
+    k = 0
+    steps = 0
+    while k < n and t < t_end:
+        theta = (phi + math.pi * t) % (2.0 * math.pi)
+        tau, w, v_hit, used = rk4_flight(theta, z, v, d, gbar, h, t_end - t, max_steps - steps)
+        steps += used
+        if w == 0:
+            return k, 1 if steps >= max_steps else 0
+        t += tau
+        out_t[k] = t
+        out_w[k] = w
+        out_v[k] = v_hit
+        k += 1
+        z, v = w * half, -r * v_hit
+    return k, 0
 
 
 def run_rk4(p: Params, phi, v0, n, *, h=1e-3, t_end=math.inf, max_steps=50_000_000):

@@ -244,21 +244,22 @@ def fig3(branches, d_ranges):
 # ---------------------------------------------------------------------------------------------
 
 
-def _cycle_points(sw, direction, var):
-    """(d, value) of the last period's events of every point of one sweep direction."""
+def _last_events(ds, var, direction="down"):
+    """(d, values) of every point's last period of events in one sweep direction (its last 24 events
+    where no period was found); ``var="dt"`` gives the time since the previous event."""
     import numpy as np
 
-    s = sw.sel(direction=direction)
-    xs, ys, walls = [], [], []
+    s = ds.sel(direction=direction)
+    xs, ys = [], []
     for i in range(s.sizes["point"]):
-        t = s.t.values[i]
+        t = s["t"].values[i] if "t" in s else s[var].values[i]
         m = int(np.isfinite(t).sum())
-        n = int(s.period_events.values[i]) or min(m, 24)
-        sl = slice(m - n, m)
-        xs.append(np.full(n, float(s.d[i])))
-        ys.append(s[var].values[i, sl])
-        walls.append(s.wall.values[i, sl])
-    return np.concatenate(xs), np.concatenate(ys), np.concatenate(walls)
+        n = (int(s["period_events"].values[i]) if "period_events" in s else 0) or min(m, 24)
+        v = np.diff(t[max(m - n - 1, 0):m]) if var == "dt" else s[var].values[i, m - n:m]
+        v = v[np.isfinite(v)]
+        xs.append(np.full(v.size, float(s.d[i])))
+        ys.append(v)
+    return np.concatenate(xs), np.concatenate(ys)
 
 
 def fig_bis(sw, transitions, portraits, branches):
@@ -280,19 +281,8 @@ def fig_bis(sw, transitions, portraits, branches):
                 y = np.abs(y) if var == "v_minus" else y
                 branch_line(ax, br.d.values[m], y, br.stable.values[m], color, lw=0.8)
         for direction, marker, color, lab in (("down", "o", "k", "2:1 (d decreasing)"), ("up", "+", "tab:blue", "3:1 (d increasing)")):
-            if var == "dt":
-                s = sw.sel(direction=direction)
-                xs, ys = [], []
-                for i in range(s.sizes["point"]):
-                    t = s.t.values[i]
-                    m = int(np.isfinite(t).sum())
-                    n = int(s.period_events.values[i]) or min(m, 24)
-                    xs.append(np.full(n, float(s.d[i])))
-                    ys.append(np.diff(t[m - n - 1:m]))
-                x, y = np.concatenate(xs), np.concatenate(ys)
-            else:
-                x, y, _ = _cycle_points(sw, direction, var)
-                y = np.abs(y) if var == "v_minus" else y
+            x, y = _last_events(sw, var, direction)
+            y = np.abs(y) if var == "v_minus" else y
             ax.plot(x, y, marker, mfc="none", color=color, ms=3.5, ls="none", label=lab)
         for g, c in ((g1, "k"), (g2, "tab:red")):
             ax.axvline(g, color=c, ls="-.", lw=0.8)
@@ -369,25 +359,6 @@ U_I_COLOR = "tab:red"
 U_T_COLOR = "tab:cyan"
 
 
-def _window_values(sw, var, direction="down"):
-    """(d, values) of the events each point of a sweep direction averages over (its last period,
-    or its last 24 events where no period was found)."""
-    import numpy as np
-
-    s = sw.sel(direction=direction)
-    xs, ys = [], []
-    for i in range(s.sizes["point"]):
-        vals = s[var].values[i]
-        m = int(np.isfinite(s["t"].values[i]).sum()) if "t" in s else int(np.isfinite(vals).sum())
-        n = int(s["period_events"].values[i]) if "period_events" in s else 0
-        n = n or min(m, 24)
-        v = vals[m - n:m]
-        v = v[np.isfinite(v)]
-        xs.append(np.full(v.size, float(s.d[i])))
-        ys.append(v)
-    return np.concatenate(xs), np.concatenate(ys)
-
-
 def _analytic(ax, branches, var, *, averages=False):
     import numpy as np
 
@@ -435,14 +406,14 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False):
     for (vax, uax), sw, en, brs in zip(pairs, sweeps, energies, branch_sets, strict=True):
         if vax is not None:
             _analytic(vax, brs, "v_minus")
-            x, y = _window_values(sw, "v_minus")
+            x, y = _last_events(sw, "v_minus")
             vax.plot(x, abs(y), "o", mfc="none", color="k", ms=2.5, ls="none")
             vax.set_xlabel("d")
             vax.set_ylabel(r"$|\dot Z_k|$")
             vax.set_title(_panel_title(sw, next(letters)))
         _analytic(uax, brs, "gain")
         _analytic(uax, brs, "gain", averages=True)
-        x, y = _window_values(en, "gain")
+        x, y = _last_events(en, "gain")
         uax.plot(x, y, "o", mfc="none", color="k", ms=2.5, ls="none", label=r"$U_k-U_{in}$ (simulated)")
         dn = en.sel(direction="down")
         uax.plot(dn.d, dn.U_T, "D", mfc="none", color=U_T_COLOR, ms=3.5, ls="none", label=r"$\overline{U}_T$")

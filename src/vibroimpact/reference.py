@@ -35,18 +35,20 @@ def first_impact(theta, z0, u, d, gbar, horizon=12.0, step=2e-4):
     """First crossing of a wall by sampling then refining in mpmath. Returns (tau, wall, min_clearance).
 
     ``min_clearance`` is the closest sampled approach to a wall before the crossing, so a caller can
-    discard states whose sampling could hide a tangency.
+    discard states whose sampling could hide a tangency.  The state may be given as floats or as
+    mpmath numbers: the sampling rounds it to floats, the refinement uses it as given.
     """
     tau = np.arange(0.0, horizon, step)[1:]
-    z = z0 + u * tau + gbar / 2 * tau**2 - (np.cos(theta + np.pi * tau) - np.cos(theta)) / np.pi**2 - np.sin(theta) / np.pi * tau
-    above = z >= d / 2
-    below = z <= -d / 2
+    th, zf, uf, gf, df = float(theta), float(z0), float(u), float(gbar), float(d)
+    z = zf + uf * tau + gf / 2 * tau**2 - (np.cos(th + np.pi * tau) - np.cos(th)) / np.pi**2 - np.sin(th) / np.pi * tau
+    above = z >= df / 2
+    below = z <= -df / 2
     hit = np.flatnonzero(above | below)
     if hit.size == 0:
-        return math.inf, 0, float(np.min(d / 2 - np.abs(z)))
+        return math.inf, 0, float(np.min(df / 2 - np.abs(z)))
     k = hit[0]
     wall = 1 if above[k] else -1
-    clearance = float(np.min(d / 2 - np.abs(z[:k]))) if k > 0 else math.inf
+    clearance = float(np.min(df / 2 - np.abs(z[:k]))) if k > 0 else math.inf
     lo = tau[k - 1] if k > 0 else 0.0
     f = gap(theta, z0, u, gbar, wall * d / 2)
     return _bracketed_root(f, lo, tau[k]), wall, clearance
@@ -83,7 +85,7 @@ def trajectory(d, gbar, r, phi, v0, n, horizon=12.0, step=2e-4):
     t = mp.mpf(0)
     out = []
     for _ in range(n):
-        tau, wall, _ = _first_impact_mp(theta, z0, u, d, gbar, horizon, step)
+        tau, wall, _ = first_impact(theta, z0, u, d, gbar, horizon, step)
         if wall == 0:
             break
         v = velocity(theta, u, gbar)(tau)
@@ -93,22 +95,6 @@ def trajectory(d, gbar, r, phi, v0, n, horizon=12.0, step=2e-4):
         u = -r * v
         out.append((t, wall, v))
     return out
-
-
-def _first_impact_mp(theta, z0, u, d, gbar, horizon, step):
-    tau = np.arange(0.0, horizon, step)[1:]
-    th, zf, uf, gf, df = float(theta), float(z0), float(u), float(gbar), float(d)
-    z = zf + uf * tau + gf / 2 * tau**2 - (np.cos(th + np.pi * tau) - np.cos(th)) / np.pi**2 - np.sin(th) / np.pi * tau
-    above = z >= df / 2
-    below = z <= -df / 2
-    hit = np.flatnonzero(above | below)
-    if hit.size == 0:
-        return math.inf, 0, math.inf
-    k = hit[0]
-    wall = 1 if above[k] else -1
-    lo = tau[k - 1] if k > 0 else 0.0
-    f = gap(theta, z0, u, gbar, wall * d / 2)
-    return _bracketed_root(f, lo, tau[k]), wall, None
 
 
 def _bracketed_root(f, lo, hi):

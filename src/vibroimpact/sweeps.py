@@ -46,12 +46,12 @@ def parameter_grid(vary: str, values, *, beta: float, s: float = 0.85, F: float 
 
 
 def _classify(win, n, status, lag):
-    """Label of one run from its window of the last ``n`` events."""
-    if status != K.PERIODIC or lag == 0 or lag > n:
+    """Label of one run from its window of the last ``n`` events (a period is identified only after
+    three periods of events, so a periodic window holds more than one period)."""
+    if status != K.PERIODIC or lag == 0 or lag >= n:
         return 0, 0, 0, APERIODIC
-    t, wall, _, _, kind = (w[n - lag - 1:n] if n > lag else w[:n] for w in win)
-    span = float(win[0][n - 1] - win[0][n - 1 - lag]) if n > lag else 2.0
-    k, nb, nt, _, label = cycle_class(wall[-lag:], kind[-lag:], span)
+    t, wall, kind = win[0], win[1], win[4]
+    k, nb, nt, _, label = cycle_class(wall[n - lag:n], kind[n - lag:n], float(t[n - 1] - t[n - 1 - lag]))
     return k, nb, nt, label
 
 

@@ -112,7 +112,8 @@ def _flight(family, setting, theta, z0, u, d, gbar):
     if family.startswith("ivp-"):
         tau, w, _ = M.ivp_flight(theta, z0, u, d, gbar, setting, setting * 1e-2, family[4:])
         return tau, w
-    return M.rk4_flight(theta, z0, u, d, gbar, setting, 50.0)
+    tau, w, _, _ = M.rk4_flight(theta, z0, u, d, gbar, setting, 50.0, 10_000_000)
+    return tau, w
 
 
 def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=("RK45", "DOP853", "LSODA", "Radau"),

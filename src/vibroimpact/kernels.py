@@ -7,11 +7,15 @@ into the wall is ``a = w Z''``.  If ``a > 0`` and the rebound speed ``|Zdot+| = 
 ``v_chatter``, the remaining infinite sequence of bounces is summed as under constant acceleration:
 each flight lasts ``2 |Zdot+| / a`` and the speeds shrink by ``r``, so the impacts accumulate at
 
-    t_inf = t + 2 |Zdot+| / ((1 - r) a),
+    t_inf = t + 2 |Zdot+| / ((1 - r) a).
 
-with an error of order ``|Zdot+|^2`` (from the variation of ``a``).  The ball then sticks to the wall
-(event ``stick``) until ``w Z''`` changes sign, at the phase where ``cos(pi t + phi) = -gbar``,
-where it is released (event ``release``) with zero relative velocity.  With ``gbar >= 1`` a ball
+The sum is used only where ``a`` changes by less than ``CHATTER_DRIFT`` (1e-9) of itself before
+``t_inf``: then ``w Z''`` cannot change sign before the accumulation point (it comes before the
+release), and the sum's relative error is of that order.  Near the release phase (``a`` small and
+falling) the bounces are instead followed one by one, exactly, until the sum applies or the ball
+leaves the wall.  The ball then sticks to the wall (event ``stick``) until ``w Z''`` changes sign, at
+the phase where ``cos(pi t + phi) = -gbar``, where it is released (event ``release``) with zero
+relative velocity.  With ``gbar >= 1`` a ball
 stuck on the bottom is never released, and the run ends with status ``STUCK_FOREVER``.
 """
 
@@ -43,6 +47,9 @@ STATUS_NAMES = ("n_events", "t_end", "periodic", "stuck_forever", "no_impact")
 
 #: |Zdot-| below which an impact is labelled grazing.
 V_GRAZING = 1e-9
+#: Largest relative change of the acceleration over a chattering sequence that is summed to its
+#: accumulation point (see ``_accumulation_time``); beyond it the bounces are followed exactly.
+CHATTER_DRIFT = 1e-9
 #: Longest single flight searched when no t_end is given (non-dimensional time).
 TAU_HORIZON = 1.0e5
 
@@ -115,11 +122,22 @@ def _no_shorter_period(i, p, vm, phase, tol):
 @njit(cache=True)
 def _accumulation_time(theta, u, w, gbar, r, v_chatter):
     """Time to the accumulation point of a chattering sequence after an impact on wall ``w`` with
-    rebound velocity ``u``, or -1 when the rule does not apply (see the module docstring)."""
+    rebound velocity ``u``, or -1 when the rule does not apply (see the module docstring).
+
+    The sum assumes a constant acceleration ``a``; it is used only where ``a`` changes by at most
+    ``CHATTER_DRIFT * a`` before the accumulation point (bounded by ``|a'| tau + |a''| tau^2 / 2``
+    with ``|a'| = pi |sin theta|``, ``|a''| <= pi^2``).  So ``w Z''`` keeps its sign up to the
+    accumulation point, which therefore comes before the release, and the relative error of the sum
+    is of order ``CHATTER_DRIFT``.  Otherwise the next bounce is computed exactly.
+    """
     a_in = w * (math.cos(theta) + gbar)
-    if a_in > 0.0 and abs(u) < v_chatter:
-        return 2.0 * abs(u) / ((1.0 - r) * a_in)
-    return -1.0
+    if a_in <= 0.0 or abs(u) >= v_chatter:
+        return -1.0
+    tau = 2.0 * abs(u) / ((1.0 - r) * a_in)
+    drift = PI * abs(math.sin(theta)) * tau + 0.5 * PI * PI * tau * tau
+    if drift > CHATTER_DRIFT * a_in:
+        return -1.0
+    return tau
 
 
 @njit(cache=True)

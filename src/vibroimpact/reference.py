@@ -103,3 +103,113 @@ def _bracketed_root(f, lo, hi):
         return mp.findroot(f, (mp.mpf(lo), mp.mpf(hi)), solver="anderson")
     except ValueError:
         return mp.findroot(f, (mp.mpf(lo), mp.mpf(hi)), solver="bisect", verify=False)
+
+
+# ---------------------------------------------------------------------------------------------
+# Chattering bounce by bounce (no accumulation rule): the reference for sticking and release
+# ---------------------------------------------------------------------------------------------
+
+
+def _first_crossing(fns, fns_float, tau_min, horizon, per_decade=8, step=1e-3):
+    """First ``tau`` in ``(0, horizon]`` where one of ``fns`` (mpmath callables, positive at the
+    start) becomes ``<= 0``; ``(tau, index)`` or ``(inf, -1)``.
+
+    Sampled on a logarithmic grid from ``tau_min`` to 1e-2 in mpmath (short chattering flights need
+    the extra digits), then on a linear grid of ``step`` in floats (``fns_float``: the same
+    functions on NumPy arrays); the bracketing pair of samples is refined in mpmath.
+    """
+    lo = mp.mpf(0)
+    if tau_min < 1e-2:
+        n = max(2, int(math.ceil(per_decade * math.log10(1e-2 / tau_min))))
+        for x in np.logspace(math.log10(tau_min), -2, n):
+            x = mp.mpf(x)
+            for k, f in enumerate(fns):
+                if f(x) <= 0:
+                    return _bracketed_root(f, lo, x), k
+            lo = x
+    grid = np.arange(float(lo) + step, horizon + step, step)
+    vals = np.array([f(grid) for f in fns_float])
+    hit = np.flatnonzero((vals <= 0).any(axis=0))
+    if hit.size == 0:
+        return mp.inf, -1
+    i = hit[0]
+    k = int(np.flatnonzero(vals[:, i] <= 0)[0])
+    a = grid[i - 1] if i > 0 else lo
+    # the float samples can misjudge a value within rounding of zero: confirm the bracket in mpmath
+    a = mp.mpf(a)
+    if fns[k](a) <= 0:
+        a = lo
+    return _bracketed_root(fns[k], a, mp.mpf(grid[i])), k
+
+
+def _displacement_mp(theta, u, gbar):
+    """Z(tau) - Z(0) of a flight in the paper's form (eq. ``z_t``), in mpmath."""
+    F1_0, cos0 = mp.sin(theta) / PI, mp.cos(theta)
+    return lambda tau: u * tau + gbar / 2 * tau**2 - (mp.cos(theta + PI * tau) - cos0) / PI**2 - F1_0 * tau
+
+
+def _displacement_float(theta, u, gbar):
+    th, uf, gf = float(theta), float(u), float(gbar)
+    return lambda tau: uf * tau + gf / 2 * tau**2 - (np.cos(th + np.pi * tau) - np.cos(th)) / np.pi**2 - np.sin(th) / np.pi * tau
+
+
+def bounce_by_bounce(theta0, z0, u0, d, gbar, r, *, t_end, v_rest=1e-25, dps=60, max_events=2000, horizon=12.0):
+    """Events of the motion from ``(theta0, z0, u0)`` until ``t_end``, every bounce of every chattering
+    sequence chained as an exact flight in ``dps``-digit arithmetic: no accumulation rule.
+
+    A chattering sequence is ended only when the rebound speed is below ``v_rest`` (1e-25): the
+    remaining bounces then last less than ``2 v_rest / ((1 - r) a)``, far below any tolerance.  The
+    ball then rests on the wall until the relative acceleration stops pushing it in (a root of
+    ``w (cos(theta) + gbar)`` found by sampling, not by a formula) and leaves with zero velocity.
+
+    Returns a list of ``(kind, t, wall, Zdot-)`` with ``kind`` in ``"impact", "stick", "release"``
+    (mpmath numbers), times measured from the start.
+    """
+    with mp.workdps(dps):
+        d, gbar, r = mp.mpf(d), mp.mpf(gbar), mp.mpf(r)
+        theta, z, u, t = mp.mpf(theta0), mp.mpf(z0), mp.mpf(u0), mp.mpf(0)
+        half = d / 2
+        out = []
+        released = False  # just released: the acceleration is zero there and turns away from the wall
+        while t < t_end and len(out) < max_events:
+            wall = 1 if z == half else (-1 if z == -half else 0)
+            push = wall * (mp.cos(theta) + gbar)
+            if wall and push > 0 and abs(u) < v_rest and not released:
+                t += 2 * abs(u) / ((1 - r) * push)
+                theta += PI * 2 * abs(u) / ((1 - r) * push)
+                out.append(("stick", t, wall, mp.mpf(0)))
+                th = theta
+                tau, _ = _first_crossing([lambda x: wall * (mp.cos(th + PI * x) + gbar)],
+                                         [lambda x: wall * (np.cos(float(th) + np.pi * x) + float(gbar))],
+                                         1e-30, horizon)
+                if tau == mp.inf:
+                    return out  # never released (gbar >= 1 on the bottom)
+                # a root rounded to the near side leaves a push of ~10^-dps, which would start a new
+                # chattering sequence of that size: step past it (10^(10 - dps) in time)
+                while wall * (mp.cos(th + PI * tau) + gbar) > 0:
+                    tau += mp.mpf(10) ** (10 - dps)
+                t += tau
+                theta += PI * tau
+                u = mp.mpf(0)
+                out.append(("release", t, wall, mp.mpf(0)))
+                released = True
+                continue
+            released = False
+            disp, disp_f = _displacement_mp(theta, u, gbar), _displacement_float(theta, u, gbar)
+            # inside gaps: to the bottom (d/2 - Z) and to the top (Z + d/2), both positive in flight
+            fns = [lambda x: half - z - disp(x), lambda x: z + half + disp(x)]
+            fns_f = [lambda x: float(half - z) - disp_f(x), lambda x: float(z + half) + disp_f(x)]
+            # a flight leaving a wall with speed |u| cannot return before |u| / (1 + gbar); one from rest
+            # (released) moves away as tau^3: sampling starts where that is far above the rounding
+            tau_min = (float(abs(u)) / (1 + float(gbar)) if u != 0 else 1e-8) if wall else 1e-12
+            tau, k = _first_crossing(fns, fns_f, tau_min, horizon)
+            if tau == mp.inf:
+                return out
+            w = 1 if k == 0 else -1
+            v = velocity(theta, u, gbar)(tau)
+            t += tau
+            theta += PI * tau
+            z = w * half
+            u = -r * v
+            out.append(("impact", t, w, v))
+        return out

@@ -4,8 +4,10 @@ import math
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import vibroimpact as vi
+from vibroimpact.continuation import continue_orbit
 from vibroimpact.orbits import find_orbit
 from vibroimpact.sweeps import (
     basins,
@@ -56,6 +58,74 @@ def test_transitions_G1_and_G2_located_and_agree_with_the_analytic_points(pi6):
     assert iv.sizes["interval"] == 1
     assert float(iv.d_lo[0]) == pytest.approx(g1, abs=1e-12) and float(iv.d_hi[0]) == pytest.approx(g2, abs=1e-12)
     assert (str(iv.label_up.values[0]), str(iv.label_down.values[0])) == ("3:1 period-2", "2:1 period-2")
+
+
+def analytic_ends(sw, beta):
+    """Grazing point of the 3:1 orbit (where it gains a bottom impact: the down sweep's end) and
+    fold of the 4:1 orbit (the up sweep's end), by continuation of the orbits the sweeps settle on."""
+    ends = {}
+    for k_dir, word, kind in [(0, "BBBBT", "fold"), (1, "BBBT", "grazing")]:
+        label = f"{len(word) - 1}:1 period-2"
+        i = int(np.flatnonzero(sw.label.values[k_dir] == label)[-1 if k_dir == 0 else 0])
+        ev = sw.isel(direction=k_dir, point=i)
+        m, n = int(np.isfinite(ev.t.values).sum()), int(ev.period_events)
+        w, ph, vm = (ev[v].values[m - n:m] for v in ("wall", "phase", "v_minus"))
+        b = next(j for j in range(n) if w[j] == 1 and w[j - 1] == -1)
+        o = find_orbit(vi.Params.from_physical(s=float(sw.s[i]), beta=beta), word, ph[b], vm[b])
+        br = continue_orbit(o, vary="s", d_range=(0.115, 0.13), step=2e-4)
+        crit = br.critical_d.values[br.critical_kind.values == kind]
+        ends[kind] = float(crit[np.argmin(np.abs(crit - float(sw.d[i])))])
+    return ends["grazing"], ends["fold"]
+
+
+@pytest.mark.parametrize("beta, lo, hi, n, found_by", [
+    # beta = pi/3: 3:1 grazes at 0.12238, 4:1 folds at 0.12511: the interval spans 3 grid steps and
+    # its two ends are far from the one grid point where the sweeps disagree
+    (math.pi / 3, 0.119, 0.127, 5, "sweeps differ"),
+    (math.pi / 3, 0.119, 0.127, 9, "sweeps differ"),
+    # beta = pi/4 (3:1 grazes at 0.12179, 4:1 folds at 0.12315): no grid point inside, both sweeps
+    # jump between the same grid points, and only the located ends see the loop
+    (math.pi / 4, 0.1155, 0.1275, 5, "transitions only"),
+])
+def test_bistable_interval_ends_are_the_bounding_transitions(beta, lo, hi, n, found_by):
+    """The lower end is the down sweep's transition (3:1 gains a bottom impact at its grazing point),
+    the upper end the up sweep's (4:1 ends at its fold): both agree with continuation of the orbits."""
+    sw = sweep("s", np.linspace(lo, hi, n) / K_S, beta=beta, phi=0.42, v0=0.87)
+    tr = locate_transitions(sw, xtol=1e-9)
+    assert set(tr.status.values) == {"refined"}
+    (iv,) = [bistable_intervals(sw, tr).isel(interval=k) for k in range(1)]
+    grazing, fold = analytic_ends(sw, beta)
+    assert fold - grazing > 1e-3  # a wide interval: at least one grid step here
+    assert str(iv.found_by.values) == found_by
+    assert (str(iv.label_up.values), str(iv.label_down.values)) == ("4:1 period-2", "3:1 period-2")
+    assert (str(iv.lo_source.values), str(iv.hi_source.values)) == ("located", "located")
+    assert abs(float(iv.d_lo) - grazing) < 1e-6 and abs(float(iv.d_hi) - fold) < 1e-6
+
+
+def synthetic(up, down, d, transitions):
+    sw = xr.Dataset({"label": (("direction", "point"), np.array([up, down]))}, coords={"d": ("point", d)})
+    cols = list(zip(*transitions, strict=True))
+    tr = xr.Dataset({"direction": ("transition", list(cols[0])), "d": ("transition", np.array(cols[1])),
+                     "d_width": ("transition", np.full(len(transitions), 1e-8)),
+                     "before": ("transition", list(cols[2])), "after": ("transition", list(cols[3]))})
+    return sw, tr
+
+
+def test_bistable_interval_with_an_aperiodic_side_ends_on_the_grid():
+    d = np.array([0.1, 0.2, 0.3, 0.4])
+    gone = vi.sweeps.APERIODIC
+    sw, tr = synthetic(["A", "A", "A", "B"], ["A", gone, gone, "B"], d, [("up", 0.35, "A", "B")])
+    (row,) = bistable_intervals(sw, tr).to_dataframe().itertuples()
+    assert (row.d_lo, row.lo_source, row.d_lo_width) == (pytest.approx(0.15), "grid", pytest.approx(0.1))
+    assert (row.d_hi, row.hi_source) == (0.35, "located")
+
+
+def test_bistable_interval_of_non_positive_width_is_an_error():
+    d = np.array([0.1, 0.2, 0.3, 0.4])
+    # both motions said to end exactly at the grid point where the sweeps differ: no interval is left
+    sw, tr = synthetic(["A", "A", "A", "B"], ["A", "A", "B", "B"], d, [("up", 0.3, "A", "B"), ("down", 0.3, "B", "A")])
+    with pytest.raises(ValueError, match="non-positive width"):
+        bistable_intervals(sw, tr)
 
 
 def test_swept_points_agree_with_the_analytic_orbit(pi6):

@@ -142,6 +142,9 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
         First point's start: a bottom impact at phase ``phi`` with pre-impact velocity ``v0``.
     max_periods : float
         Longest transient, in forcing periods, before a point is called aperiodic.
+    max_events, tol, window, pmax : int, float, int, int
+        Cap on events per point, periodicity tolerance, events kept per point, longest period
+        (in events) looked for.
 
     Returns
     -------
@@ -242,8 +245,23 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
     can throw the run onto the other motion before the motion itself ends.  The longer transient
     (``max_periods``) is for the slow convergence near folds and period doublings.
 
-    Returns a dataset along ``transition`` with ``direction``, ``d`` (middle of the final bracket),
-    ``d_width`` (its width), ``before``/``after`` labels and ``kind``.
+    Parameters
+    ----------
+    sw : xarray.Dataset
+        A sweep from :func:`sweep`.
+    xtol : float
+        Target width of the bracket in d.
+    max_periods, max_events : float, int
+        Longest transient per run (forcing periods) and cap on its events.
+    max_trials : int
+        Runs allowed per transition.
+
+    Returns
+    -------
+    xarray.Dataset
+        Along ``transition``: ``direction``, ``d`` (middle of the final bracket), ``d_width`` (its
+        width), ``before``/``after`` labels, ``kind`` and ``status`` (``"refined"``, or why the
+        bracket could not be narrowed to ``xtol``: such a point is kept, with its width).
     """
     beta = float(sw.attrs["beta"])
     g0 = sw["gbar"].values
@@ -280,6 +298,7 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
             x, y = dvals[i], dvals[j]  # x: last d with the old motion; y: nearest d beyond it without
             after = labels[j]
             y_checked = False  # y re-run from an attractor within 1e-3 grid steps of it
+            refined = False
             for _ in range(max_trials):
                 if (abs(y - x) < max(1e-3 * h_grid, 4 * xtol) or h <= xtol) and not y_checked:
                     # a failure far from the attractor it started on may be a jump out of a thin basin
@@ -289,6 +308,7 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
                         x, start, y, h, y_checked = y, nxt, y + sign * h_grid, h_grid, False
                         continue
                 if h <= xtol:
+                    refined = True
                     break
                 trial = x + sign * h
                 if not d_min <= trial <= d_max:
@@ -302,7 +322,8 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
                     y, after, y_checked = trial, lab, False
                     h = min(0.5 * h, 0.5 * abs(y - x))
             last_end = y
-            rows.append((name, 0.5 * (x + y), abs(y - x), before, after, transition_kind(before, after)))
+            status = "refined" if refined else f"not refined: {max_trials} runs (max_trials) left a bracket of {abs(y - x):.1e}"
+            rows.append((name, 0.5 * (x + y), abs(y - x), before, after, transition_kind(before, after), status))
     ds = xr.Dataset(
         {
             "direction": ("transition", np.array([r_[0] for r_ in rows], dtype=object).astype(str)),
@@ -311,6 +332,8 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
             "before": ("transition", np.array([r_[3] for r_ in rows], dtype=object).astype(str)),
             "after": ("transition", np.array([r_[4] for r_ in rows], dtype=object).astype(str)),
             "kind": ("transition", np.array([r_[5] for r_ in rows], dtype=object).astype(str)),
+            "status": ("transition", np.array([r_[6] for r_ in rows], dtype=object).astype(str),
+                       {"long_name": "refined to xtol, or why not"}),
         },
         coords={"transition": np.arange(len(rows))},
     )
@@ -319,12 +342,62 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
 
 
 def bistable_intervals(sw: xr.Dataset, transitions: xr.Dataset) -> xr.Dataset:
-    """Intervals of d where the up and down sweeps end on different motions, with their ends taken
-    from the located transitions that bound them."""
+    """Intervals of d where two motions coexist, bounded by the located transitions.
+
+    An interval is bistable where the up sweep (d increasing) follows one motion ``A`` and the down
+    sweep another, ``B``: ``A`` exists up to where the up sweep loses it, and ``B`` down to where
+    the down sweep loses it.  So the **lower end** is the located transition of the *down* sweep
+    that ends ``B`` (the nearest one below the interval with ``before == B``) and the **upper end**
+    the located transition of the *up* sweep that ends ``A``.  Two sources of intervals:
+
+    * ``"sweeps differ"``: a run of grid points where the two sweeps end on different motions;
+      ``B`` is the down sweep's motion at the run's lowest point and ``A`` the up sweep's at its
+      highest.  An end whose motion is aperiodic has no located transition: it is then the middle
+      of the grid step outside the run, with the grid step as its width (``*_source = "grid"``).
+    * ``"transitions only"``: a located up transition where the up sweep goes from ``A`` to ``B``
+      above a located down transition where the down sweep goes from ``B`` to ``A``, bounding no
+      such run (both sweeps jump between the same two grid points).
+
+    Parameters
+    ----------
+    sw : xarray.Dataset
+        A sweep from :func:`sweep`.
+    transitions : xarray.Dataset
+        Its located transitions, from :func:`locate_transitions`.
+
+    Returns
+    -------
+    xarray.Dataset
+        Along ``interval``: ``d_lo``, ``d_hi``, their bracket widths ``d_lo_width``,
+        ``d_hi_width``, ``lo_source``/``hi_source`` (``"located"`` or ``"grid"``), ``label_up``
+        (``A``), ``label_down`` (``B``) and ``found_by``.
+
+    Raises
+    ------
+    ValueError
+        If an interval would have zero or negative width (located ends in the wrong order).
+    """
     up, down = sw["label"].values
     d = sw["d"].values
-    differ = up != down
+    step = float(np.median(np.diff(d))) if len(d) > 1 else 0.0
+    t_dir = transitions["direction"].values.astype(str)
+    t_d = transitions["d"].values
+    t_w = transitions["d_width"].values
+    t_before = transitions["before"].values.astype(str)
+    t_after = transitions["after"].values.astype(str)
+
+    def located(direction, label, side, bound):
+        """The located transition of ``direction`` ending ``label`` nearest beyond ``bound``."""
+        sel = (t_dir == direction) & (t_before == label)
+        sel &= (t_d <= bound) if side < 0 else (t_d >= bound)
+        if not sel.any():
+            return None
+        k = np.flatnonzero(sel)
+        k = k[np.argmax(t_d[k])] if side < 0 else k[np.argmin(t_d[k])]
+        return float(t_d[k]), float(t_w[k])
+
     rows = []
+    differ = up != down
     i = 0
     while i < len(d):
         if not differ[i]:
@@ -333,23 +406,58 @@ def bistable_intervals(sw: xr.Dataset, transitions: xr.Dataset) -> xr.Dataset:
         j = i
         while j + 1 < len(d) and differ[j + 1]:
             j += 1
-        # each end: the located transition nearest to it within three grid steps (a followed
-        # attractor may end beyond the grid point where the sweep saw it change)
-        step = float(np.median(np.diff(d))) if len(d) > 1 else 0.0
-        td = transitions["d"].values
-        ends = []
-        for x in (0.5 * (d[max(i - 1, 0)] + d[i]), 0.5 * (d[j] + d[min(j + 1, len(d) - 1)])):
-            near = td[np.abs(td - x) <= 3 * step]
-            ends.append(float(near[np.argmin(np.abs(near - x))]) if near.size else float(x))
-        lo, hi = ends
-        rows.append((lo, hi, str(up[i]), str(down[i])))
+        lab_a, lab_b = str(up[j]), str(down[i])
+        lo = located("down", lab_b, -1, d[i])
+        hi = located("up", lab_a, +1, d[j])
+        lo_src, hi_src = "located", "located"
+        if lo is None:  # aperiodic (not located) or the sweep range's end
+            lo, lo_src = (0.5 * (d[max(i - 1, 0)] + d[i]), step), "grid"
+        if hi is None:
+            hi, hi_src = (0.5 * (d[j] + d[min(j + 1, len(d) - 1)]), step), "grid"
+        rows.append((lo[0], hi[0], lo[1], hi[1], lo_src, hi_src, lab_a, lab_b, "sweeps differ"))
         i = j + 1
+    # hysteresis loops the grid did not see: the up sweep goes from A to B across a located up
+    # transition above a located down transition where the down sweep goes from B to A (the
+    # transitions' own "after" may be aperiodic: a slow transient just past a fold)
+    def sweep_label(k_dir, x, side):
+        beyond = np.flatnonzero(d > x) if side > 0 else np.flatnonzero(d < x)
+        return str(sw["label"].values[k_dir][beyond[0] if side > 0 else beyond[-1]]) if beyond.size else None
+
+    for k in np.flatnonzero(t_dir == "up"):
+        lab_b = sweep_label(0, t_d[k], +1)
+        for m in np.flatnonzero((t_dir == "down") & (t_before == lab_b)):
+            lo_d, hi_d = float(t_d[m]), float(t_d[k])
+            if sweep_label(1, lo_d, -1) != t_before[k] or lab_b == t_before[k]:
+                continue
+            if lo_d < hi_d and not any(r_[0] <= hi_d and lo_d <= r_[1] for r_ in rows):
+                rows.append((lo_d, hi_d, float(t_w[m]), float(t_w[k]), "located", "located",
+                             str(t_before[k]), str(t_before[m]), "transitions only"))
+    rows.sort(key=lambda r_: r_[0])
+    for r_ in rows:
+        if not r_[1] > r_[0]:
+            raise ValueError(f"bistable interval of non-positive width: d_lo = {r_[0]!r} >= d_hi = {r_[1]!r} "
+                             f"(up sweep {r_[6]!r}, down sweep {r_[7]!r}); the located transitions are inconsistent")
+    col = list(zip(*rows, strict=True)) if rows else [()] * 9
     return xr.Dataset(
         {
-            "d_lo": ("interval", np.array([r_[0] for r_ in rows], dtype=float), {"units": "1", "long_name": "lower end"}),
-            "d_hi": ("interval", np.array([r_[1] for r_ in rows], dtype=float), {"units": "1", "long_name": "upper end"}),
-            "label_up": ("interval", np.array([r_[2] for r_ in rows], dtype=object).astype(str)),
-            "label_down": ("interval", np.array([r_[3] for r_ in rows], dtype=object).astype(str)),
+            "d_lo": ("interval", np.array(col[0], dtype=float),
+                     {"units": "1", "long_name": "lower end: the down sweep loses label_down"}),
+            "d_hi": ("interval", np.array(col[1], dtype=float),
+                     {"units": "1", "long_name": "upper end: the up sweep loses label_up"}),
+            "d_lo_width": ("interval", np.array(col[2], dtype=float),
+                           {"units": "1", "long_name": "the lower end lies within d_lo +- d_lo_width/2"}),
+            "d_hi_width": ("interval", np.array(col[3], dtype=float),
+                           {"units": "1", "long_name": "the upper end lies within d_hi +- d_hi_width/2"}),
+            "lo_source": ("interval", np.array(col[4], dtype=object).astype(str),
+                          {"long_name": "located transition or grid step (aperiodic motion, not located)"}),
+            "hi_source": ("interval", np.array(col[5], dtype=object).astype(str),
+                          {"long_name": "located transition or grid step (aperiodic motion, not located)"}),
+            "label_up": ("interval", np.array(col[6], dtype=object).astype(str),
+                         {"long_name": "motion followed by the up sweep (d increasing)"}),
+            "label_down": ("interval", np.array(col[7], dtype=object).astype(str),
+                           {"long_name": "motion followed by the down sweep (d decreasing)"}),
+            "found_by": ("interval", np.array(col[8], dtype=object).astype(str),
+                         {"long_name": "sweeps differ on the grid, or transitions only"}),
         },
         coords={"interval": np.arange(len(rows))},
     )
@@ -383,7 +491,27 @@ def json_list(items):
 
 
 def basins(params: Params, phis, v0s, *, max_periods: float = 400, tol: float = 1e-9, window: int = 65) -> xr.Dataset:
-    """Attractor reached from each bottom impact ``(phase, v0)`` of a grid, at one parameter point."""
+    """Attractor reached from each bottom impact ``(phase, v0)`` of a grid, at one parameter point.
+
+    Parameters
+    ----------
+    params : Params
+        The parameter point.
+    phis, v0s : array_like
+        Grid axes: phase (rad) and pre-impact velocity of the first bottom impact.
+    max_periods : float
+        Longest transient, in forcing periods, before a start is called aperiodic.
+    tol : float
+        Tolerance of the periodicity test.
+    window : int
+        Events kept per run.
+
+    Returns
+    -------
+    xarray.Dataset
+        On ``(phi, v0)``: ``label`` (e.g. ``"2:1 period-2"``), ``period``, ``n_events`` and integer
+        ``code`` with the list of labels in the ``codes`` attribute.
+    """
     P, V = np.meshgrid(np.asarray(phis, float), np.asarray(v0s, float), indexing="ij")
     ds = attractor_batch(params.d, params.gbar, params.r, P.ravel(), V.ravel(), max_periods=max_periods,
                          tol=tol, window=window)
@@ -403,8 +531,25 @@ def basins(params: Params, phis, v0s, *, max_periods: float = 400, tol: float = 
 
 def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float = 0.5, max_periods: float = 200,
                tol: float = 1e-9, window: int = 65, **physical) -> xr.Dataset:
-    """Attractor class over a grid of two physical parameters (``s``, ``F``, ``beta``), each run from
-    the same bottom impact ``(phi, v0)``; other parameters as keywords (paper defaults)."""
+    """Attractor class over a grid of two physical parameters, each run from the same bottom impact.
+
+    Parameters
+    ----------
+    x_name, y_name : {"s", "F", "beta"}
+        The two axes (different); ``xs``, ``ys`` their values (m, N or rad).
+    phi, v0 : float
+        Start of every run: a bottom impact at phase ``phi`` with pre-impact velocity ``v0``.
+    max_periods, tol, window
+        As in :func:`basins`.
+    **physical
+        Other physical values (``s``, ``F``, ``beta``, ``M``, ``omega``, ``g``, ``r``); paper
+        defaults otherwise.
+
+    Returns
+    -------
+    xarray.Dataset
+        On ``(y_name, x_name)``: ``label``, ``period``, ``d``, ``gbar`` and ``code``.
+    """
     allowed = ("s", "F", "beta")
     for name in (x_name, y_name):
         if name not in allowed:

@@ -59,6 +59,14 @@ def table1(branches: list[xr.Dataset]) -> pd.DataFrame:
                    d_fold=float(np.max(crit[kinds == "fold"])) if (kinds == "fold").any() else np.nan)
         paper = paper_stable(beta)
         row.update(paper_from=paper[0] if paper else np.nan, paper_to=paper[1] if paper else np.nan)
+        # nothing dropped: why the continuation stopped each way, and any point not refined
+        row.update(branch_stops=f"{br.attrs.get('stop_decreasing', '?')}; {br.attrs.get('stop_increasing', '?')}")
+        if "critical_refined" in br and not bool(br.critical_refined.all()):
+            bad = ~br.critical_refined.values
+            row["unrefined"] = "; ".join(f"{k} near {d:.6f}: {n}" for k, d, n in zip(
+                br.critical_kind.values[bad], br.critical_d.values[bad], br.critical_note.values[bad], strict=True))
+        else:
+            row["unrefined"] = "none"
         rows.append(row)
     return pd.DataFrame(rows)
 
@@ -73,6 +81,11 @@ def table1_markdown(df: pd.DataFrame) -> str:
             f"| {name} | ({r.stable_from:.6f}, {r.stable_to:.6f}) | {r.lower_cause} / {r.upper_cause} | "
             f"({r.paper_from:g}, {r.paper_to:g}) | {r.d_B:.6f} | {r.d_A} | {r.d_fold:.6f} |"
         )
+    lines += ["", "Where each continuation stopped (decreasing; increasing arclength) and critical points that "
+              "could not be refined:", ""]
+    for _, r in df.iterrows():
+        name = names.get(round(r.beta_deg, 6), f"{r.beta:.4f}")
+        lines.append(f"- {name}: {r.get('branch_stops', '?')}. Unrefined critical points: {r.get('unrefined', '?')}.")
     return "\n".join(lines) + "\n"
 
 
@@ -90,18 +103,25 @@ def grazing_lines(branches: list[xr.Dataset], scene: dict) -> dict:
 
 def transitions_markdown(named: dict[str, xr.Dataset]) -> str:
     """Located transitions and bistable intervals of several sweeps as Markdown."""
-    lines = ["| sweep | direction | d | ± | from | to | kind |", "|---|---|---|---|---|---|---|"]
+    lines = ["| sweep | direction | d | ± | from | to | kind | status |", "|---|---|---|---|---|---|---|---|"]
     for name, tr in named.items():
         for k in range(tr.sizes.get("transition", 0)):
             r = tr.isel(transition=k)
+            status = str(r.status.values) if "status" in r else "refined"
             lines.append(f"| {name} | {str(r.direction.values)} | {float(r.d):.7f} | {float(r.d_width) / 2:.0e} | "
-                         f"{str(r.before.values)} | {str(r.after.values)} | {str(r.kind.values)} |")
-    lines += ["", "| sweep | bistable for d in | up sweep | down sweep |", "|---|---|---|---|"]
+                         f"{str(r.before.values)} | {str(r.after.values)} | {str(r.kind.values)} | {status} |")
+    lines += ["", "Bistable intervals: the lower end is where the down sweep loses its motion, the upper end where "
+              "the up sweep loses its motion (located transitions; an aperiodic motion's end is only known to the "
+              "grid step).", "",
+              "| sweep | bistable for d in | ± (lower, upper) | ends from | up sweep | down sweep | found by |",
+              "|---|---|---|---|---|---|---|"]
     for name, tr in named.items():
         for k in range(tr.sizes.get("interval", 0)):
             r = tr.isel(interval=k)
-            lines.append(f"| {name} | ({float(r.d_lo):.7f}, {float(r.d_hi):.7f}) | {str(r.label_up.values)} | "
-                         f"{str(r.label_down.values)} |")
+            lines.append(f"| {name} | ({float(r.d_lo):.7f}, {float(r.d_hi):.7f}) | "
+                         f"{float(r.d_lo_width) / 2:.0e}, {float(r.d_hi_width) / 2:.0e} | "
+                         f"{str(r.lo_source.values)}, {str(r.hi_source.values)} | {str(r.label_up.values)} | "
+                         f"{str(r.label_down.values)} | {str(r.found_by.values)} |")
     return "\n".join(lines) + "\n"
 
 

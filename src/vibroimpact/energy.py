@@ -1,5 +1,5 @@
 """Output voltage of the dielectric-elastomer membranes, per impact and averaged (paper §5, eq. V1;
-MODEL.md §4).
+docs/model.md).
 
 A ball of radius ``r_b`` and mass ``m`` hits a membrane of active radius ``R`` at speed ``v``
 (m/s).  Its largest deflection follows from an energy balance against a power-law membrane force
@@ -31,7 +31,23 @@ __all__ = ["Membrane", "voltage_gain", "speed_si", "averages", "orbit_energy", "
 
 @dataclass(frozen=True)
 class Membrane:
-    """Membrane and ball constants (SI). See config/config.yaml for each value's provenance."""
+    """Membrane and ball constants (SI); ``config/config.yaml`` gives each value's provenance.
+
+    Parameters
+    ----------
+    h : float
+        Exponent of the membrane force ``K delta^h``.
+    K : float
+        Its stiffness coefficient (N / m^h).
+    R : float
+        Active membrane radius (m); must exceed ``r_b``.
+    r_b : float
+        Ball radius (m).
+    U_in : float
+        Input voltage (V).
+    m : float
+        Ball mass (kg).
+    """
 
     h: float  #: exponent of the membrane force K delta^h
     K: float  #: stiffness coefficient of the membrane force (N / m^h)
@@ -50,10 +66,21 @@ class Membrane:
 
 
 def voltage_gain(speed, membrane: Membrane) -> np.ndarray:
-    """``U_k - U_in`` (V) for impact speeds ``speed`` (m/s, any sign: the magnitude is used).
+    """Voltage gain ``U_k - U_in`` of one impact (module docstring).
 
-    Where the stretched geometry has no real solution (``cos(alpha)`` outside ``(0, 1]``, a
-    deflection too large for the model) the result is NaN: flagged, never a silent number.
+    Parameters
+    ----------
+    speed : array_like
+        Impact speeds (m/s, any sign: the magnitude is used).
+    membrane : Membrane
+        Membrane and ball constants.
+
+    Returns
+    -------
+    numpy.ndarray
+        Gains (V), shaped like ``speed``.  Where the stretched geometry has no real solution
+        (``cos(alpha)`` outside ``(0, 1]``, a deflection too large for the model) the result is
+        NaN: flagged, never a silent number.
     """
     v = np.abs(np.asarray(speed, dtype=float))
     mb = membrane
@@ -70,27 +97,83 @@ def voltage_gain(speed, membrane: Membrane) -> np.ndarray:
 
 
 def speed_si(v_nondim, F, M, omega):
-    """Dimensional impact speed (m/s) of a non-dimensional ``Zdot-``: ``|v| F pi / (M omega)`` (paper
-    eq. nondXYt)."""
+    """Dimensional impact speed of a non-dimensional ``Zdot-``: ``|v| F pi / (M omega)``.
+
+    Parameters
+    ----------
+    v_nondim : array_like
+        Non-dimensional pre-impact velocities.
+    F, M, omega : float or array_like
+        Forcing amplitude (N), cylinder mass (kg), forcing frequency (rad/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        Speeds (m/s).
+    """
     return np.abs(np.asarray(v_nondim, dtype=float)) * np.asarray(F, dtype=float) * math.pi / (M * omega)
 
 
 def averages(gain, duration):
-    """``(U_I, U_T)`` of the gains of N impacts over ``duration`` (non-dimensional time), eq. V1."""
+    """Averages of the gains of ``N`` impacts: per impact and per unit time.
+
+    Parameters
+    ----------
+    gain : array_like
+        Gains (V) of the impacts, along the last axis.
+    duration : float or array_like
+        Time spanned by those impacts (non-dimensional).
+
+    Returns
+    -------
+    U_I, U_T : numpy.ndarray
+        ``sum(gain) / N`` (V per impact) and ``sum(gain) / duration`` (V per unit time).
+    """
     gain = np.asarray(gain, dtype=float)
     total = gain.sum(axis=-1)
     return total / gain.shape[-1], total / duration
 
 
 def orbit_energy(orbit, membrane: Membrane, *, F: float, M: float, omega: float) -> dict:
-    """Exact per-period energy of a periodic orbit: gains per impact, ``U_I`` and ``U_T``."""
+    """Exact energy of a periodic orbit over one period.
+
+    Parameters
+    ----------
+    orbit : Orbit
+        From :func:`~vibroimpact.orbits.find_orbit`.
+    membrane : Membrane
+        Membrane and ball constants.
+    F, M, omega : float
+        Forcing amplitude (N), cylinder mass (kg), forcing frequency (rad/s).
+
+    Returns
+    -------
+    dict
+        ``gain`` (V, per impact of the period), ``U_I`` and ``U_T`` (the orbit's period is
+        ``2 k`` non-dimensional time units).
+    """
     gain = voltage_gain(speed_si(orbit.v_minus, F, M, omega), membrane)
     u_i, u_t = averages(gain, 2.0 * orbit.k)
     return {"gain": gain, "U_I": float(u_i), "U_T": float(u_t)}
 
 
 def branch_energy(branch: xr.Dataset, membrane: Membrane, *, M: float, omega: float) -> xr.Dataset:
-    """Gains and averages along an analytic branch (exact over one period at every point)."""
+    """Gains and averages along an analytic branch, exact over one period at every point.
+
+    Parameters
+    ----------
+    branch : xarray.Dataset
+        From :func:`~vibroimpact.continuation.continue_orbit` with ``vary="s"`` or ``"F"``.
+    membrane : Membrane
+        Membrane and ball constants.
+    M, omega : float
+        Cylinder mass (kg) and forcing frequency (rad/s).
+
+    Returns
+    -------
+    xarray.Dataset
+        Along ``point``: ``speed``, ``gain`` (per impact), ``U_I``, ``U_T``, ``stable``, ``admissible``.
+    """
     if not branch.sizes.get("point", 0):
         return xr.Dataset(attrs=dict(branch.attrs))
     F = branch["F"].values[:, None]
@@ -112,9 +195,26 @@ def branch_energy(branch: xr.Dataset, membrane: Membrane, *, M: float, omega: fl
 def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, window_time: float = 30.0) -> xr.Dataset:
     """Gains and averages at every point of a sweep.
 
-    A periodic attractor is averaged over one whole period (exact).  Where no period was found the
+    A periodic attractor is averaged over one whole period, as long as the simulated events measure it
+    (from an event to the same event one period earlier; exact to rounding).  Where no period was found the
     average runs over the impacts of the last ``window_time`` time units (the paper uses 30 for the
     1:1 and 20 for the 2:1 motion), and ``window_time`` records the span actually used.
+
+    Parameters
+    ----------
+    sw : xarray.Dataset
+        From :func:`~vibroimpact.sweeps.sweep`.
+    membrane : Membrane
+        Membrane and ball constants.
+    M, omega : float
+        Cylinder mass (kg) and forcing frequency (rad/s).
+    window_time : float
+        Averaging span for aperiodic points (non-dimensional time).
+
+    Returns
+    -------
+    xarray.Dataset
+        On ``(direction, point)``: ``U_I``, ``U_T``, ``n_impacts``, ``window_time``.
     """
     F = sw["F"].values
     vm = sw["v_minus"].values  # (direction, point, event)
@@ -136,7 +236,9 @@ def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, 
             lag = int(sw["period_events"].values[a, i])
             if lag:
                 sl = slice(m - lag, m)
-                duration = 2.0 * float(sw["period"].values[a, i])
+                # the period as the simulation measured it: from the same event one period earlier
+                duration = (t[a, i, m - 1] - t[a, i, m - 1 - lag] if m - 1 - lag >= 0
+                            else 2.0 * float(sw["period"].values[a, i]))
             else:
                 t_end = t[a, i, m - 1]
                 first = int(np.searchsorted(t[a, i, :m], t_end - window_time, side="right"))

@@ -43,7 +43,7 @@ def parse_word(word: str) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------------------------
-# One flight: displacement, velocity and their partial derivatives (closed form, MODEL.md §1)
+# One flight: displacement, velocity and their partial derivatives (closed form, docs/model.md)
 # --------------------------------------------------------------------------------------------
 
 
@@ -264,6 +264,31 @@ def find_orbit(params: Params, word: str, phi: float, v0: float, *, k: int = 1) 
     velocity ``v0`` (e.g. a caption, or an impact of a simulated attractor).  The exact simulator
     follows it for ``len(word)`` impacts; the walls it meets must be a rotation of ``word`` starting
     with this bottom impact, and its flight times and velocities are Newton's starting point.
+
+    Parameters
+    ----------
+    params : Params
+        Non-dimensional parameters ``d``, ``gbar``, ``r`` (from ``Params.from_physical`` when the
+        orbit is to be continued in ``s`` or ``F``).
+    word : str
+        Walls met over one period, ``"B"`` (bottom) and ``"T"`` (top), e.g. ``"BBT"`` for 2:1.
+    phi, v0 : float
+        Guess: phase (rad) and pre-impact velocity of a bottom impact on the orbit.
+    k : int
+        Forcing periods per orbit period.
+
+    Returns
+    -------
+    Orbit
+        The orbit: impacts (``wall``, ``t``, ``phase``, ``v_minus``, ``dt``), its monodromy
+        ``jacobian``, ``eigenvalues`` and stability, ``admissible`` and ``clearance``.
+
+    Examples
+    --------
+    >>> import vibroimpact as vi
+    >>> o = vi.find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+    >>> o.word, len(o.v_minus)
+    ('BBT', 3)
 
     Raises
     ------

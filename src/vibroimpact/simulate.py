@@ -74,7 +74,7 @@ def simulate(
         Forcing phase at ``t0`` (the forcing is ``cos(pi t + phi)`` with t measured from 0).
     v0 : float
         With ``Z0=None``: pre-impact velocity (``>= 0``) of a bottom impact at ``t0``, the paper's
-        convention (MODEL.md §3).  Otherwise the velocity ``Zdot(t0)`` in flight.
+        convention (docs/model.md).  Otherwise the velocity ``Zdot(t0)`` in flight.
     Z0 : float, optional
         Start in flight at ``Z(t0) = Z0`` (``|Z0| <= d/2``) instead of at a bottom impact.
     t0 : float
@@ -250,6 +250,18 @@ def trajectory(ds: xr.Dataset, times) -> xr.Dataset:
     ``X*(t) = -cos(pi t + phi) / pi^2`` is the zero-mean periodic cylinder motion (``X*'' = cos``);
     ``x* = X* - Z``.  Times must lie within the run: from its first event to its last, or to
     ``t_end`` when the run stopped there (no impact happened in between).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A run from :func:`simulate`.
+    times : array_like
+        Non-dimensional times within the run, in any order.
+
+    Returns
+    -------
+    xarray.Dataset
+        Along ``time``: ``Z``, ``Zdot``, ``X`` and ``x``.
     """
     times = np.asarray(times, dtype=np.float64)
     t = ds["t"].values

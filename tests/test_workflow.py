@@ -92,6 +92,28 @@ def test_bad_config_fails_before_any_job(tmp_path, key, value, words):
     assert not (tmp_path / "results").exists()
 
 
+@pytest.mark.parametrize("edit, words", [
+    # a force sweep needs the fixed length s
+    (lambda c: c["sweeps"]["scenes"]["fig0_F"].pop("s"), ["sweeps.scenes.fig0_F.s", "fixed length s"]),
+    # a map's two axes differ
+    (lambda c: c["maps"]["s_F"].update(y="s"), ["maps.s_F.y", "'s'", "different from x"]),
+    # start_d inside d_range
+    (lambda c: c["branches"]["words"]["BBT"].update(start_d=0.6), ["branches.words.BBT.start_d", "0.6", "inside branches.d_range"]),
+    # checks.known names an item the check produces
+    (lambda c: c["checks"]["known"].update({"G3: no such point": "a reason long enough for the schema to accept it"}), ["checks.known", "G3: no such point", "an item of the paper-value check"]),
+])
+def test_cross_key_config_errors_fail_before_any_job(tmp_path, edit, words):
+    cfg = _copy_workflow(tmp_path)
+    edit(cfg)
+    (tmp_path / "config" / "config.yaml").write_text(yaml.safe_dump(cfg))
+    res = _snakemake(tmp_path, "-n")
+    out = res.stdout + res.stderr
+    assert res.returncode != 0
+    for w in words:
+        assert w in out, out[-2000:]
+    assert not (tmp_path / "results").exists()
+
+
 def test_unknown_caption_in_a_scene_is_named(tmp_path):
     cfg = _copy_workflow(tmp_path)
     cfg["scenes"]["fig4"]["captions"].append("fig9_z")

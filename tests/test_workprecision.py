@@ -48,7 +48,9 @@ def test_failure_map_exact_is_always_right_and_event_detection_misses_short_cros
     assert set(exact) == {"correct"}
     ivp = fm.sel(solver="solve_ivp DOP853 rtol=1e-10")
     assert str(ivp.sel(case="B hit by 1e-10").outcome.values) == "missed impact"
-    assert str(ivp.sel(case="chattering into sticking").outcome.values) in ("stalled", "crashed")
+    assert str(ivp.sel(case="chattering into sticking").outcome.values) in ("stalled", "crashed", "wrong sequence")
+    # the exact simulator is rated on its impacts against the bounce-by-bounce reference, not trusted
+    assert "follows the reference's" in str(fm.sel(solver="exact (numba)", case="chattering into sticking").detail.values)
 
 
 def test_workflow_cost_reads_benchmark_files(tmp_path):

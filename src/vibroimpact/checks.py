@@ -14,15 +14,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from .paper import PI6_D_B, PI6_G1, PI6_G2, STABLE_2TO1
+from .paper import PI6_D_B, PI6_G1, PI6_G2, STABLE_2TO1, agreement_tolerance, printed_unit
 
 BETA_NAMES = {90.0: "pi/2", 60.0: "pi/3", 45.0: "pi/4", 30.0: "pi/6"}
-
-
-def _unit(x: float) -> float:
-    """One unit in the last printed digit of a published value."""
-    s = repr(float(x)).rstrip("0")
-    return 10.0 ** -(len(s.split(".")[1]) if "." in s and s.split(".")[1] else 0)
 
 
 def _beta_name(beta):
@@ -34,18 +28,51 @@ def _row(item, where, paper, computed, tol, ok, note=""):
             "status": "pass" if ok else "fail", "note": note}
 
 
+#: the attractor counts as the exact orbit when it agrees with the Newton-solved orbit to this: the
+#: attractor's identification tolerance
+ORBIT_AGREEMENT = 1e-9
+
+
+def _rounding_note(printed, span, d):
+    """Whether the rounding of the printed d explains a caption value (the orbit's values at d -+ half
+    a unit of d's last digit)."""
+    h = printed_unit(d) / 2
+    vals = np.asarray(span.values if span is not None else [np.nan, np.nan], float)
+    if not np.all(np.isfinite(vals)):
+        return f"the orbit does not persist over the printed d's rounding ({d} +- {h:.0e}: it ends at a fold or grazing point)"
+    lo, hi = sorted(vals)
+    inside = "holds" if lo <= printed <= hi else "does not hold"
+    return f"over the printed d's rounding ({d} +- {h:.0e}) the orbit's value spans [{lo:.5g}, {hi:.5g}], which {inside} the caption's"
+
+
 def caption_rows(captions: xr.Dataset) -> list[dict]:
+    """Motion, Zdot(t0) and phase of every caption orbit, each against the rule of
+    :func:`~vibroimpact.paper.agreement_tolerance`.  A value off by more is a known discrepancy only
+    with evidence: the simulated attractor equals the Newton-solved orbit (two independent methods,
+    to ``ORBIT_AGREEMENT``), so the computed value is the exact orbit's at the stated parameters.  The
+    note says whether the rounding of the printed d explains the difference (near a fold or grazing
+    point the orbit moves fast with d)."""
     rows = []
     for k, name in enumerate(captions.caption.values):
         c = captions.isel(caption=k)
         stated, found = str(c.motion_stated.values), str(c.motion_found.values)
         rows.append(_row(f"{name}: motion", "caption", stated, found, "", bool(c.reproduced.values)))
-        v0, va = float(c.v0), float(c.v_attractor)
-        tol = 1.5 * _unit(v0)
-        rows.append(_row(f"{name}: Zdot(t0)", "caption", v0, va, tol, abs(va - v0) <= tol,
-                         "attractor's bottom impact nearest the caption's"))
-        rows.append(_row(f"{name}: phi", "caption", float(c.phi), float(c.phase_attractor), 1.2e-3,
-                         abs(float(c.dphase)) <= 1.2e-3, "captions' phases sit 2e-4 to 1.1e-3 off the exact attractor"))
+        exact = "orbit_deviation" in c and float(c.orbit_deviation) <= ORBIT_AGREEMENT
+        for label, printed, found_v, span in (
+                ("Zdot(t0)", float(c.v0), float(c.v_attractor), c.get("v_orbit_at_d_rounding")),
+                ("phi", float(c.phi), float(c.phase_attractor), c.get("phase_orbit_at_d_rounding"))):
+            tol = agreement_tolerance(printed)
+            off = found_v - printed
+            if label == "phi":
+                off = (off + math.pi) % (2 * math.pi) - math.pi
+            row = _row(f"{name}: {label}", "caption", printed, found_v, tol, abs(off) <= tol,
+                       "attractor's bottom impact nearest the caption's")
+            if row["status"] == "fail" and exact:
+                row["status"] = "known discrepancy"
+                row["note"] = (f"off by {abs(off) / printed_unit(printed):.2f} units of the last digit from the exact orbit: "
+                               f"the attractor and the Newton-solved orbit agree to {float(c.orbit_deviation):.0e}; "
+                               + _rounding_note(printed, span, float(c.d)))
+            rows.append(row)
     return rows
 
 
@@ -61,13 +88,15 @@ def stability_rows(table1: pd.DataFrame) -> list[dict]:
         name = _beta_name(r.beta)
         for end, p_val, c_val, cause in (("lower", paper[0], r.stable_from, r.lower_cause),
                                           ("upper", paper[1], r.stable_to, r.upper_cause)):
-            tol = _unit(p_val)
+            if name == "pi/6" and end == "lower":
+                continue  # the paper's 0.1378 is G1: checked once, in the G1 row
+            tol = agreement_tolerance(p_val, range_end=True)
             rows.append(_row(f"2:1 stable interval, {end} end, beta={name}", "section 3", p_val, float(c_val), tol,
                              abs(float(c_val) - p_val) <= tol, f"analytic: ends by {cause}"))
         if name == "pi/6":
+            tol = agreement_tolerance(PI6_D_B, range_end=True)
             rows.append(_row("lambda_1 < -1 for d < 0.133 (d_B), beta=pi/6", "section 4", PI6_D_B, float(r.d_B),
-                             _unit(PI6_D_B), float(r.d_B) <= PI6_D_B and abs(float(r.d_B) - PI6_D_B) <= _unit(PI6_D_B),
-                             "analytic period doubling"))
+                             tol, abs(float(r.d_B) - PI6_D_B) <= tol, "analytic period doubling"))
     return rows
 
 
@@ -76,11 +105,13 @@ def grazing_rows(bis: xr.Dataset) -> list[dict]:
     up = bis.where(bis.direction == "up", drop=True)
     g1 = float(down.d.values[np.argmin(np.abs(down.d.values - PI6_G1))]) if down.sizes["transition"] else math.nan
     g2 = float(up.d.values[np.argmin(np.abs(up.d.values - PI6_G2))]) if up.sizes["transition"] else math.nan
+    # the paper prints G1 and G2 as the ends of the bistable range 0.1378 < d < 0.1419
+    t1, t2 = agreement_tolerance(PI6_G1, range_end=True), agreement_tolerance(PI6_G2, range_end=True)
     return [
-        _row("G1: 2:1 -> 3:1 grazing, d decreasing, beta=pi/6", "section 4.2", PI6_G1, g1, _unit(PI6_G1),
-             abs(g1 - PI6_G1) <= _unit(PI6_G1), "located in the down sweep"),
-        _row("G2: 3:1 -> 2:1, d increasing, beta=pi/6", "section 4.2", PI6_G2, g2, _unit(PI6_G2),
-             abs(g2 - PI6_G2) <= _unit(PI6_G2), "located in the up sweep (a fold of the 3:1 orbit)"),
+        _row("G1: 2:1 -> 3:1 grazing, d decreasing, beta=pi/6", "section 4.2", PI6_G1, g1, t1,
+             abs(g1 - PI6_G1) <= t1, "located in the down sweep; also the lower end of the paper's pi/6 stable interval"),
+        _row("G2: 3:1 -> 2:1, d increasing, beta=pi/6", "section 4.2", PI6_G2, g2, t2,
+             abs(g2 - PI6_G2) <= t2, "located in the up sweep (a fold of the 3:1 orbit)"),
     ]
 
 
@@ -91,10 +122,15 @@ def _is_n_to_n(label):
 
 def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], sweeps: list[xr.Dataset]) -> list[dict]:
     rows = []
-    # U_I = U_T for 1:1 period-2 (two impacts per two time units)
-    dev = max(float(np.nanmax(np.abs(b.U_I - b.U_T) / b.U_T)) for b in branches_s + branches_F if b.sizes.get("point"))
-    rows.append(_row("U_I = U_T for 1:1 period-2 motion", "section 5", "equal", f"max relative difference {dev:.1e}",
-                     1e-12, dev <= 1e-12))
+    # U_I = U_T for 1:1 period-2 (two impacts per two time units), on the simulated sweeps: U_T divides
+    # by the period the simulated events measure, U_I by their number of impacts
+    devs = [np.abs(e.U_I - e.U_T).values[m] / e.U_T.values[m] for e in sweeps
+            for m in [(e.label == "1:1 period-2").values & np.isfinite(e.U_T.values)]]
+    n11 = int(sum(d.size for d in devs))
+    dev = max((float(d.max()) for d in devs if d.size), default=math.nan)
+    rows.append(_row("U_I = U_T for 1:1 period-2 motion", "section 5", "equal",
+                     f"max relative difference {dev:.1e} over {n11} simulated 1:1 period-2 attractors", ORBIT_AGREEMENT,
+                     n11 > 0 and dev <= ORBIT_AGREEMENT, "tolerance: the attractors' identification tolerance"))
     # 1:1 -> 2:1 and 2:1 -> 3:1 jumps along every sweep's down direction
     n11, ok11_i, ok11_t, n23, ok23_i, ok23_t = 0, 0, 0, 0, 0, 0
     for e in sweeps:
@@ -138,6 +174,26 @@ def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], swee
     rows.append(_row("max 1:1 output changes < 1 % with beta", "section 5", "< 1 %", f"{100 * spread:.2f} %", 0.01,
                      spread < 0.01))
     return rows
+
+
+ENERGY_ITEMS = ["U_I = U_T for 1:1 period-2 motion", "1:1 -> 2:1: U_I drops", "1:1 -> 2:1: U_T rises",
+                "2:1 -> 3:1: U_I drops", "2:1 -> 3:1: U_T rises", "1:1 output grows with s at fixed force",
+                "1:1 output grows with F at fixed length", "max 1:1 output changes < 1 % with beta"]
+
+
+def item_names(captions, betas) -> list[str]:
+    """Every item the check produces for these caption names and inclines (rad): what
+    ``checks.known`` may name, known before any job runs."""
+    names = [f"{c}: {what}" for c in captions for what in ("motion", "Zdot(t0)", "phi")]
+    for b in betas:
+        if any(abs(b - pb) < 1e-9 for pb in STABLE_2TO1):
+            name = _beta_name(b)
+            names += [f"2:1 stable interval, {end} end, beta={name}" for end in ("lower", "upper")
+                      if not (name == "pi/6" and end == "lower")]
+            if name == "pi/6":
+                names.append("lambda_1 < -1 for d < 0.133 (d_B), beta=pi/6")
+    names += ["G1: 2:1 -> 3:1 grazing, d decreasing, beta=pi/6", "G2: 3:1 -> 2:1, d increasing, beta=pi/6"]
+    return names + ENERGY_ITEMS
 
 
 def apply_known(df: pd.DataFrame, known: dict[str, str]) -> pd.DataFrame:

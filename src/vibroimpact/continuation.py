@@ -142,6 +142,8 @@ def continue_orbit(
         Arclength step in the ``(z, d)`` space (halved on a failed corrector, down to 1e-9).
     locate : bool
         Refine the zeros of the test functions (critical and grazing points) to ``xtol`` in d.
+    max_points : int
+        Most branch points per direction.
 
     Returns
     -------
@@ -163,21 +165,24 @@ def continue_orbit(
     Y0 = np.append(orbit.z, orbit.params.d)
     _, J0 = _augmented(Y0, walls, r, k, g0, g1)
     t0 = _tangent(J0)
-    halves = []
+    halves, stops = [], []
     for sign in (+1.0, -1.0):
         Ys = [Y0]
         t = sign * t0
         h = step
         Y = Y0
+        stop = f"max_points ({max_points}) reached"
         while len(Ys) < max_points:
             try:
                 Yn = _correct(Y + h * t, t, walls, r, k, g0, g1)
-            except (OrbitError, np.linalg.LinAlgError):
+            except (OrbitError, np.linalg.LinAlgError) as err:
                 h *= 0.5
                 if h < 1e-9:
+                    stop = f"corrector failed down to a step of 1e-9 at d = {Y[-1]:.10g} ({err})"
                     break
                 continue
             if np.any(Yn[1:1 + len(walls)] <= 0):  # a flight time reached zero: the word degenerates
+                stop = f"a flight time reached zero near d = {Yn[-1]:.10g}: the word {orbit.word} degenerates"
                 break
             _, J = _augmented(Yn, walls, r, k, g0, g1)
             t = _tangent(J, t)
@@ -185,8 +190,10 @@ def continue_orbit(
             Ys.append(Y)
             h = min(step, 2 * h)
             if not lo <= Y[-1] <= hi:
+                stop = f"left d_range at d = {Y[-1]:.10g}"
                 break
         halves.append(Ys)
+        stops.append(stop)
     Ys = halves[1][::-1] + halves[0][1:]
     orbits = [_orbit_at(Y, orbit, g0, g1) for Y in Ys]
     ds = _branch_dataset(orbits, to_physical, vary)
@@ -199,10 +206,15 @@ def continue_orbit(
     ds["critical_kind"] = ("critical", np.array([c[0] for c in crit], dtype=object).astype(str))
     ds["critical_d"] = ("critical", np.array([c[1] for c in crit], dtype=float))
     ds["critical_admissible"] = ("critical", np.array([c[2] for c in crit], dtype=bool))
+    ds["critical_refined"] = ("critical", np.array([c[3] for c in crit], dtype=bool),
+                              {"long_name": "located to xtol (else: linear estimate between branch points)"})
+    ds["critical_note"] = ("critical", np.array([c[4] for c in crit], dtype=object).astype(str),
+                           {"long_name": "why a point could not be refined (empty when it was)"})
     if to_physical(1.0):
         for key in ("s", "F"):
             ds[f"critical_{key}"] = ("critical", np.array([to_physical(c[1])[key] for c in crit], dtype=float))
-    ds.attrs.update(word=orbit.word, k=k, r=r, vary=vary, gbar_intercept=g0, gbar_slope=g1, step=step)
+    ds.attrs.update(word=orbit.word, k=k, r=r, vary=vary, gbar_intercept=g0, gbar_slope=g1, step=step,
+                    stop_increasing=stops[0], stop_decreasing=stops[1])
     return ds
 
 
@@ -223,10 +235,15 @@ def _locate(Ys, orbits, template, walls, r, k, g0, g1, xtol):
                 Y = _correct(Ya + sig * chord, tan, walls, r, k, g0, g1)
                 return _tests(_orbit_at(Y, template, g0, g1))[name]
 
+            adm = orbits[i].admissible or orbits[i + 1].admissible
             try:
                 sig = brentq(f, 0.0, 1.0, xtol=xtol / max(abs(chord[-1]), 1e-300), rtol=1e-15)
                 Y = _correct(Ya + sig * chord, tan, walls, r, k, g0, g1)
-            except (ValueError, OrbitError):
+            except (ValueError, OrbitError, np.linalg.LinAlgError) as err:
+                # kept, with a linear estimate between the branch points and the reason
+                est = float(Ya[-1] + fa / (fa - fb) * (Yb[-1] - Ya[-1]))
+                found.append((name, est, bool(adm), False, f"not refined ({type(err).__name__}: {err}); "
+                              f"between d = {Ya[-1]:.10g} and {Yb[-1]:.10g}"))
                 continue
             o = _orbit_at(Y, template, g0, g1)
             val = _tests(o)[name]
@@ -235,8 +252,7 @@ def _locate(Ys, orbits, template, walls, r, k, g0, g1, xtol):
                 # Jacobian where an impact velocity passes through zero
                 continue
             # admissible on at least one side: the critical point belongs to the physical branch
-            adm = orbits[i].admissible or orbits[i + 1].admissible
-            found.append((name, float(Y[-1]), bool(adm)))
+            found.append((name, float(Y[-1]), bool(adm), True, ""))
     return found
 
 
@@ -317,20 +333,24 @@ def simulate_along(branch: xr.Dataset, n: int, *, tol: float = 1e-11, n_impacts:
         for d in d_vals:
             i = ok[np.argmin(np.abs(branch.d.values[ok] - d))]
             p = Params(d=float(d), gbar=g0 + g1 * float(d), r=float(branch.attrs["r"]))
+            m = len(word)
             try:
                 o = find_orbit(p, word, float(branch.phase[i, 0]), float(branch.v_minus[i, 0]), k=k)
-            except OrbitError:
+            except OrbitError as err:
+                rows.append((d, "none", np.full(m, np.nan), np.full(m, np.nan), np.full(m, np.nan), np.nan,
+                             f"skipped: no analytic orbit to start from ({err})"))
                 continue
             att = identify_attractor(simulate(p, o.phi, o.v_minus[0], n_impacts=n_impacts, stop_when_periodic=True, tol=tol), tol=tol)
             if not att.periodic or att.events != o.n:
-                rows.append((d, att.label, np.full(o.n, np.nan), np.full(o.n, np.nan), np.full(o.n, np.nan), np.nan))
+                rows.append((d, att.label, np.full(o.n, np.nan), np.full(o.n, np.nan), np.full(o.n, np.nan), np.nan,
+                             f"not compared: the attractor is {att.label}, not the analytic motion"))
                 continue
             v = att.cycle.v_minus.values
             shift = int(np.argmin([np.max(np.abs(np.roll(v, -s) - o.v_minus)) for s in range(o.n)]))
             v, ph, dt = (np.roll(att.cycle[x].values, -shift) for x in ("v_minus", "phase", "dt"))
             dt = np.roll(np.diff(np.append(np.roll(att.cycle.t.values, -shift), np.roll(att.cycle.t.values, -shift)[0] + 2 * k)), 1)
             dev = max(np.max(np.abs(v - o.v_minus)), np.max(np.abs((ph - o.phase + np.pi) % (2 * np.pi) - np.pi)))
-            rows.append((d, att.label, v, ph, dt, dev))
+            rows.append((d, att.label, v, ph, dt, dev, "compared"))
     m = len(word)
     ds = xr.Dataset(
         {
@@ -340,6 +360,8 @@ def simulate_along(branch: xr.Dataset, n: int, *, tol: float = 1e-11, n_impacts:
             "motion": ("sim", np.array([r[1] for r in rows], dtype=object).astype(str)),
             "max_dev": ("sim", np.array([r[5] for r in rows], dtype=float),
                         {"units": "1", "long_name": "largest difference |simulated - analytic| of Zdot- and phase"}),
+            "status": ("sim", np.array([r[6] for r in rows], dtype=object).astype(str),
+                       {"long_name": "compared, or why this point was not"}),
         },
         coords={"sim": np.arange(len(rows)), "d": ("sim", np.array([r[0] for r in rows], dtype=float))},
     )

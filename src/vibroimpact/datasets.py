@@ -30,11 +30,11 @@ VARIABLES: dict[str, tuple[str, str, str]] = {
     "gbar": ("1", "non-dimensional gravity gbar", "gbar = M g sin(beta) / F"),
     "r": ("1", "coefficient of restitution r", ""),
     "phi": ("rad", "forcing phase at t0", ""),
-    "v0": ("1", "pre-impact velocity of the initial bottom impact", "paper convention, MODEL.md section 3"),
+    "v0": ("1", "pre-impact velocity of the initial bottom impact", "paper convention, docs/model.md"),
     "n_events": ("1", "number of recorded events", ""),
     "status": ("1", "run status", "see flag_values and flag_meanings"),
     "period_events": ("1", "events per period of the attractor", "0 when no period was identified"),
-    # energy (MODEL.md section 4, paper eq. V1)
+    # energy (docs/model.md, paper eq. V1)
     "gain": ("V", "output voltage U_k - U_in at each impact", ""),
     "U_I": ("V", "average output voltage per impact (eq. V1)", ""),
     "U_T": ("V", "average output voltage per unit of non-dimensional time (eq. V1)", ""),

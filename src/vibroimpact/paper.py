@@ -1,6 +1,26 @@
-"""Values published in the paper (MODEL.md section 5), for comparison only: never used to compute."""
+"""Values published in the paper (docs/model.md), for comparison only: never used to compute."""
 
 import math
+
+__all__ = ["STABLE_2TO1", "PI6_D_B", "PI6_G1", "PI6_G2", "paper_stable", "printed_unit", "agreement_tolerance"]
+
+
+def printed_unit(x: float) -> float:
+    """One unit in the last digit of ``x`` as printed (``repr`` of the value as typed from the paper)."""
+    s = repr(float(x)).rstrip("0")
+    frac = s.split(".")[1] if "." in s else ""
+    return 10.0 ** -len(frac)
+
+
+def agreement_tolerance(x: float, *, range_end: bool = False) -> float:
+    """The one rule for comparing a computed number with a published one.
+
+    A published number is reproduced when the computed one rounds to it: it lies within half a unit
+    of its last printed digit.  Where the paper states a range whose ends it rounds (``0.158 < d <
+    0.22``, ``d < 0.133``), the end is only known to one unit of its last digit (the paper does not
+    say whether it rounded in or out), so one unit is allowed.  Nothing else widens a tolerance.
+    """
+    return printed_unit(x) * (1.0 if range_end else 0.5)
 
 #: 2:1 period-2 motion stable for lo < d < hi (paper section 3, r = 0.5, F = 5 N, omega = 5 pi)
 STABLE_2TO1 = {

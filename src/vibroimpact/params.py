@@ -1,6 +1,6 @@
 """Model parameters: non-dimensional ``(d, gbar, r)`` and their physical origin.
 
-References: paper §2, eqs. ``nondXYt``, ``eq_relative``, ``eq_impact``; MODEL.md §2.
+References: paper §2, eqs. ``nondXYt``, ``eq_relative``, ``eq_impact``; docs/model.md.
 """
 
 from __future__ import annotations

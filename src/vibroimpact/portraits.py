@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import xarray as xr
 
@@ -53,6 +55,35 @@ def orbit_dataset(
         j = int(np.argmin(np.abs(bottom.v_minus.values - v0) + np.abs(dphase)))
         ds.attrs.update(v_attractor=float(bottom.v_minus.values[j]), phase_attractor=float(bottom.phase.values[j]),
                         dv=float(bottom.v_minus.values[j] - v0), dphase=float(dphase[j]))
+        # the same impact on the periodic orbit solved by Newton's method (independent of the run)
+        from .orbits import OrbitError, find_orbit
+        from .paper import printed_unit
+
+        walls = cyc.wall.values
+        start = int(np.flatnonzero(walls == 1)[j])
+        word = "".join("B" if w == 1 else "T" for w in np.roll(walls, -start))
+        try:
+            o = find_orbit(params, word, float(bottom.phase.values[j]), float(bottom.v_minus.values[j]), k=att.period)
+            dev = max(abs(float(o.v_minus[0]) - ds.attrs["v_attractor"]),
+                      abs((float(o.phase[0]) - ds.attrs["phase_attractor"] + np.pi) % (2 * np.pi) - np.pi))
+            ds.attrs.update(orbit_word=word, v_orbit=float(o.v_minus[0]), phase_orbit=float(o.phase[0]),
+                            orbit_deviation=dev, orbit_status="solved")
+            # how much the printed d's rounding moves that impact: the orbit at d -+ half a unit
+            h = 0.5 * printed_unit(params.d)
+            vs, ps = [], []
+            for dd in (params.d - h, params.d + h):
+                try:
+                    o2 = find_orbit(replace(params, d=dd), word, float(o.phase[0]), float(o.v_minus[0]), k=att.period)
+                    ok = o2.admissible
+                except OrbitError:
+                    ok = False
+                vs.append(float(o2.v_minus[0]) if ok else np.nan)
+                ps.append(float(o2.phase[0]) if ok else np.nan)
+            ds.attrs.update(d_rounding=h, v_orbit_at_d_rounding=vs, phase_orbit_at_d_rounding=ps)
+        except OrbitError as err:
+            ds.attrs.update(orbit_word=word, v_orbit=np.nan, phase_orbit=np.nan, orbit_deviation=np.nan,
+                            orbit_status=f"failed: {err}", d_rounding=np.nan, v_orbit_at_d_rounding=[np.nan, np.nan],
+                            phase_orbit_at_d_rounding=[np.nan, np.nan])
     return annotate(ds)
 
 
@@ -60,6 +91,8 @@ def caption_summary(datasets: dict[str, xr.Dataset], expected: dict[str, str]) -
     """One row per caption orbit: stated and found motion, and how far the caption lies from the attractor."""
     names = list(datasets)
     get = lambda key: [datasets[n].attrs.get(key, np.nan) for n in names]
+    pair = lambda key: np.array([np.broadcast_to(np.asarray(datasets[n].attrs.get(key, np.nan), float), (2,))
+                                 for n in names]).reshape(-1, 2)
     out = xr.Dataset(
         {
             "d": ("caption", get("d")),
@@ -72,6 +105,15 @@ def caption_summary(datasets: dict[str, xr.Dataset], expected: dict[str, str]) -
             "phase_attractor": ("caption", get("phase_attractor")),
             "dv": ("caption", get("dv")),
             "dphase": ("caption", get("dphase")),
+            "v_orbit": ("caption", get("v_orbit"), {"long_name": "that impact on the Newton-solved periodic orbit"}),
+            "phase_orbit": ("caption", get("phase_orbit"), {"units": "rad"}),
+            "orbit_deviation": ("caption", get("orbit_deviation"),
+                                {"long_name": "largest difference attractor - Newton orbit (velocity, phase)"}),
+            "orbit_status": ("caption", [str(x) for x in get("orbit_status")]),
+            "v_orbit_at_d_rounding": (("caption", "end"), pair("v_orbit_at_d_rounding"),
+                                      {"long_name": "the orbit's velocity at d -+ half a unit of the printed d (NaN: no admissible orbit)"}),
+            "phase_orbit_at_d_rounding": (("caption", "end"), pair("phase_orbit_at_d_rounding"),
+                                          {"units": "rad", "long_name": "the orbit's phase at d -+ half a unit of the printed d"}),
         },
         coords={"caption": names},
     )
@@ -94,7 +136,7 @@ def summary_markdown(table: xr.Dataset) -> str:
     return "\n".join(rows) + "\n"
 
 
-def bistability_dataset(branch21: xr.Dataset, branch31: xr.Dataset, g1: float, g2: float, *, d_mid: float = 0.14,
+def bistability_dataset(branch21: xr.Dataset, branch31: xr.Dataset, g1: float, g2: float, *, d_mid: float,
                         samples_per_unit: int = 400, offset: float = 1e-6) -> xr.Dataset:
     """Phase portraits of the bistable 2:1 and 3:1 motions (paper Fig BiS (d)-(g)): the 2:1 orbit just
     above G1, both orbits at ``d_mid``, and the 3:1 orbit just below G2, each over one period."""

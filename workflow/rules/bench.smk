@@ -64,6 +64,10 @@ rule failure_map:
 
 
 rule analytics_accuracy:
+    input:
+        # the "exact" G1 and G2 it measures against: the analytic branches' grazing point and fold
+        branch21=branch_path("orbit", SWEEPS["figBiS"]["beta"], "BBT"),
+        branch31=branch_path("orbit", SWEEPS["figBiS"]["beta"], "BBBT"),
     output:
         nc="results/bench/analytics_accuracy.nc",
         pdf="results/figures/analytics_accuracy.pdf",

@@ -99,8 +99,34 @@ for _scene, _spec in BRANCH_SCENES.items():
             _fail(f"branch_scenes.{_scene}.word", _w, f"a word defined under branches.words: {sorted(WORDS)}")
 
 
+_lo, _hi = config["branches"]["d_range"]
+if not _lo < _hi:
+    _fail("branches.d_range", [_lo, _hi], "[d_min, d_max] with d_min < d_max")
+for _w, _spec in WORDS.items():
+    if not _lo < _spec["start_d"] < _hi:
+        _fail(f"branches.words.{_w}.start_d", _spec["start_d"], f"inside branches.d_range = {[_lo, _hi]}")
+
+
 # ---- sweeps ------------------------------------------------------------------------------------
 SWEEPS = config["sweeps"]["scenes"]
+
+for _name, _sc in SWEEPS.items():
+    _fixed = "s" if _sc["vary"] == "F" else "F"
+    if _fixed not in _sc:
+        _fail(f"sweeps.scenes.{_name}.{_fixed}", None,
+              f"a value: a sweep of {_sc['vary']} needs the fixed {'length s (m)' if _fixed == 's' else 'force F (N)'}")
+    if _sc["vary"] in _sc:
+        _fail(f"sweeps.scenes.{_name}.{_sc['vary']}", _sc[_sc["vary"]], f"nothing: {_sc['vary']} is the swept parameter (see range)")
+    if not _sc["range"][0] < _sc["range"][1]:
+        _fail(f"sweeps.scenes.{_name}.range", _sc["range"], "[low, high] with low < high")
+for _name, _m in config["maps"].items():
+    if _m["x"] == _m["y"]:
+        _fail(f"maps.{_name}.y", _m["y"], f"an axis different from x = {_m['x']!r} (one of s, F, beta)")
+    for _axis in ("x", "y"):
+        if _m[_axis] in _m:
+            _fail(f"maps.{_name}.{_m[_axis]}", _m[_m[_axis]], f"nothing: {_m[_axis]} is the map's {_axis} axis")
+        if not _m[f"{_axis}_range"][0] < _m[f"{_axis}_range"][1]:
+            _fail(f"maps.{_name}.{_axis}_range", _m[f"{_axis}_range"], "[low, high] with low < high")
 
 
 def sweep_path(name, suffix=""):
@@ -116,6 +142,8 @@ def map_path(name):
     return f"results/maps/{name}_r-{fmt(config['physics']['r'])}.nc"
 
 
+if "figBiS" in SWEEPS and "figBiS" not in config["basins"]:
+    _fail("basins.figBiS", None, "an entry with the bistable point d where Fig BiS draws both motions")
 if "figBiS" in SWEEPS and not {"BBT", "BBBT"} <= set(WORDS):
     _fail("branches.words", sorted(WORDS), "BBT and BBBT, which Fig BiS draws")
 
@@ -175,9 +203,23 @@ def study_for(beta_key, r_key):
 def sweep_scene(wc):
     if wc.sweep == "study_s":  # a study's length sweep: its beta and r come from the path
         st = study_for(wc.beta, wc.r)
-        return dict(beta=st["beta"], vary="s", range=st.get("s_range", [0.19, 0.72]), F=config["physics"]["F"],
-                    phi=0.42, v0=0.87)
+        start = config["study_defaults"]
+        return dict(beta=st["beta"], vary="s", range=st.get("s_range", start["s_range"]), F=config["physics"]["F"],
+                    phi=st.get("phi", start["phi"]), v0=st.get("v0", start["v0"]))
     sc = SWEEPS[wc.sweep]
     if wc.beta != fmt(sc["beta"]) or wc.r != fmt(config["physics"]["r"]):
         raise ValueError(f"sweep {wc.sweep}: the path's beta-{wc.beta}_r-{wc.r} does not match the config")
     return sc
+
+
+# ---- checks: the known discrepancies must name items the check produces -------------------------
+def _check_items():
+    from vibroimpact.checks import item_names
+
+    betas = sorted({b for sc in BRANCH_SCENES.values() for b in sc["betas"]})
+    return item_names(list(CAPTIONS), betas)
+
+
+for _item in config["checks"]["known"]:
+    if _item not in _check_items():
+        _fail("checks.known", _item, f"an item of the paper-value check: {_check_items()}")

@@ -85,6 +85,7 @@ rule bistability_portraits:
         sweep_path("figBiS", "-portraits"),
     params:
         samples_per_unit=RESOLUTION["samples_per_unit"],
+        d_mid=config["basins"]["figBiS"]["d"],  # Fig BiS (e), (f): both motions at the configured bistable point
     conda:
         "../envs/vibroimpact.yaml"
     log:

@@ -1,0 +1,43 @@
+"""The paper-value check: one tolerance rule for every published number."""
+
+import math
+
+import pandas as pd
+import pytest
+
+from vibroimpact import checks
+from vibroimpact.paper import agreement_tolerance, printed_unit
+
+
+@pytest.mark.parametrize("x, unit", [(0.22, 1e-2), (0.1378, 1e-4), (5.88, 1e-2), (0.4185, 1e-4), (61.0, 1.0), (0.205, 1e-3)])
+def test_printed_unit(x, unit):
+    assert printed_unit(x) == pytest.approx(unit)
+
+
+def test_one_rule_half_a_unit_or_one_unit_for_range_ends():
+    assert agreement_tolerance(0.1419) == pytest.approx(5e-5)
+    assert agreement_tolerance(0.1419, range_end=True) == pytest.approx(1e-4)
+
+
+@pytest.mark.parametrize("computed, status", [(0.158999, "pass"), (0.157001, "pass"), (0.1591, "fail"), (0.1569, "fail")])
+def test_stable_interval_end_passes_within_one_unit_of_its_last_digit(computed, status):
+    """beta = pi/3, paper: stable for 0.158 < d < 0.22 (range ends: one unit)."""
+    t1 = pd.DataFrame([dict(beta=math.pi / 3, stable_from=computed, stable_to=0.22, lower_cause="B", upper_cause="fold",
+                            d_B=computed)])
+    (lower, upper) = checks.stability_rows(t1)
+    assert lower["status"] == status and upper["status"] == "pass"
+    assert lower["tolerance"] == pytest.approx(1e-3)
+
+
+def test_every_row_the_check_can_produce_is_named_before_any_job():
+    names = checks.item_names(["fig4_a"], [math.pi / 6, math.pi / 3])
+    assert names.count("G1: 2:1 -> 3:1 grazing, d decreasing, beta=pi/6") == 1
+    assert "2:1 stable interval, lower end, beta=pi/6" not in names  # that is G1, checked once
+    assert {"fig4_a: motion", "fig4_a: Zdot(t0)", "fig4_a: phi"} <= set(names)
+
+
+def test_known_discrepancy_must_name_a_checked_item():
+    df = pd.DataFrame([checks._row("a", "", 1.0, 2.0, 0.5, False)])
+    with pytest.raises(ValueError, match="not checked"):
+        checks.apply_known(df, {"b": "reason"})
+    assert checks.apply_known(df, {"a": "reason"}).status.iloc[0] == "known discrepancy"

@@ -1,6 +1,6 @@
 # vibroimpact: regenerate the paper's figures and this project's own from the code.
 # Usage: snakemake --cores 2            (default target: every figure, table and dataset)
-#        snakemake --cores 2 check      (which of the paper's numbers are reproduced)
+#        snakemake --cores 2 check      (which of the paper's numbers are reproduced; figures against references)
 #        snakemake --cores 2 bench      (speed and accuracy of the simulator)
 import math
 import re

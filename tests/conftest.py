@@ -9,7 +9,9 @@ import vibroimpact as vi
 #: (absolute, or relative beyond t = 1), velocities and positions: the flight is closed-form, so the
 #: only error is rounding: ~1e-16 per operation, amplified by the root's conditioning (1 / |Zdot-|
 #: for times, capped by the double-double polish below |Zdot-| = 1e-3) and accumulated over the
-#: few hundred events a test follows.  1e-12 leaves that four orders of magnitude.
+#: few hundred events a test follows.  1e-12 leaves that four orders of magnitude.  A root is found
+#: to relative rounding, so a flight time far below 1 (an impact just after a start) is held to
+#: TOL_T relative to itself.
 TOL_T = 1e-12
 
 

@@ -41,3 +41,35 @@ def test_known_discrepancy_must_name_a_checked_item():
     with pytest.raises(ValueError, match="not checked"):
         checks.apply_known(df, {"b": "reason"})
     assert checks.apply_known(df, {"a": "reason"}).status.iloc[0] == "known discrepancy"
+
+
+def _sims(status, max_dev):
+    import numpy as np
+    import xarray as xr
+
+    n = len(status)
+    return xr.Dataset({"status": ("sim", np.array(status)), "max_dev": ("sim", np.array(max_dev, float))},
+                      coords={"d": ("sim", np.linspace(0.14, 0.2, n))}, attrs=dict(word="BBT", beta=math.pi / 6))
+
+
+def test_simulated_points_row_names_every_point_not_compared():
+    (row,) = checks.simulation_rows([_sims(["compared", "skipped: no analytic orbit", "compared"], [1e-14, math.nan, 2e-12])])
+    assert row["status"] == "pass" and row["computed"].startswith("2 of 3 compared, max |difference| 2.0e-12")
+    assert "d = 0.17: skipped: no analytic orbit" in row["note"]
+    (row,) = checks.simulation_rows([_sims(["compared"], [2e-9])])
+    assert row["status"] == "fail"  # beyond the identification tolerance
+    (row,) = checks.simulation_rows([_sims(["not compared: the attractor is 3:1 period-2"], [math.nan])])
+    assert row["status"] == "fail"  # nothing compared is no evidence
+
+
+def test_energy_at_the_same_d_compares_the_two_coexisting_motions():
+    import numpy as np
+    import xarray as xr
+
+    lab = np.array([["3:1 period-2", "3:1 period-2", "2:1 period-2"], ["2:1 period-2", "3:1 period-2", "3:1 period-2"]])
+    u_t = np.array([[1.2, 1.0, 2.0], [1.0, 1.0, 1.0]])
+    e = xr.Dataset({"label": (("direction", "point"), lab), "U_T": (("direction", "point"), u_t),
+                    "U_I": (("direction", "point"), u_t)}, coords={"direction": ["up", "down"], "d": ("point", [0.1, 0.2, 0.3])})
+    row = next(r for r in checks.energy_rows([], [], [e]) if r["item"] == "2:1 -> 3:1 at the same d: U_T rises")
+    assert row["computed"].startswith("3:1 above 2:1 at 1 of 2 bistable sweep points (U_T ratio 3:1 / 2:1 in [0.5000, 1.2000])")
+    assert row["status"] == "fail"

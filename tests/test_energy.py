@@ -177,3 +177,104 @@ def test_maximum_1to1_output_changes_less_than_one_percent_with_incline(one_to_o
         m = (e.stable & e.admissible & (e.s <= 0.72)).values
         maxima.append(float(e.U_T.values[m].max()))
     assert (max(maxima) - min(maxima)) / np.mean(maxima) < 0.01
+
+
+def _expected_window(ev, lag, window_time):
+    """Impacts averaged and the span, from the saved events: one period (lag events) for a periodic
+    point, else the events after t_end - window_time over the time from the event before them."""
+    t, kind = ev.t.values, ev.kind.values
+    m = int(np.isfinite(t).sum())
+    if lag:
+        first = m - lag
+    else:
+        first = max(int(np.flatnonzero(t[:m] > t[m - 1] - window_time)[0]), 1)
+    impact = (kind[first:m] == 0) | (kind[first:m] == 1)
+    return first, m, impact, t[m - 1] - t[first - 1]
+
+
+@pytest.mark.parametrize("which", ["pi3", "sticky"])
+def test_sweep_averages_over_one_period_or_the_last_window(pi3_sweep, which):
+    """U_I and U_T of every sweep point from its saved events: impacts only (stick and release are
+    no impacts), over one period of 2 k forcing periods (to the periodicity tolerance) or the last
+    window_time time units where no period was found."""
+    sw = pi3_sweep if which == "pi3" else sweep("s", [0.3, 0.5, 0.7], beta=math.pi / 2, F=1.4, max_periods=60)
+    mb = Membrane(**PAPER)
+    e = sweep_energy(sw, mb, M=M, omega=OMEGA)  # default window: the paper's 30 time units
+    kinds_seen, aperiodic = set(), 0
+    for a in range(2):
+        for i in range(sw.sizes["point"]):
+            ev = sw.isel(direction=a, point=i)
+            lag = int(ev.period_events)
+            first, m, impact, span = _expected_window(ev, lag, 30.0)
+            kinds_seen |= set(ev.kind.values[first:m].astype(int))
+            res = e.isel(direction=a, point=i)
+            assert int(res.window_impacts) == int(impact.sum())
+            if lag:
+                assert float(res.window_time) == pytest.approx(2 * int(ev.period), rel=sw.attrs["tol"])
+            else:
+                aperiodic += 1
+                assert 30.0 <= float(res.window_time) == pytest.approx(span, rel=1e-15)
+            speed = speed_si(ev.v_minus.values[first:m][impact], float(ev.F), M, OMEGA)
+            gains = voltage_gain(speed, mb)
+            assert float(res.U_I) == pytest.approx(gains.mean(), rel=1e-12)
+            assert float(res.U_T) == pytest.approx(gains.sum() / float(res.window_time), rel=1e-12)
+    if which == "sticky":
+        assert {0, 2, 3} <= kinds_seen  # impacts, sticks and releases inside the averaged periods
+    else:
+        assert aperiodic >= 3
+
+
+def test_ball_resting_on_the_bottom_for_good_gives_no_output():
+    """gbar >= 1 (here F = 1 N at beta = pi/2): the ball comes to rest on the bottom and never leaves;
+    in the long run there is no impact: U_T = 0, and no impact to average U_I over."""
+    sw = sweep("s", [0.3, 0.5], beta=math.pi / 2, F=1.0, max_periods=60)
+    assert set(sw.status.values.ravel()) == {vi.kernels.STUCK_FOREVER}
+    e = sweep_energy(sw, Membrane(**PAPER), M=M, omega=OMEGA)
+    assert np.all(e.U_T.values == 0.0) and np.all(np.isnan(e.U_I.values)) and np.all(np.isinf(e.window_time.values))
+
+
+@pytest.mark.parametrize("consts", VARIANTS)
+def test_deflection_takes_up_the_kinetic_energy(consts):
+    """The work of the restoring force K x^h up to the deflection (quadrature) equals m v^2 / 2."""
+    from scipy.integrate import quad
+
+    from vibroimpact.energy import deflection
+
+    mb = Membrane(**consts)
+    for v in (0.05, 0.5, 2.0):
+        delta = float(deflection(v, mb))
+        work, _ = quad(lambda x: mb.K * x**mb.h, 0.0, delta, epsabs=0, epsrel=1e-13)
+        assert work == pytest.approx(mb.m * v**2 / 2, rel=1e-12)
+
+
+def test_averages_per_orbit_row_and_branch_period(one_to_one_branches):
+    """averages() works along the last axis (one row per branch point); a branch point's U_T is over
+    2 k forcing periods, as for the orbit solved alone."""
+    gain = np.array([[1.0, 3.0], [2.0, 2.0], [0.0, 4.0]])
+    u_i, u_t = averages(gain, 4.0)
+    np.testing.assert_array_equal(u_i, [2.0, 2.0, 2.0])
+    np.testing.assert_array_equal(u_t, [1.0, 1.0, 1.0])
+    br = one_to_one_branches[math.pi / 3]
+    mb = Membrane(**PAPER)
+    e = branch_energy(br, mb, M=M, omega=OMEGA)
+    i = int(np.flatnonzero((br.stable & br.admissible).values)[0])
+    speed = speed_si(br.v_minus.values[i], float(br.F[i]), M, OMEGA)
+    gains = voltage_gain(speed, mb)
+    assert float(e.U_T[i]) == pytest.approx(gains.sum() / (2 * int(br.attrs["k"])), rel=1e-14)
+    assert float(e.U_I[i]) == pytest.approx(gains.mean(), rel=1e-14)
+
+
+def test_window_without_impacts_gives_no_output():
+    """An aperiodic point whose last window holds only stick and release events: U_T = 0, U_I NaN."""
+    import xarray as xr
+
+    t = np.array([[[0.0, 10.0, 20.0, np.nan]]])
+    sw = xr.Dataset(
+        {"t": (("direction", "point", "event"), t), "v_minus": (("direction", "point", "event"), np.zeros_like(t)),
+         "kind": (("direction", "point", "event"), np.array([[[2, 3, 2, 0]]], np.int8)),
+         "status": (("direction", "point"), np.array([[1]], np.int8)),
+         "period_events": (("direction", "point"), np.array([[0]])), "period": (("direction", "point"), np.array([[0]])),
+         "label": (("direction", "point"), np.array([["no period found"]]))},
+        coords={"direction": ["up"], "point": [0], "d": ("point", [0.2]), "F": ("point", [5.0])})
+    e = sweep_energy(sw, Membrane(**PAPER), M=M, omega=OMEGA)
+    assert float(e.U_T[0, 0]) == 0.0 and np.isnan(float(e.U_I[0, 0])) and int(e.window_impacts[0, 0]) == 0

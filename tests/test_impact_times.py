@@ -9,7 +9,7 @@ from conftest import TOL_T
 
 import vibroimpact as vi
 from vibroimpact.events import next_impact
-from vibroimpact.reference import first_impact, gap, grazing_state
+from vibroimpact.reference import _bracketed_root, first_impact, gap, grazing_state, velocity
 
 
 
@@ -43,9 +43,11 @@ def test_impact_times_match_high_precision_reference_at_random_states():
 
 
 @pytest.mark.parametrize("wall", [1, -1])
-@pytest.mark.parametrize("eps", [1e-4, 1e-6, 1e-8, 1e-10, -1e-10, -1e-8, -1e-6, -1e-4])
+@pytest.mark.parametrize("eps", [1e-4, 1e-6, 1e-8, 1e-10, -1e-14, -1e-12, -1e-10, -1e-8, -1e-6, -1e-4])
 def test_near_grazing_impact_is_never_missed_nor_invented(wall, eps):
-    """An extremum passing eps inside a wall (eps > 0) is no impact; crossing it by |eps| is."""
+    """An extremum passing eps inside a wall (eps > 0) is no impact; crossing it by |eps| is.  At
+    eps = -1e-14 the impact speed is ~1e-7: a time found from the double-precision gap alone would be
+    off by ~1e-10, so this also checks the double-double polish."""
     d, gbar = 0.3, 0.2
     rng = np.random.default_rng(abs(hash((wall, eps))) % 2**32)
     for _ in range(5):
@@ -73,26 +75,64 @@ def test_near_grazing_impact_is_never_missed_nor_invented(wall, eps):
             assert abs(tau - float(ref_tau)) < TOL_T
 
 
-def test_tangency_at_rounding_level_is_decided_by_the_exact_sign():
+@pytest.mark.parametrize("wall, phases", [(1, (2.6, 3.6)), (-1, (-0.5, 0.5))])
+def test_tangency_at_rounding_level_is_decided_by_the_exact_sign(wall, phases):
     """A state rounded from an exactly tangent flight passes ~1e-17 inside or outside the wall; the
-    hit/miss decision must follow the sign of the exact (40-digit) gap at the extremum."""
+    hit/miss decision must follow the sign of the exact (40-digit) gap at the extremum, on both
+    walls (a maximum at the bottom, a minimum at the top)."""
     from vibroimpact.reference import velocity
 
     d, gbar = 0.3, 0.2
     outcomes = set()
-    for theta_e in np.linspace(2.6, 3.6, 15):
-        th0, z0, u0 = grazing_state(theta_e, 0.2, d, gbar, 1, 0.0)
+    for theta_e in np.linspace(*phases, 15):
+        th0, z0, u0 = grazing_state(theta_e % (2 * np.pi), 0.2, d, gbar, wall, 0.0)
         te = mp.findroot(velocity(th0, u0, gbar), mp.mpf(0.2))
-        exact_gap = gap(th0, z0, u0, gbar, d / 2)(te)
+        exact_gap = gap(th0, z0, u0, gbar, wall * d / 2)(te)
         if abs(exact_gap) < 1e-28:
             continue
         ds = vi.simulate(vi.Params(d=d, gbar=gbar, r=0.5), th0, u0, Z0=z0, n_impacts=2)
         hit = bool(abs(ds["t"].values[1] - float(te)) < 1e-6)
-        assert hit == (exact_gap > 0)
+        assert hit == (wall * exact_gap > 0)
         if hit:
-            assert ds["wall"].values[1] == 1 and abs(ds["v_minus"].values[1]) < 1e-7
+            assert ds["wall"].values[1] == wall and abs(ds["v_minus"].values[1]) < 1e-7
         outcomes.add(hit)
     assert outcomes == {True, False}
+
+
+@pytest.mark.parametrize("wall", [1, -1])
+@pytest.mark.parametrize("dist", [1e-3, 1e-5, 1e-7])
+def test_impact_just_after_the_start_matches_the_reference(wall, dist):
+    """A flight starting ``dist`` from a wall and moving into it: impact times of 1e-7 .. 1e-2, where
+    the root finder's stopping rule must be relative to the (small) root, not to 1."""
+    d, gbar = 0.3, 0.2
+    rng = np.random.default_rng(7)
+    for _ in range(4):
+        theta = rng.uniform(0, 2 * np.pi)
+        u = wall * rng.uniform(0.05, 1.0)
+        z0 = wall * (d / 2 - dist)
+        horizon = 20 * dist / abs(u)  # the flight reaches the wall after ~dist / |u|
+        ref_tau, ref_wall, _ = first_impact(theta, z0, u, d, gbar, horizon=horizon, step=horizon / 4000)
+        tau, w = next_impact(theta, z0, u, d, gbar, math.inf)
+        assert w == ref_wall == wall
+        assert abs(tau - float(ref_tau)) < TOL_T * float(ref_tau)
+
+
+def test_impact_times_with_gbar_at_least_one_match_the_reference():
+    """gbar >= 1: the acceleration never vanishes, so the flight has no inflection phases and is
+    split into fixed pieces instead; the ball always comes back down."""
+    rng = np.random.default_rng(3)
+    checked = 0
+    for _ in range(20):
+        d, gbar = rng.uniform(0.1, 0.5), rng.uniform(1.0, 1.5)
+        theta, z0, u = rng.uniform(0, 2 * np.pi), rng.uniform(-d / 2, d / 2), rng.uniform(-1.0, 1.0)
+        ref_tau, ref_wall, clearance = first_impact(theta, z0, u, d, gbar)
+        if clearance < 1e-5:
+            continue
+        tau, wall = next_impact(theta, z0, u, d, gbar, math.inf)
+        assert wall == ref_wall
+        assert abs(tau - float(ref_tau)) < TOL_T
+        checked += 1
+    assert checked >= 15
 
 
 def test_simulate_impact_times_match_reference_along_a_run():
@@ -108,3 +148,38 @@ def test_simulate_impact_times_match_reference_along_a_run():
             continue
         assert ds["wall"].values[j + 1] == ref_wall
         assert abs((t[j + 1] - t[j]) - float(ref_tau)) < TOL_T * max(1.0, t[j + 1])
+
+
+def test_no_flight_time_left_means_no_impact():
+    """A run that reaches t_end exactly asks for the next impact with tau_max = 0: none."""
+    for theta, z0, u, d, gbar in random_states(20, seed=4):
+        assert next_impact(theta, z0, u, d, gbar, 0.0) == (math.inf, 0)
+        tau, wall = next_impact(theta, z0, u, d, gbar, 1e-3)
+        assert (wall == 0) == math.isinf(tau) and (math.isinf(tau) or tau <= 1e-3)
+
+
+@pytest.mark.parametrize("theta, z0, u, wall", [
+    (5.84485605970136, -0.010965417079968481, -0.558450165385619, -1),
+])
+def test_crossing_at_impact_speed_1e_9_matches_the_reference(theta, z0, u, wall):
+    """Flights that cross a wall at |Zdot-| ~ 1e-9 (an extremum ~1e-18 beyond it): the time is
+    ill-conditioned (1e-16 / 1e-9) unless the root finder keeps its bracket and the gap is polished
+    in double-double; found while auditing the root finder with a wider probe than these tests."""
+    d, gbar = 0.3, 0.2
+    tau, w = next_impact(theta, z0, u, d, gbar, math.inf)
+    f = gap(theta, z0, u, gbar, wall * d / 2)
+    te = mp.findroot(velocity(theta, u, gbar), mp.mpf(tau))  # the extremum, ~1e-18 beyond the wall
+    assert wall * f(te) > 0
+    ref = _bracketed_root(f, mp.mpf(tau) - mp.mpf("1e-6"), te)
+    assert w == wall
+    assert abs(tau - float(ref)) < TOL_T
+    assert abs(float(velocity(theta, u, gbar)(ref))) < 1e-8
+    assert abs(tau - float(ref)) < 1e-15 * 100  # far better than TOL_T: the double-double polish
+
+@pytest.mark.parametrize("theta, wall, gbar", [(0.3, 1, 1.2), (1.7, 1, 1.0), (math.pi, -1, 0.2), (4.0, -1, 0.0)])
+def test_at_rest_on_a_wall_pushed_into_it_is_an_impact_now(theta, wall, gbar):
+    """At rest on a wall with the relative acceleration into it (w Z'' > 0): contact at once, with
+    zero velocity (the polish must stop where the velocity is exactly zero)."""
+    d = 0.3
+    assert wall * (math.cos(theta) + gbar) > 0
+    assert next_impact(theta, wall * d / 2, 0.0, d, gbar, math.inf) == (0.0, wall)

@@ -207,6 +207,11 @@ def test_simulation_agrees_with_the_branch_wherever_it_is_stable(pi6_2to1):
     assert sims.sizes["sim"] == 6
     assert (sims.motion == "2:1 period-2").all()
     assert float(sims.max_dev.max()) < 1e-9
+    # the recorded flight times, in the word's order, are the orbit's too
+    for k in range(sims.sizes["sim"]):
+        p = vi.Params(d=float(sims.d[k]), gbar=float(pi6_2to1.gbar[0]), r=0.5)
+        o = find_orbit(p, "BBT", float(sims.phase[k, 0]), float(sims.v_minus[k, 0]))
+        np.testing.assert_allclose(sims.dt.values[k], o.dt, atol=1e-9)
 
 
 def test_1to1_branch_period_doubles_and_grazes():
@@ -250,3 +255,168 @@ def test_force_parameterisation_moves_d_and_gbar_together():
     q = vi.Params(d=float(br.d[i]), gbar=float(br.gbar[i]), r=0.5)
     cyc = simulated_cycle(q, float(br.phase[i, 0]), float(br.v_minus[i, 0])).cycle
     assert np.min(np.abs(cyc.v_minus.values - float(br.v_minus[i, 0]))) < 1e-9
+
+
+#: Central differences with step 1e-6: truncation ~1e-12, rounding ~1e-16 / 1e-6 = 1e-10; an error in
+#: an analytic derivative is of order one.
+FD_STEP, FD_TOL = 1e-6, 1e-7
+
+
+def _central_difference(f, x, h=FD_STEP):
+    cols = []
+    for i in range(len(x)):
+        e = np.zeros(len(x))
+        e[i] = h
+        cols.append((f(x + e) - f(x - e)) / (2 * h))
+    return np.column_stack(cols)
+
+
+@pytest.mark.parametrize("name, word", [("fig4_a", "BBT"), ("fig0b_c", "BBBT")])
+def test_orbit_equations_jacobian_agrees_with_finite_differences(name, word):
+    """Newton converges with an approximate Jacobian too, so its exactness is checked directly, at a
+    point off the orbit."""
+    from vibroimpact.orbits import _residual_and_jacobian, parse_word
+
+    beta, d, v, phi, *_ = CAPTIONS[name]
+    p = vi.Params(d=d, gbar=gbar_of(beta), r=0.5)
+    o = find_orbit(p, word, phi, v)
+    walls = parse_word(word)
+    z = o.z + np.random.default_rng(5).uniform(-1e-2, 1e-2, o.z.size)
+    F, J = _residual_and_jacobian(z, walls, p.d, p.gbar, p.r, o.k)
+    fd = _central_difference(lambda x: _residual_and_jacobian(x, walls, p.d, p.gbar, p.r, o.k)[0], z)
+    assert np.max(np.abs(J - fd)) < FD_TOL
+
+
+@pytest.mark.parametrize("vary", ["s", "F"])
+def test_branch_equations_derivative_in_d_agrees_with_finite_differences(vary):
+    """The column d/dd of the continuation's equations, with gbar fixed (vary s) or moving with d
+    (vary F: gbar = (gbar/d) d)."""
+    from vibroimpact.continuation import _augmented, branch_parameters
+    from vibroimpact.orbits import parse_word
+
+    p = vi.Params.from_physical(s=0.14 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
+    o = find_orbit(p, "BBT", 5.855, 0.4185)
+    g0, g1, _ = branch_parameters(o, vary)
+    assert (g1 != 0) == (vary == "F")
+    walls = parse_word("BBT")
+    Y = np.append(o.z, p.d) + np.random.default_rng(6).uniform(-1e-2, 1e-2, o.z.size + 1)
+    _, J = _augmented(Y, walls, p.r, o.k, g0, g1)
+    fd = _central_difference(lambda x: _augmented(x, walls, p.r, o.k, g0, g1)[0], Y)
+    assert np.max(np.abs(J - fd)) < FD_TOL
+
+
+def test_stability_names_follow_the_eigenvalue_moduli(pi6_2to1):
+    """Along the 2:1 branch (through its fold and period doubling): stable = both |lambda| < 1,
+    saddle = exactly one > 1, unstable = both > 1."""
+    mods = pi6_2to1.eig_abs.values
+    names = pi6_2to1.stability.values
+    outside = (mods > 1).sum(axis=1)
+    expected = np.where(outside == 0, "stable", np.where(outside == 1, "saddle", "unstable"))
+    assert [str(n).split(" ")[0] for n in names] == list(expected)
+    assert {"stable", "saddle"} <= set(expected)
+    np.testing.assert_array_equal(pi6_2to1.stable.values, outside == 0)
+
+
+def test_critical_points_carry_admissibility_and_stop_reasons(pi6_2to1):
+    """The period doubling at d = 0.1323 lies below G1, where the 2:1 orbit has crossed the bottom
+    wall: located (refined) but not admissible.  Each direction's stop reason names where it left
+    d_range, one step beyond a branch end."""
+    br = pi6_2to1
+    kinds = list(br.critical_kind.values)
+    b = kinds.index("B")
+    g1 = float(br.critical_d.values[kinds.index("grazing")])
+    assert float(br.critical_d[b]) < g1
+    assert bool(br.critical_refined[b]) and not bool(br.critical_admissible[b])
+    assert all(br.critical_admissible.values[k] for k in range(len(kinds)) if br.critical_d.values[k] > g1)
+    ends = br.d.values[[0, -1]]
+    for key in ("stop_increasing", "stop_decreasing"):
+        reason = br.attrs[key]
+        assert reason.startswith("left d_range at d = ")
+        d_stop = float(reason.rsplit("= ", 1)[1])
+        assert d_stop < 0.125 and np.min(np.abs(ends - d_stop)) <= br.attrs["step"]
+
+
+def test_continuation_range_must_contain_the_start_strictly():
+    p = vi.Params.from_physical(s=0.14 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
+    o = find_orbit(p, "BBT", 5.855, 0.4185)
+    for bad in ((p.d, 0.2), (0.1, p.d), (0.15, 0.2)):
+        with pytest.raises(ValueError, match="must contain the orbit's d"):
+            continue_orbit(o, vary="s", d_range=bad)
+    with pytest.raises(ValueError, match="step = "):
+        continue_orbit(o, vary="s", d_range=(0.13, 0.15), step=0.0)
+
+
+def test_bistability_portraits_are_closed_orbits_of_the_physical_stretch(pi6_2to1, pi6_3to1):
+    """Fig BiS (d)-(g): the 2:1 orbit just above G1, both at d = 0.14, the 3:1 just below G2.  The
+    2:1 branch also passes G1 on its wall-crossing stretch; the portrait must be the admissible
+    orbit, which the simulator then follows around one whole period back to its start."""
+    from vibroimpact.portraits import bistability_dataset
+
+    # the workflow's branch: over its whole d range, where a point of the upper (saddle, wall-crossing)
+    # stretch lies nearer to G1 than any point of the physical one
+    br = branch(math.pi / 6, "BBT", 5.855, 0.4185, 0.14, (0.11, 0.46), step=1e-3)
+    g1 = float(critical(br, "grazing")[np.argmin(np.abs(critical(br, "grazing") - 0.1376))])
+    (g2,) = critical(pi6_3to1, "fold")
+    ds = bistability_dataset(br, pi6_3to1, g1, float(g2), d_mid=0.14, samples_per_unit=200)
+    assert list(ds.word.values) == ["BBT", "BBT", "BBBT", "BBBT"]
+    assert float(ds.closure.max()) < 1e-9  # ORBIT_AGREEMENT: the attractors' identification tolerance
+    # the G1 portrait touches the bottom wall d/2 with its interior loop (a grazing contact)
+    z = ds.Z.values[0]
+    assert float(ds.d[0]) / 2 - z.max() < 1e-9
+
+
+def test_every_located_critical_point_is_a_zero_of_its_test_function(pi6_2to1, pi6_3to1):
+    from vibroimpact.orbits import _assemble, parse_word, solve_orbit
+
+    """Re-solved at its located d, each critical point's orbit has its test function at zero:
+    1 + Tr + Det (B, lambda = -1), Delta (A) or the clearance (grazing); a fold is where d turns
+    back along the branch.  A sign change across a jump (an extremum appearing) is not a critical
+    point.  The 1e-6 bounds the refinement (xtol 1e-10 in d) times the functions' slopes."""
+
+    checked = 0
+    for br in (pi6_2to1, pi6_3to1):
+        for kind, d in zip(br.critical_kind.values.astype(str), br.critical_d.values, strict=True):
+            # the branch passes d more than once: start from the nearby point where the function is smallest
+            f_pts = {"B": 1 + br.trace + br.det, "fold": 1 - br.trace + br.det, "A": br.discriminant,
+                     "grazing": br.clearance}[kind].values
+            near = np.flatnonzero(np.abs(br.d.values - d) < 2 * br.attrs["step"])
+            i = int(near[np.nanargmin(np.abs(f_pts[near]))])
+            if kind == "fold":  # Newton at fixed d is singular there: d is instead extremal along the branch
+                assert abs(d - br.d.values[near].max()) < 1e-5 or abs(d - br.d.values[near].min()) < 1e-5
+                checked += 1
+                continue
+            # solved from the branch point itself (find_orbit's simulated guess cannot follow an orbit
+            # that crosses a wall)
+            word, k = br.attrs["word"], int(br.attrs["k"])
+            walls = parse_word(word)
+            p = vi.Params(d=float(d), gbar=float(br.gbar[0]), r=0.5)
+            z0 = np.concatenate([[float(br.phase[i, 0])], np.roll(br.dt.values[i], -1), br.v_minus.values[i]])
+            o = _assemble(p, word, k, solve_orbit(z0, walls, p.d, p.gbar, p.r, k))
+            val = {"B": 1 + o.trace + o.det, "A": o.trace**2 - 4 * o.det, "grazing": o.clearance}[kind]
+            assert abs(val) < 1e-6, (kind, d, val)
+            checked += 1
+    assert checked >= 10
+
+
+def test_unrefined_critical_point_is_kept_with_a_linear_estimate(monkeypatch):
+    """When the refinement fails, the point is kept: between the two branch points that bracket it,
+    at the linear zero of its test function, with the reason and the bracket in its note."""
+    from vibroimpact import continuation
+
+    def failing(*args, **kwargs):
+        raise ValueError("refinement disabled by the test")
+
+    p = vi.Params.from_physical(s=0.14 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
+    o = find_orbit(p, "BBT", 5.855, 0.4185)
+    ref = continue_orbit(o, vary="s", d_range=(0.13, 0.16), step=1e-3)
+    monkeypatch.setattr(continuation, "brentq", failing)
+    br = continue_orbit(o, vary="s", d_range=(0.13, 0.16), step=1e-3)
+    assert br.sizes["critical"] == ref.sizes["critical"] > 0
+    assert not br.critical_refined.values.any() and ref.critical_refined.values.all()
+    for k in range(br.sizes["critical"]):
+        note = str(br.critical_note.values[k])
+        assert "refinement disabled by the test" in note
+        lo, hi = sorted(float(x) for x in note.rsplit("between d = ", 1)[1].split(" and "))
+        d = float(br.critical_d[k])
+        assert lo <= d <= hi and hi - lo <= 1.01e-3
+        assert abs(d - float(ref.critical_d[k])) < 1e-4  # linear zero of a smooth test function

@@ -40,6 +40,15 @@ def test_sweep_dataset_shape_and_hysteresis(pi6):
     assert (up[i], down[i]) == ("3:1 period-2", "2:1 period-2")
     for var in ("v_minus", "phase", "t", "wall", "label", "period", "n_bottom", "n_top", "n_events"):
         assert var in sw and "long_name" in sw[var].attrs
+    # each direction starts from the given impact; every later point from the last bottom impact of
+    # the attractor before it
+    for k, first, step in ((0, 0, 1), (1, sw.sizes["point"] - 1, -1)):
+        assert (float(sw.start_phi[k, first]), float(sw.start_v0[k, first])) == (5.855, 0.4185)
+        prev = sw.isel(direction=k, point=first)
+        m = int(np.isfinite(prev.t.values).sum())
+        j = max(i for i in range(m) if prev.wall.values[i] == 1 and prev.kind.values[i] == 0 and prev.v_minus.values[i] > 0)
+        assert float(sw.start_v0[k, first + step]) == float(prev.v_minus.values[j])
+        assert float(sw.start_phi[k, first + step]) == float(prev.phase.values[j])
 
 
 def test_transitions_G1_and_G2_located_and_agree_with_the_analytic_points(pi6):
@@ -120,12 +129,70 @@ def test_bistable_interval_with_an_aperiodic_side_ends_on_the_grid():
     assert (row.d_hi, row.hi_source) == (0.35, "located")
 
 
+def test_bistable_interval_with_an_aperiodic_upper_side_ends_on_the_grid():
+    d = np.array([0.1, 0.2, 0.3, 0.4])
+    gone = vi.sweeps.APERIODIC
+    sw, tr = synthetic(["A", "B", "B", gone], ["A", "A", "A", gone], d, [("down", 0.15, "A", "B")])
+    (row,) = bistable_intervals(sw, tr).to_dataframe().itertuples()
+    assert (row.d_lo, row.lo_source) == (0.15, "located")
+    assert (row.d_hi, row.hi_source, row.d_hi_width) == (pytest.approx(0.35), "grid", pytest.approx(0.1))
+
+
 def test_bistable_interval_of_non_positive_width_is_an_error():
     d = np.array([0.1, 0.2, 0.3, 0.4])
     # both motions said to end exactly at the grid point where the sweeps differ: no interval is left
     sw, tr = synthetic(["A", "A", "A", "B"], ["A", "A", "B", "B"], d, [("up", 0.3, "A", "B"), ("down", 0.3, "B", "A")])
     with pytest.raises(ValueError, match="non-positive width"):
         bistable_intervals(sw, tr)
+
+
+def test_bistable_interval_reaching_the_range_end_is_open_there():
+    d = np.array([0.1, 0.2, 0.3, 0.4])
+    sw, tr = synthetic(["A", "A", "A", "A"], ["A", "A", "B", "B"], d, [("down", 0.25, "B", "A")])
+    (row,) = bistable_intervals(sw, tr).to_dataframe().itertuples()
+    assert (row.d_lo, row.lo_source, row.d_lo_width) == (0.25, "located", 1e-8)
+    assert (row.d_hi, row.hi_source) == (0.4, "range end") and math.isnan(row.d_hi_width)
+    sw, tr = synthetic(["B", "B", "A", "A"], ["A", "A", "A", "A"], d, [("up", 0.25, "B", "A")])
+    (row,) = bistable_intervals(sw, tr).to_dataframe().itertuples()
+    assert (row.d_lo, row.lo_source, row.d_hi, row.hi_source) == (0.1, "range end", 0.25, "located")
+    assert (row.label_up, row.label_down) == ("B", "A")
+
+
+def test_no_bistability_gives_an_empty_table():
+    d = np.array([0.1, 0.2, 0.3, 0.4])
+    sw, tr = synthetic(["A", "A", "B", "B"], ["A", "A", "B", "B"], d, [("up", 0.25, "A", "B"), ("down", 0.25, "B", "A")])
+    iv = bistable_intervals(sw, tr)
+    assert iv.sizes["interval"] == 0
+    assert set(iv.data_vars) >= {"d_lo", "d_hi", "d_lo_width", "d_hi_width", "label_up", "label_down"}
+
+
+@pytest.mark.parametrize("before, after, kind", [
+    ("2:1 period-2", "3:1 period-2", "grazing: extra bottom impact"),
+    ("3:1 period-2", "2:1 period-2", "bottom impact lost"),
+    ("1:1 period-2", "1:2 period-2", "grazing: extra top impact"),
+    ("1:2 period-2", "1:1 period-2", "top impact lost"),
+    ("2:2 period-2", "2:1 period-2", "top impact lost"),
+    ("1:1 period-2", "1:1 period-4", "period doubling"),
+    ("1:1 period-4", "1:1 period-2", "period halving"),
+    ("1:1 period-2", "1:1 period-6", "period change"),
+    ("2:1 period-2", "4:2 period-4", "other"),
+    ("2:1 period-2", "3:2 period-2", "other"),
+    ("2:1 period-2", "no period found", "period lost (no period found)"),
+    ("no period found", "2:1 period-2", "period found"),
+    ("no period found", "no period found", "none"),
+    ("2:0 period-2 with sticking", "2:1 period-2", "other"),
+])
+def test_transition_kinds(before, after, kind):
+    assert vi.sweeps.transition_kind(before, after) == kind
+
+
+def test_bad_window_is_rejected_before_running():
+    with pytest.raises(ValueError, match="window = 64; allowed: >= pmax \\+ 1 = 65"):
+        sweep("s", [0.3], beta=math.pi / 6, window=64)
+    with pytest.raises(ValueError, match="window = 10"):
+        vi.sweeps.attractor_batch(0.2, 0.1, 0.5, 0.0, 0.5, window=10, pmax=16)
+    with pytest.raises(ValueError, match="axes"):
+        regime_map("s", [0.3], "s", [0.4])
 
 
 def test_swept_points_agree_with_the_analytic_orbit(pi6):
@@ -184,3 +251,7 @@ def test_regime_map_over_length_and_incline():
     # long cylinders give the 1:1 motion, short ones asymmetric n:1 motions (paper Fig 0)
     assert str(m.label.sel(beta=math.pi / 3, s=0.7).values) == "1:1 period-2"
     assert str(m.label.sel(beta=math.pi / 6, s=0.2).values).startswith(("3:1", "4:1"))
+    # the paper's defaults fill the third parameter: F = 5 N here, beta = pi/6 for an (s, F) map
+    m2 = regime_map("s", [0.3], "F", [5.0], max_periods=20)
+    p = vi.Params.from_physical(s=0.3, F=5.0, beta=math.pi / 6)
+    assert (float(m2.d[0, 0]), float(m2.gbar[0, 0])) == (pytest.approx(p.d, rel=1e-12), pytest.approx(p.gbar, rel=1e-12))

@@ -13,8 +13,10 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def _copy_workflow(tmp_path):
-    for item in ("Snakefile", "workflow", "config", "profiles"):
+    for item in ("Snakefile", "workflow", "config", "profiles", "reference"):
         src = ROOT / item
+        if not src.exists():
+            continue
         (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / item)
     return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 
@@ -136,6 +138,10 @@ def test_check_target_passes_on_the_default_config(tmp_path):
     assert set(df["status"]) <= {"pass", "known discrepancy"}
     assert (df["status"] == "pass").sum() > 50
     assert df.loc[df["status"] == "known discrepancy", "note"].str.len().min() > 20
+    # every figure draws the data of its committed reference
+    figs = pd.read_csv(tmp_path / "results" / "checks" / "figures.csv")
+    assert set(figs["status"]) <= {"pass", "excluded"} and figs["figure"].nunique() >= 14
+    assert (figs["status"] == "pass").sum() > 100
 
 
 def test_a_study_adds_only_its_own_jobs(tmp_path):

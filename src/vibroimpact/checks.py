@@ -152,6 +152,20 @@ def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], swee
                 n23 += 1
                 ok23_i += bool(dn.U_I.values[three] < dn.U_I.values[two])
                 ok23_t += bool(dn.U_T.values[three] > dn.U_T.values[two])
+    # the two motions at the same d, where the up sweep follows one and the down sweep the other
+    pairs = []
+    for e in sweeps:
+        lab = e.label.values
+        for i in range(lab.shape[1]):
+            pair = {str(lab[0, i]): 0, str(lab[1, i]): 1}
+            if set(pair) == {"2:1 period-2", "3:1 period-2"}:
+                u = e.U_T.values[:, i]
+                pairs.append(u[pair["3:1 period-2"]] / u[pair["2:1 period-2"]])
+    pairs = np.array(pairs)
+    rows.append(_row("2:1 -> 3:1 at the same d: U_T rises", "section 5", "rises",
+                     f"3:1 above 2:1 at {int((pairs > 1).sum())} of {pairs.size} bistable sweep points "
+                     f"(U_T ratio 3:1 / 2:1 in [{pairs.min() if pairs.size else math.nan:.4f}, "
+                     f"{pairs.max() if pairs.size else math.nan:.4f}])", "", pairs.size > 0 and bool(np.all(pairs > 1))))
     rows.append(_row("1:1 -> 2:1: U_I drops", "section 5", "drops", f"drops in {ok11_i} of {n11} sweeps", "", n11 > 0 and ok11_i == n11))
     rows.append(_row("1:1 -> 2:1: U_T rises", "section 5", "rises", f"rises in {ok11_t} of {n11} sweeps", "", n11 > 0 and ok11_t == n11))
     rows.append(_row("2:1 -> 3:1: U_I drops", "section 5", "drops", f"drops at {ok23_i} of {n23} transitions", "", n23 > 0 and ok23_i == n23))
@@ -177,8 +191,29 @@ def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], swee
 
 
 ENERGY_ITEMS = ["U_I = U_T for 1:1 period-2 motion", "1:1 -> 2:1: U_I drops", "1:1 -> 2:1: U_T rises",
-                "2:1 -> 3:1: U_I drops", "2:1 -> 3:1: U_T rises", "1:1 output grows with s at fixed force",
+                "2:1 -> 3:1: U_I drops", "2:1 -> 3:1: U_T rises", "2:1 -> 3:1 at the same d: U_T rises", "1:1 output grows with s at fixed force",
                 "1:1 output grows with F at fixed length", "max 1:1 output changes < 1 % with beta"]
+
+
+def simulation_rows(sims: list[xr.Dataset]) -> list[dict]:
+    """The figures' simulated points along the branches: each attractor started on the analytic
+    orbit must equal it to ``ORBIT_AGREEMENT``; points not compared are listed with their reason."""
+    rows = []
+    for sim in sims:
+        if sim.attrs.get("status") == "failed":
+            rows.append(_row("simulated points on the branch", "Fig 2", "on the branch", "no branch", ORBIT_AGREEMENT,
+                             False, str(sim.attrs.get("reason", ""))))
+            continue
+        where = f"{sim.attrs['word']}, beta={_beta_name(float(sim.attrs['beta']))}"
+        status = sim.status.values.astype(str) if sim.sizes.get("sim") else np.array([], str)
+        done = status == "compared"
+        dev = float(np.max(sim.max_dev.values[done])) if done.any() else math.nan
+        skipped = "; ".join(f"d = {float(sim.d[k]):.6g}: {status[k]}" for k in np.flatnonzero(~done))
+        rows.append(_row(f"simulated points on the {where} branch", "Fig 2", "on the branch",
+                         f"{int(done.sum())} of {status.size} compared, max |difference| {dev:.1e}",
+                         ORBIT_AGREEMENT, bool(done.any()) and dev <= ORBIT_AGREEMENT,
+                         f"not compared: {skipped}" if skipped else "all compared"))
+    return rows
 
 
 def item_names(captions, betas) -> list[str]:

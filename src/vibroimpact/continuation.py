@@ -76,16 +76,14 @@ def _augmented(Y, walls, r, k, g0, g1):
 
 
 def _tangent(J, prev=None):
-    """Unit null vector of the (m x m+1) Jacobian, oriented along ``prev``."""
+    """Unit null vector of the (m x m+1) Jacobian, oriented along ``prev`` (``t . prev > 0``: the
+    extra row of the system asks for ``t . prev = 1``)."""
     m = J.shape[0]
     A = np.vstack([J, prev if prev is not None else np.eye(m + 1)[-1]])
     b = np.zeros(m + 1)
     b[-1] = 1.0
     t = np.linalg.solve(A, b)
-    t /= np.linalg.norm(t)
-    if prev is not None and t @ prev < 0:
-        t = -t
-    return t
+    return t / np.linalg.norm(t)
 
 
 def _correct(Yp, tangent, walls, r, k, g0, g1, tol=1e-13, max_iter=12):

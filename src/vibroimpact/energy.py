@@ -24,6 +24,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 import xarray as xr
 
+from . import kernels as K
 from .datasets import annotate
 
 __all__ = ["Membrane", "voltage_gain", "speed_si", "averages", "orbit_energy", "branch_energy", "sweep_energy"]
@@ -65,6 +66,14 @@ class Membrane:
                              "(the stretched-cap geometry has no real solution otherwise)")
 
 
+def deflection(speed, membrane: Membrane) -> np.ndarray:
+    """Largest membrane deflection (m) of an impact at ``speed`` (m/s): the ball's kinetic energy
+    ``m v^2 / 2`` is taken up by the restoring force ``K x^h``, ``K delta^(h+1) / (h+1)``."""
+    v = np.abs(np.asarray(speed, dtype=float))
+    mb = membrane
+    return ((mb.h + 1.0) * mb.m * v**2 / (2.0 * mb.K)) ** (1.0 / (mb.h + 1.0))
+
+
 def voltage_gain(speed, membrane: Membrane) -> np.ndarray:
     """Voltage gain ``U_k - U_in`` of one impact (module docstring).
 
@@ -82,9 +91,8 @@ def voltage_gain(speed, membrane: Membrane) -> np.ndarray:
         (``cos(alpha)`` outside ``(0, 1]``, a deflection too large for the model) the result is
         NaN: flagged, never a silent number.
     """
-    v = np.abs(np.asarray(speed, dtype=float))
     mb = membrane
-    delta = ((mb.h + 1.0) * mb.m * v**2 / (2.0 * mb.K)) ** (1.0 / (mb.h + 1.0))
+    delta = deflection(speed, mb)
     b = 2.0 * mb.r_b * (delta - mb.r_b)
     c = mb.R**2 + (delta - mb.r_b) ** 2
     e = 2.0 * mb.R * np.sqrt(mb.R**2 + delta**2 - 2.0 * delta * mb.r_b)
@@ -214,7 +222,9 @@ def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, 
     Returns
     -------
     xarray.Dataset
-        On ``(direction, point)``: ``U_I``, ``U_T``, ``n_impacts``, ``window_time``.
+        On ``(direction, point)``: ``U_I``, ``U_T``, ``window_impacts`` and ``window_time`` (the
+        span averaged over).  A point resting on the bottom for good (``gbar >= 1``) or without
+        impacts in its window has ``U_T = 0`` and ``U_I`` NaN (no impact to average).
     """
     F = sw["F"].values
     vm = sw["v_minus"].values  # (direction, point, event)
@@ -228,27 +238,34 @@ def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, 
     u_t = np.full((n_dir, n_pt), np.nan)
     span = np.full((n_dir, n_pt), np.nan)
     count = np.zeros((n_dir, n_pt), np.int64)
+    status = sw["status"].values
     for a in range(n_dir):
         for i in range(n_pt):
-            m = int(np.isfinite(t[a, i]).sum())
-            if m < 2:
+            if status[a, i] == K.STUCK_FOREVER:
+                # resting on the bottom for good: no impact in the long run
+                u_t[a, i], span[a, i] = 0.0, math.inf
                 continue
+            m = int(np.isfinite(t[a, i]).sum())
             lag = int(sw["period_events"].values[a, i])
             if lag:
+                # one whole period, as the simulation measured it: from an event to the same event one
+                # period earlier (a period is identified after two cycles, so the window holds lag + 1)
                 sl = slice(m - lag, m)
-                # the period as the simulation measured it: from the same event one period earlier
-                duration = (t[a, i, m - 1] - t[a, i, m - 1 - lag] if m - 1 - lag >= 0
-                            else 2.0 * float(sw["period"].values[a, i]))
+                duration = t[a, i, m - 1] - t[a, i, m - 1 - lag]
             else:
+                # the last window_time time units: the impacts after t_end - window_time, over the time
+                # from the event before the first of them (the window's span is at least window_time,
+                # unless the saved events do not reach that far back)
                 t_end = t[a, i, m - 1]
-                first = int(np.searchsorted(t[a, i, :m], t_end - window_time, side="right"))
+                first = max(int(np.searchsorted(t[a, i, :m], t_end - window_time, side="right")), 1)
                 sl = slice(first, m)
-                duration = t_end - t[a, i, first - 1] if first > 0 else t_end - t[a, i, 0]
+                duration = t_end - t[a, i, first - 1]
             n = int(hit[a, i, sl].sum())
-            if n == 0 or duration <= 0:
-                continue
-            u_i[a, i], u_t[a, i] = averages(gain_all[a, i, sl][hit[a, i, sl]], duration)
             span[a, i], count[a, i] = duration, n
+            if n:
+                u_i[a, i], u_t[a, i] = averages(gain_all[a, i, sl][hit[a, i, sl]], duration)
+            else:
+                u_t[a, i] = 0.0  # stuck or resting over the whole window: no impact, no output
     ds = xr.Dataset(
         {"speed": (("direction", "point", "event"), np.where(hit, speed, np.nan)),
          "gain": (("direction", "point", "event"), gain_all),

@@ -10,6 +10,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+import numpy as np
 
 BOTTOM = "tab:blue"
 TOP = "tab:green"
@@ -33,20 +34,54 @@ def use_style() -> None:
     plt.rcParams.update(STYLE)
 
 
-def save(fig, stem) -> list[Path]:
-    """Save ``stem.pdf`` and ``stem.png``; returns the paths."""
+def save(fig, stem, *, data=None, attrs=None) -> list[Path]:
+    """Save ``stem.pdf`` and ``stem.png`` and, with ``data``, the arrays the figure draws (netCDF,
+    :func:`vibroimpact.figdata.figure_data`, with ``attrs`` such as the config); returns the paths."""
+    from .datasets import write_netcdf
+    from .figdata import figure_data
+
     stem = Path(stem)
     stem.parent.mkdir(parents=True, exist_ok=True)
     paths = [stem.with_suffix(".pdf"), stem.with_suffix(".png")]
     for p in paths:
         fig.savefig(p)
+    if data is not None:
+        fig.canvas.draw()  # settle autoscaled artists before reading them back
+        write_netcdf(figure_data(fig, attrs), data, fmt="NETCDF3_64BIT")
+        paths.append(Path(data))
     plt.close(fig)
     return paths
 
 
+#: an orbit whose interior loop comes within this fraction of d of a wall is titled "near grazing"
+NEAR_GRAZING = 0.01
+
+
+def _pi_label(x, unit=""):
+    """``x`` as a fraction of pi when it is one (pi/6, 5 pi), else a number."""
+    import math
+
+    for den in (1, 2, 3, 4, 6):
+        num = x * den / math.pi
+        if abs(num - round(num)) < 1e-9 and round(num):
+            n = int(round(num))
+            top = r"\pi" if n == 1 else f"{n}\\pi"
+            return f"${top}$" + unit if den == 1 else f"${top}/{den}$" + unit
+    return f"{x:.4g}{unit}"
+
+
 def _title(ds, panel):
     a = ds.attrs
-    return (f"({panel}) {a['motion']}, d={a['d']:.4g}\n" r"$\dot Z(t_0)$" f"={a['v0']:.4g}, " r"$\varphi$" f"={a['phi']:.4g}")
+    head = f"({panel}) {a['motion']}, d={a['d']:.4g}"
+    clearance = a.get("orbit_clearance")
+    if clearance is not None and np.isfinite(clearance):
+        near = " near grazing" if clearance < NEAR_GRAZING * a["d"] else ""
+        head += f",{near} clearance {clearance:.1e}"
+    line2 = r"$\dot Z(t_0)$" f"={a['v0']:.4g}, " r"$\varphi$" f"={a['phi']:.4g}"
+    if "beta" in a:
+        line2 = (r"$\beta$=" + _pi_label(float(a["beta"])) + (rf", $\|\hat F\|$={a['F']:g} N" if "F" in a else "")
+                 + (r", $\omega$=" + _pi_label(float(a["omega"]), " rad/s") if "omega" in a else "") + "\n" + line2)
+    return head + "\n" + line2
 
 
 def time_series(ax, ds):
@@ -64,13 +99,14 @@ def phase_portrait(ax, ds):
     """Zdot against Z, walls dashed, impacts marked (paper Figs 4, FN2, BiS)."""
     d = ds.attrs["d"]
     ax.plot(ds["Z"], ds["Zdot"], color="k", lw=0.7)
-    for w, col in ((1, BOTTOM), (-1, TOP)):
-        ax.axvline(w * d / 2, color=col, ls="--", lw=0.8)
+    for w, col, name in ((1, BOTTOM, "bottom wall"), (-1, TOP, "top wall")):
+        ax.axvline(w * d / 2, color=col, ls="--", lw=0.8, label=name)
     if "cycle_v_minus" in ds:
         w = ds["cycle_wall"].values
         ax.plot(w * d / 2, ds["cycle_v_minus"], "o", mfc="none", color="tab:orange", ms=5, label="attractor impacts")
     ax.set_xlabel("Z")
     ax.set_ylabel(r"$\dot Z$")
+    ax.xaxis.set_major_locator(plt.MaxNLocator(5))
 
 
 def fig0b(datasets):
@@ -97,6 +133,7 @@ def figFN2(datasets):
         sub = ds.isel(time=keep)
         phase_portrait(ax, sub)
         ax.set_title(_title(ds, panel) + ("\n" + r"$\bar g$" + f"={ds.attrs['gbar']:.4f}"), fontsize=7)
+    axes[0, 0].legend(loc="center", fontsize=6, framealpha=0.85)
     for ax in axes.ravel()[n:]:
         ax.remove()
     return fig
@@ -121,6 +158,8 @@ def fig4(datasets):
         row[1].set_title(f"({b}) relative position")
         time_series(row[2], ds)
         row[2].set_title(f"({c}) cylinder ends and ball")
+    axes[0, 0].legend(loc="center", fontsize=6, framealpha=0.85)
+    axes[0, 2].legend(loc="lower right", fontsize=6, framealpha=0.85)
     return fig
 
 
@@ -155,6 +194,60 @@ def _scene_mask(br, d_lo, d_hi):
     return (br.admissible & (br.d >= d_lo) & (br.d <= d_hi)).values
 
 
+CRITICAL_TEST = {  # quantity that changes sign at each kind of critical point (picks the branch stretch)
+    "A": lambda br: br.discriminant.values,
+    "B": lambda br: br.eig_real.values.min(axis=1) + 1.0,
+    "fold": lambda br: br.eig_real.values.max(axis=1) - 1.0,
+    "grazing": lambda br: br.clearance.values,
+}
+
+
+def critical_markers(br, d_lo, d_hi, admissible_only=True):
+    """Admissible critical points of a branch inside [d_lo, d_hi] as (name, d, k, t): the point lies
+    between branch points k and k + 1 at fraction t.  Names as in the paper: A1, A2, ... (node <->
+    focus, by increasing d), B (period doubling), F (fold), G (grazing)."""
+    import numpy as np
+
+    d = br.d.values
+    out = []
+    if "critical_d" not in br:
+        return out
+    for kind, c, adm in zip(br.critical_kind.values.astype(str), br.critical_d.values, br.critical_admissible.values,
+                            strict=True):
+        if not ((adm or not admissible_only) and d_lo <= c <= d_hi):
+            continue
+        seg = np.flatnonzero((d[:-1] - c) * (d[1:] - c) <= 0)
+        if not seg.size:  # a fold lies just beyond the branch points: mark the turning point
+            k = int(np.argmin(np.abs(d - c)))
+            out.append([kind, float(c), min(k, len(d) - 2), 0.0 if k < len(d) - 1 else 1.0])
+            continue
+        q = CRITICAL_TEST.get(kind, lambda b: np.full(len(d), np.nan))(br)
+        change = [k for k in seg if np.isfinite(q[k]) and np.isfinite(q[k + 1]) and q[k] * q[k + 1] <= 0]
+        k = int(change[0] if change else seg[0])
+        t = 0.0 if d[k + 1] == d[k] else float((c - d[k]) / (d[k + 1] - d[k]))
+        out.append([kind, float(c), k, t])
+    a_count = 0
+    for m in sorted(out, key=lambda m: m[1]):
+        if m[0] == "A":
+            a_count += 1
+            m[0] = f"A{a_count}"
+        else:
+            m[0] = {"fold": "F", "grazing": "G"}.get(m[0], m[0])
+    return [tuple(m) for m in out]
+
+
+def _branch_legend(ax, with_sim=True, with_critical=True):
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color=BOTTOM, label="bottom impacts"), Line2D([], [], color=TOP, label="top impacts"),
+               Line2D([], [], color="0.3", ls="-", label="stable"), Line2D([], [], color="0.3", ls="--", label="unstable")]
+    if with_sim:
+        handles.append(Line2D([], [], color="k", marker="o", mfc="none", ls="", ms=4, label="simulated attractor"))
+    if with_critical:
+        handles.append(Line2D([], [], color="k", marker="D", ls="", ms=4, label="critical point"))
+    ax.legend(handles=handles, loc="best", fontsize=6, framealpha=0.8)
+
+
 def fig2(branches, sims, d_ranges, grazing=None):
     """2:1 branches: Zdot_k, Delta t_j / 2, phi_k vs d for each incline (rows)."""
     import numpy as np
@@ -163,7 +256,7 @@ def fig2(branches, sims, d_ranges, grazing=None):
     n = len(branches)
     fig, axes = plt.subplots(n, 3, figsize=(10, 2.3 * n), squeeze=False, sharex="row")
     labels = iter("abcdefghijklmnopqrstuvwxyz")
-    for row, br, sim, (lo, hi) in zip(axes, branches, sims, d_ranges, strict=True):
+    for r_i, (row, br, sim, (lo, hi)) in enumerate(zip(axes, branches, sims, d_ranges, strict=True)):
         if br.attrs.get("status") == "failed":
             row[0].set_title(f"failed: {br.attrs['reason']}")
             continue
@@ -186,9 +279,23 @@ def fig2(branches, sims, d_ranges, grazing=None):
                 if sim is not None and "v_minus" in sim and sim.sizes.get("sim", 0):
                     ys = sim[var].values[:, j] * scale
                     ax.plot(sim.d, np.abs(ys) if var == "v_minus" else ys, "o", mfc="none", color="k", ms=4)
+                # critical points on every impact's curve, named once per panel (at the bottom impact)
+                yall = br[var].values[:, j] * scale
+                yall = np.abs(yall) if var == "v_minus" else yall
+                for name, dc, k, t in critical_markers(br, lo, hi):
+                    if var == "phase" and abs(yall[k + 1] - yall[k]) > np.pi:
+                        continue  # the phase wraps between these points
+                    yc = yall[k] + t * (yall[k + 1] - yall[k])
+                    ax.plot([dc], [yc], "D", color="k", ms=3.5, zorder=5)
+                    if j == 0:
+                        ax.annotate(name, (dc, yc), xytext=(3, 4), textcoords="offset points", fontsize=7)
             if grazing is not None and abs(br.attrs["beta"] - grazing["beta"]) < 1e-9:
-                ax.axvline(grazing["G1"], color="k", ls="-.", lw=0.8)
-                ax.axvline(grazing["G2"], color="tab:red", ls="-.", lw=0.8)
+                for key, color, dx in (("G1", "k", -13), ("G2", "tab:red", 2)):
+                    ax.axvline(grazing[key], color=color, ls="-.", lw=0.8)
+                    ax.annotate(key, (grazing[key], 0.0), xycoords=("data", "axes fraction"), xytext=(dx, 3),
+                                textcoords="offset points", fontsize=7, color=color)
+            if col == 0 and r_i == 0:
+                _branch_legend(ax)
             ax.set_ylabel(ylabel + (" (magnitude)" if var == "v_minus" else ""))
             ax.set_xlabel("d")
             ax.set_title(f"({next(labels)}) {_beta_label(br.attrs['beta'])}")
@@ -197,8 +304,11 @@ def fig2(branches, sims, d_ranges, grazing=None):
 
 
 def fig3(branches, d_ranges):
-    """Delta = Tr^2 - 4 Det (left) and eigenvalues (right) along the 2:1 branches."""
+    """Delta = Tr^2 - 4 Det (left) and eigenvalues (right) along the 2:1 branches.  Stable stretches
+    solid, unstable dashed, stretches that cross a wall (not admissible) grey; A (node <-> focus,
+    Delta = 0) and B (lambda = -1) marked and named."""
     import numpy as np
+    from matplotlib.lines import Line2D
 
     use_style()
     n = len(branches)
@@ -206,36 +316,52 @@ def fig3(branches, d_ranges):
     labels = iter("abcdefghijklmnop")
     for row, br, (lo, hi) in zip(axes, branches, d_ranges, strict=True):
         if br.attrs.get("status") == "failed":
+            row[0].set_title(f"failed: {br.attrs['reason']}")
             continue
-        m = _scene_mask(br, lo, hi)
-        d = br.d.values[m]
-        st = br.stable.values[m]
-        disc = br.discriminant.values[m]
-        branch_line(row[0], d, disc, st, "tab:blue")
-        row[0].axhline(0, color="tab:red", ls="-.", lw=0.8)
-        row[0].set_ylabel(r"$\Delta$")
+        d = br.d.values
+        inside = (d >= lo) & (d <= hi)
+        adm, st = br.admissible.values & inside, br.stable.values
+        disc = br.discriminant.values
         real = disc >= 0
+
+        def draw(ax, y, color, lw=1.0):
+            # NaN outside each stretch, so no line joins separate stretches
+            for sel, style, c in ((adm & st, "-", color), (adm & ~st, "--", color), (inside & ~adm, "-", "0.75")):
+                ax.plot(d, np.where(sel, y, np.nan), style, color=c, lw=lw)
+
+        draw(row[0], disc, "tab:blue")
+        row[0].axhline(0, color="tab:red", ls="-.", lw=0.8)
+        row[0].set_ylabel(r"$\Delta=\mathrm{Tr}^2-4\,\mathrm{Det}$")
         for e, col in ((0, "tab:blue"), (1, "tab:green")):
-            row[1].plot(d, np.where(real, br.eig_real.values[m, e], np.nan), color=col, lw=0.8)
-        row[1].plot(d, np.where(~real, br.eig_real.values[m, 0], np.nan), color="tab:green", lw=2.2,
-                    label=r"Re $\lambda$ (complex pair)")
+            draw(row[1], np.where(real, br.eig_real.values[:, e], np.nan), col, lw=0.8)
+        draw(row[1], np.where(~real, br.eig_real.values[:, 0], np.nan), "tab:purple", lw=2.0)
         row[1].axhline(-1, color="tab:red", ls="-.", lw=0.8)
         row[1].set_ylabel(r"$\lambda_{1,2}$")
-        # scale to the stable part: the unstable branch beyond the fold diverges where an impact
+        # scale to the physical stretch: beyond the fold the unstable branch diverges where an impact
         # velocity tends to zero
-        if st.any():
-            span = np.ptp(disc[st]) or 1.0
-            row[0].set_ylim(disc[st].min() - 0.3 * span, disc[st].max() + 0.3 * span)
+        phys = adm & st
+        if phys.any():
+            span = np.ptp(disc[phys]) or 1.0
+            row[0].set_ylim(disc[phys].min() - 0.3 * span, disc[phys].max() + 0.3 * span)
         row[1].set_ylim(-2.5, 1.5)
         for ax in row:
             ax.set_xlabel("d")
             ax.set_xlim(lo, hi)
             ax.set_title(f"({next(labels)}) {_beta_label(br.attrs['beta'])}")
-        kinds, crit = br.critical_kind.values, br.critical_d.values
-        for kind, mk in (("B", "o"), ("A", "s")):
-            for x in crit[(kinds == kind) & (crit >= lo) & (crit <= hi)]:
-                row[1 if kind == "B" else 0].plot(x, -1 if kind == "B" else 0, mk, mfc="none", color="tab:red", ms=6)
-    axes[0, 1].legend(loc="best")
+        for name, dc, _k, _t in critical_markers(br, lo, hi, admissible_only=False):
+            if name.startswith("A"):
+                row[0].plot([dc], [0.0], "s", mfc="none", color="tab:red", ms=6)
+                row[0].annotate(name, (dc, 0.0), xytext=(3, 5), textcoords="offset points", fontsize=7)
+            elif name == "B":
+                row[1].plot([dc], [-1.0], "o", mfc="none", color="tab:red", ms=7)
+                row[1].annotate("B", (dc, -1.0), xytext=(4, -11), textcoords="offset points", fontsize=7)
+    handles = [Line2D([], [], color="tab:blue", label=r"real $\lambda_1$ (stable: solid, unstable: dashed)"),
+               Line2D([], [], color="tab:green", lw=0.8, label=r"real $\lambda_2$"),
+               Line2D([], [], color="tab:purple", lw=2.0, label=r"Re $\lambda$ (complex pair)"),
+               Line2D([], [], color="0.75", label="not admissible (crosses a wall)"),
+               Line2D([], [], color="tab:red", marker="o", mfc="none", ls="", label=r"B: $\lambda=-1$"),
+               Line2D([], [], color="tab:red", marker="s", mfc="none", ls="", label=r"A: $\Delta=0$ (node $\leftrightarrow$ focus)")]
+    axes[0, 1].legend(handles=handles, loc="lower right", fontsize=6, framealpha=0.85)
     return fig
 
 
@@ -244,13 +370,14 @@ def fig3(branches, d_ranges):
 # ---------------------------------------------------------------------------------------------
 
 
-def _last_events(ds, var, direction="down"):
+def _last_events(ds, var, direction="down", labels=False):
     """(d, values) of every point's last period of events in one sweep direction (its last 24 events
-    where no period was found); ``var="dt"`` gives the time since the previous event."""
+    where no period was found); ``var="dt"`` gives the time since the previous event.  With
+    ``labels``, also each value's point's identified motion."""
     import numpy as np
 
     s = ds.sel(direction=direction)
-    xs, ys = [], []
+    xs, ys, ls = [], [], []
     for i in range(s.sizes["point"]):
         t = s["t"].values[i] if "t" in s else s[var].values[i]
         m = int(np.isfinite(t).sum())
@@ -259,20 +386,30 @@ def _last_events(ds, var, direction="down"):
         v = v[np.isfinite(v)]
         xs.append(np.full(v.size, float(s.d[i])))
         ys.append(v)
+        if labels:
+            ls.append(np.full(v.size, str(s["label"].values[i]), dtype=object))
+    if labels:
+        return np.concatenate(xs), np.concatenate(ys), np.concatenate(ls).astype(str)
     return np.concatenate(xs), np.concatenate(ys)
 
 
 def fig_bis(sw, transitions, portraits, branches):
-    """Bistable 2:1 (down sweep, circles) and 3:1 (up sweep, crosses) near grazing with the analytic
-    branches, and the phase portraits at G1, d = 0.14 (both) and G2 (paper Fig BiS)."""
+    """Bistable 2:1 and 3:1 near grazing (paper Fig BiS): the last period of every sweep point,
+    coloured by the motion identified there (2:1 black, 3:1 blue, other grey) and marked by the sweep
+    direction (o: d decreasing, +: d increasing), over the analytic branches (2:1 grey, 3:1 blue;
+    stable solid, unstable dashed), with G1 and G2; below, the closed orbits at G1, d_mid (both) and
+    G2 over one period."""
     import numpy as np
+    from matplotlib.lines import Line2D
 
     use_style()
-    fig = plt.figure(figsize=(11, 6))
+    fig = plt.figure(figsize=(11, 6.3))
     gs = fig.add_gridspec(2, 4)
     g1, g2 = portraits.attrs["G1"], portraits.attrs["G2"]
     lo, hi = float(sw.d.min()), float(sw.d.max())
-    for col, (var, ylabel) in enumerate([("v_minus", r"$|\dot Z_k|$"), ("phase", r"$\varphi_k$"), ("dt", r"$\Delta t_k$")]):
+    motion_color = {"2:1 period-2": "k", "3:1 period-2": "tab:blue"}
+    for col, (var, ylabel) in enumerate([("v_minus", r"$|\dot Z_k|$"), ("phase", r"$\varphi_k$ (rad)"),
+                                         ("dt", r"$\Delta t_k$")]):
         ax = fig.add_subplot(gs[0, col])
         for br, color in zip(branches, ("0.6", "tab:blue"), strict=True):
             m = (br.admissible & (br.d >= lo) & (br.d <= hi)).values
@@ -280,26 +417,46 @@ def fig_bis(sw, transitions, portraits, branches):
                 y = br[var].values[m, j]
                 y = np.abs(y) if var == "v_minus" else y
                 branch_line(ax, br.d.values[m], y, br.stable.values[m], color, lw=0.8)
-        for direction, marker, color, lab in (("down", "o", "k", "2:1 (d decreasing)"), ("up", "+", "tab:blue", "3:1 (d increasing)")):
-            x, y = _last_events(sw, var, direction)
+        for direction, marker in (("down", "o"), ("up", "+")):
+            x, y, lab = _last_events(sw, var, direction, labels=True)
             y = np.abs(y) if var == "v_minus" else y
-            ax.plot(x, y, marker, mfc="none", color=color, ms=3.5, ls="none", label=lab)
-        for g, c in ((g1, "k"), (g2, "tab:red")):
+            for motion in sorted(set(lab)):
+                sel = lab == motion
+                ax.plot(x[sel], y[sel], marker, mfc="none", color=motion_color.get(motion, "0.7"), ms=3.5, ls="none")
+        for g, c, name, dx in ((g1, "k", "G1", -13), (g2, "tab:red", "G2", 2)):
             ax.axvline(g, color=c, ls="-.", lw=0.8)
+            ax.annotate(name, (g, 1.0), xycoords=("data", "axes fraction"), xytext=(dx, -10), textcoords="offset points",
+                        fontsize=7, color=c)
         ax.set_xlabel("d")
         ax.set_ylabel(ylabel)
         ax.set_title(f"({'abc'[col]})")
-    fig.axes[0].legend(loc="best")
+    key = fig.add_subplot(gs[0, 3])  # the legend gets the free slot, clear of the data
+    key.axis("off")
+    key.legend(handles=[
+        Line2D([], [], color="k", marker="s", ls="", label="2:1 period-2"),
+        Line2D([], [], color="tab:blue", marker="s", ls="", label="3:1 period-2"),
+        Line2D([], [], color="0.7", marker="s", ls="", label="other motion"),
+        Line2D([], [], color="k", marker="o", mfc="none", ls="", label="d decreasing"),
+        Line2D([], [], color="k", marker="+", ls="", label="d increasing"),
+        Line2D([], [], color="0.6", label="analytic 2:1 (dashed: unstable)"),
+        Line2D([], [], color="tab:blue", label="analytic 3:1"),
+        Line2D([], [], color="k", ls="-.", label="G1: 2:1 grazes"),
+        Line2D([], [], color="tab:red", ls="-.", label="G2: 3:1 fold")], loc="center", fontsize=8)
     for k in range(portraits.sizes["panel"]):
         ax = fig.add_subplot(gs[1, k])
         p = portraits.isel(panel=k)
         d = float(p.d)
         ax.plot(p.Z, p.Zdot, color="k", lw=0.8)
-        ax.axvline(d / 2, color=BOTTOM, ls="--", lw=0.8)
-        ax.axvline(-d / 2, color=TOP, ls="--", lw=0.8)
-        ax.set_title(f"({'defg'[k]}) {str(p.panel.values)}: {str(p.word.values)}, d={d:.6f}")
+        ax.axvline(d / 2, color=BOTTOM, ls="--", lw=0.8, label="bottom wall")
+        ax.axvline(-d / 2, color=TOP, ls="--", lw=0.8, label="top wall")
+        head = f"({'defg'[k]}) {str(p.panel.values)}: {str(p.word.values)}, d={d:.6f}"
+        if "v0" in p:
+            head += "\n" + r"$\dot Z(t_0)$" + f"={float(p.v0):.4f}, " + r"$\varphi$" + f"={float(p.phi):.4f}"
+        ax.set_title(head)
         ax.set_xlabel("Z")
         ax.set_ylabel(r"$\dot Z$")
+        if k == 0:
+            ax.legend(loc="lower center", fontsize=6)
     return fig
 
 

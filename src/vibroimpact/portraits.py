@@ -67,7 +67,7 @@ def orbit_dataset(
             dev = max(abs(float(o.v_minus[0]) - ds.attrs["v_attractor"]),
                       abs((float(o.phase[0]) - ds.attrs["phase_attractor"] + np.pi) % (2 * np.pi) - np.pi))
             ds.attrs.update(orbit_word=word, v_orbit=float(o.v_minus[0]), phase_orbit=float(o.phase[0]),
-                            orbit_deviation=dev, orbit_status="solved")
+                            orbit_deviation=dev, orbit_status="solved", orbit_clearance=float(o.clearance))
             # how much the printed d's rounding moves that impact: the orbit at d -+ half a unit
             h = 0.5 * printed_unit(params.d)
             vs, ps = [], []
@@ -151,20 +151,36 @@ def bistability_dataset(branch21: xr.Dataset, branch31: xr.Dataset, g1: float, g
     Z = np.full((len(panels), n_t), np.nan)
     V = np.full((len(panels), n_t), np.nan)
     ds_attrs = {}
-    words, ds_d = [], []
+    words, ds_d, v0s, phis = [], [], [], []
+    closure = np.full(len(panels), np.nan)
     for k, (_name, br, d) in enumerate(panels):
-        i = int(np.argmin(np.abs(br.d.values - d)))
+        # start from the physical (admissible, preferably stable) stretch of the branch: the branch also
+        # passes these d on its unstable and wall-crossing stretches
+        good = (br.admissible & br.stable).values
+        good = good if good.any() else br.admissible.values
+        cand = np.flatnonzero(good)
+        i = int(cand[np.argmin(np.abs(br.d.values[cand] - d))])
         p = Params(d=float(d), gbar=gbar + slope * (float(d) - float(branch21.d.values[0])), r=r)
         o = find_orbit(p, str(br.attrs["word"]), float(br.phase[i, 0]), float(br.v_minus[i, 0]))
-        run = simulate(p, o.phi, float(o.v_minus[0]), t_end=2.0 * o.k + 1e-9)
+        run = simulate(p, o.phi, float(o.v_minus[0]), t_end=2.0 * o.k + 1.0)
         tr = trajectory(run, np.linspace(0.0, 2.0 * o.k, n_t))
         Z[k], V[k] = tr.Z.values, tr.Zdot.values
+        # closes: the state one period later is the same, compared between impacts (at an impact
+        # instant rounding decides whether the pre- or post-impact velocity is sampled)
+        probe = np.linspace(0.05, 0.95, 19)
+        a, b = trajectory(run, probe), trajectory(run, probe + 2.0 * o.k)
+        closure[k] = max(float(np.max(np.abs(b.Z.values - a.Z.values))), float(np.max(np.abs(b.Zdot.values - a.Zdot.values))))
         words.append(o.word)
         ds_d.append(float(d))
+        v0s.append(float(o.v_minus[0]))
+        phis.append(float(o.phi))
         ds_attrs[f"panel{k}_stable"] = int(o.stable)
     ds = xr.Dataset(
         {"Z": (("panel", "sample"), Z), "Zdot": (("panel", "sample"), V),
-         "word": ("panel", np.array(words, dtype=object).astype(str)), "d": ("panel", np.array(ds_d))},
+         "word": ("panel", np.array(words, dtype=object).astype(str)), "d": ("panel", np.array(ds_d)),
+         "v0": ("panel", np.array(v0s), {"units": "1", "long_name": "pre-impact velocity of the bottom impact at t0"}),
+         "phi": ("panel", np.array(phis), {"units": "rad", "long_name": "forcing phase of the bottom impact at t0"}),
+         "closure": ("panel", closure, {"units": "1", "long_name": "largest change of Z or Zdot over one period, between impacts (0: the portrait closes)"})},
         coords={"panel": [p_[0] for p_ in panels]},
     )
     ds.attrs.update(G1=g1, G2=g2, gbar=gbar, r=r, **ds_attrs)

@@ -55,16 +55,23 @@ def _classify(win, n, status, lag):
     return k, nb, nt, label
 
 
+def _check_window(window, pmax):
+    """A period of ``p`` events is identified from the window only if it holds more than ``p``."""
+    if int(pmax) < 1:
+        raise ValueError(f"pmax = {pmax!r}; allowed: an integer >= 1")
+    if int(window) < int(pmax) + 1:
+        raise ValueError(f"window = {window!r}; allowed: >= pmax + 1 = {int(pmax) + 1} (pmax = {pmax!r})")
+
+
 def attractor_batch(d, gbar, r, phi, v0, *, max_periods: float = 200, max_events: int = 200_000,
-                    tol: float = 1e-9, window: int = 64, pmax: int = 64) -> xr.Dataset:
+                    tol: float = 1e-9, window: int = 65, pmax: int = 64) -> xr.Dataset:
     """Attractors of many runs in parallel: the last ``window`` events and the motion's class.
 
     Inputs broadcast to one dimension ``run``.  Returns variables ``t, wall, v_minus, phase, kind``
     on ``(run, event)`` (NaN-padded), and per run ``label``, ``period`` (forcing periods, 0 when
     aperiodic), ``period_events``, ``n_bottom``, ``n_top``, ``n_events`` (simulated) and ``status``.
     """
-    if window < pmax + 1:
-        raise ValueError(f"window = {window!r}; allowed: >= pmax + 1 = {pmax + 1}")
+    _check_window(window, pmax)
     arrs = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=float)) for a in (d, gbar, r, phi, v0)))
     d, gbar, r, phi, v0 = (np.ascontiguousarray(a.ravel()) for a in arrs)
     m = d.shape[0]
@@ -129,7 +136,7 @@ def _run_one(d, gbar, r, phi, v0, max_periods, max_events, tol, window, pmax):
 
 
 def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, max_periods: float = 200,
-          max_events: int = 200_000, tol: float = 1e-9, window: int = 64, pmax: int = 64, **physical) -> xr.Dataset:
+          max_events: int = 200_000, tol: float = 1e-9, window: int = 65, pmax: int = 64, **physical) -> xr.Dataset:
     """Sweep ``s`` (fixed force) or ``F`` (fixed length) up and down, following the attractor.
 
     Parameters
@@ -144,7 +151,7 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
         Longest transient, in forcing periods, before a point is called aperiodic.
     max_events, tol, window, pmax : int, float, int, int
         Cap on events per point, periodicity tolerance, events kept per point, longest period
-        (in events) looked for.
+        (in events) looked for; ``window >= pmax + 1``.
 
     Returns
     -------
@@ -154,6 +161,7 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
         attractor); per point ``label``, ``period``, ``period_events``, ``n_bottom``, ``n_top``,
         ``n_events``, ``status`` and the start used (``start_phi``, ``start_v0``).
     """
+    _check_window(window, pmax)
     d, gbar, s_arr, F_arr = parameter_grid(vary, values, beta=beta, **physical)
     order = np.argsort(d)
     d, gbar, s_arr, F_arr = d[order], gbar[order], s_arr[order], F_arr[order]
@@ -354,6 +362,8 @@ def bistable_intervals(sw: xr.Dataset, transitions: xr.Dataset) -> xr.Dataset:
       ``B`` is the down sweep's motion at the run's lowest point and ``A`` the up sweep's at its
       highest.  An end whose motion is aperiodic has no located transition: it is then the middle
       of the grid step outside the run, with the grid step as its width (``*_source = "grid"``).
+      A run that reaches the end of the swept range ends there (``*_source = "range end"``, width
+      NaN): the interval may extend beyond it.
     * ``"transitions only"``: a located up transition where the up sweep goes from ``A`` to ``B``
       above a located down transition where the down sweep goes from ``B`` to ``A``, bounding no
       such run (both sweeps jump between the same two grid points).
@@ -369,7 +379,7 @@ def bistable_intervals(sw: xr.Dataset, transitions: xr.Dataset) -> xr.Dataset:
     -------
     xarray.Dataset
         Along ``interval``: ``d_lo``, ``d_hi``, their bracket widths ``d_lo_width``,
-        ``d_hi_width``, ``lo_source``/``hi_source`` (``"located"`` or ``"grid"``), ``label_up``
+        ``d_hi_width``, ``lo_source``/``hi_source`` (``"located"``, ``"grid"`` or ``"range end"``), ``label_up``
         (``A``), ``label_down`` (``B``) and ``found_by``.
 
     Raises
@@ -410,10 +420,14 @@ def bistable_intervals(sw: xr.Dataset, transitions: xr.Dataset) -> xr.Dataset:
         lo = located("down", lab_b, -1, d[i])
         hi = located("up", lab_a, +1, d[j])
         lo_src, hi_src = "located", "located"
-        if lo is None:  # aperiodic (not located) or the sweep range's end
-            lo, lo_src = (0.5 * (d[max(i - 1, 0)] + d[i]), step), "grid"
-        if hi is None:
-            hi, hi_src = (0.5 * (d[j] + d[min(j + 1, len(d) - 1)]), step), "grid"
+        if lo is None and i == 0:  # the motions still differ at the range's end: it bounds the
+            lo, lo_src = (float(d[0]), math.nan), "range end"  # interval, which may go on beyond
+        elif lo is None:  # the down motion ends aperiodic: not located
+            lo, lo_src = (0.5 * (d[i - 1] + d[i]), step), "grid"
+        if hi is None and j == len(d) - 1:
+            hi, hi_src = (float(d[-1]), math.nan), "range end"
+        elif hi is None:
+            hi, hi_src = (0.5 * (d[j] + d[j + 1]), step), "grid"
         rows.append((lo[0], hi[0], lo[1], hi[1], lo_src, hi_src, lab_a, lab_b, "sweeps differ"))
         i = j + 1
     # hysteresis loops the grid did not see: the up sweep goes from A to B across a located up
@@ -449,9 +463,9 @@ def bistable_intervals(sw: xr.Dataset, transitions: xr.Dataset) -> xr.Dataset:
             "d_hi_width": ("interval", np.array(col[3], dtype=float),
                            {"units": "1", "long_name": "the upper end lies within d_hi +- d_hi_width/2"}),
             "lo_source": ("interval", np.array(col[4], dtype=object).astype(str),
-                          {"long_name": "located transition or grid step (aperiodic motion, not located)"}),
+                          {"long_name": "located transition, grid step (aperiodic motion, not located) or range end"}),
             "hi_source": ("interval", np.array(col[5], dtype=object).astype(str),
-                          {"long_name": "located transition or grid step (aperiodic motion, not located)"}),
+                          {"long_name": "located transition, grid step (aperiodic motion, not located) or range end"}),
             "label_up": ("interval", np.array(col[6], dtype=object).astype(str),
                          {"long_name": "motion followed by the up sweep (d increasing)"}),
             "label_down": ("interval", np.array(col[7], dtype=object).astype(str),
@@ -554,6 +568,8 @@ def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float 
     for name in (x_name, y_name):
         if name not in allowed:
             raise ValueError(f"regime map axis {name!r}; allowed: {allowed}")
+    if x_name == y_name:
+        raise ValueError(f"regime map axes x_name = y_name = {x_name!r}; allowed: two different names of {allowed}")
     X, Y = np.meshgrid(np.asarray(xs, float), np.asarray(ys, float), indexing="xy")
     base = dict(s=0.85, F=5.0, beta=math.pi / 6, M=0.1245, omega=5 * math.pi, g=9.8, r=0.5)
     base.update(physical)

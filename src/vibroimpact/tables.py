@@ -112,17 +112,22 @@ def transitions_markdown(named: dict[str, xr.Dataset]) -> str:
                          f"{str(r.before.values)} | {str(r.after.values)} | {str(r.kind.values)} | {status} |")
     lines += ["", "Bistable intervals: the lower end is where the down sweep loses its motion, the upper end where "
               "the up sweep loses its motion (located transitions; an aperiodic motion's end is only known to the "
-              "grid step).", "",
+              "grid step; at a range end the interval may go on beyond the swept range).", "",
               "| sweep | bistable for d in | ± (lower, upper) | ends from | up sweep | down sweep | found by |",
               "|---|---|---|---|---|---|---|"]
     for name, tr in named.items():
         for k in range(tr.sizes.get("interval", 0)):
             r = tr.isel(interval=k)
             lines.append(f"| {name} | ({float(r.d_lo):.7f}, {float(r.d_hi):.7f}) | "
-                         f"{float(r.d_lo_width) / 2:.0e}, {float(r.d_hi_width) / 2:.0e} | "
+                         f"{_half_width(r.d_lo_width)}, {_half_width(r.d_hi_width)} | "
                          f"{str(r.lo_source.values)}, {str(r.hi_source.values)} | {str(r.label_up.values)} | "
                          f"{str(r.label_down.values)} | {str(r.found_by.values)} |")
     return "\n".join(lines) + "\n"
+
+
+def _half_width(width) -> str:
+    w = float(width)
+    return f"{w / 2:.0e}" if math.isfinite(w) else "beyond range"
 
 
 def design_table(energies: list[xr.Dataset]) -> pd.DataFrame:

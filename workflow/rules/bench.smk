@@ -31,6 +31,7 @@ rule work_precision:
         md="results/tables/work_precision.md",
         pdf="results/figures/work_precision.pdf",
         png="results/figures/work_precision.png",
+        data="results/figures/data/work_precision.nc",
     params:
         **config["work_precision"],
     conda:
@@ -50,6 +51,7 @@ rule failure_map:
         md="results/tables/failure_map.md",
         pdf="results/figures/failure_map.pdf",
         png="results/figures/failure_map.png",
+        data="results/figures/data/failure_map.nc",
     params:
         **config["failure_map"],
     conda:
@@ -72,6 +74,7 @@ rule analytics_accuracy:
         nc="results/bench/analytics_accuracy.nc",
         pdf="results/figures/analytics_accuracy.pdf",
         png="results/figures/analytics_accuracy.png",
+        data="results/figures/data/analytics_accuracy.nc",
     conda:
         "../envs/vibroimpact.yaml"
     log:

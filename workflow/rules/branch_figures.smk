@@ -8,6 +8,7 @@ rule fig2:
     output:
         pdf="results/figures/fig2.pdf",
         png="results/figures/fig2.png",
+        data="results/figures/data/fig2.nc",
     params:
         scene=BRANCH_SCENES["fig2"],
         k_s=config["physics"]["M"] * config["physics"]["omega"] ** 2 / (config["physics"]["F"] * math.pi**2),
@@ -26,6 +27,7 @@ rule fig3:
     output:
         pdf="results/figures/fig3.pdf",
         png="results/figures/fig3.png",
+        data="results/figures/data/fig3.nc",
     params:
         scene=BRANCH_SCENES["fig3"],
         k_s=config["physics"]["M"] * config["physics"]["omega"] ** 2 / (config["physics"]["F"] * math.pi**2),

@@ -1,11 +1,20 @@
-# Which of the paper's published numbers and claims are reproduced (results/checks/paper_values.csv).
+# `check`: which of the paper's published numbers and claims are reproduced
+# (results/checks/paper_values.csv), and whether every figure draws the same data as its committed
+# reference (results/checks/figures.csv).
 
 
 rule check:
     input:
+        "results/checks/paper_values.csv",
+        "results/checks/figures.csv",
+
+
+rule check_paper_values:
+    input:
         captions="results/orbits/captions.nc",
         table1="results/tables/table1.csv",
         bis=sweep_path("figBiS", "-transitions"),
+        sims=scene_branch_files("fig2", kind="sim"),
         branches_s=[energy_path("branch", b, "BT", "s") for b in BRANCH_SCENES["fig3"]["betas"]],
         branches_F=[energy_path("branch", SWEEPS[p]["beta"], "BT", "F") for p in config["energy"]["design"]["F"]
                     if p in {q for f in config["energy"]["figures"].values() for q in f["panels"]}],
@@ -21,3 +30,37 @@ rule check:
         "logs/checks/paper_values.log",
     script:
         "../scripts/check.py"
+
+
+rule check_figures:
+    input:
+        data=expand("results/figures/data/{fig}.nc", fig=FIGURES),
+        # committed references; a missing one is reported by the check (not a missing input)
+        reference=[f for f in FIGURE_REFERENCES if os.path.exists(f)],
+    output:
+        csv="results/checks/figures.csv",
+        md="results/checks/figures.md",
+    params:
+        figures=FIGURES,
+        references=FIGURE_REFERENCES,
+        **{k: v for k, v in config["figure_checks"].items() if k != "reference_dir"},
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/checks/figures.log",
+    script:
+        "../scripts/check_figures.py"
+
+
+# Deliberately accept the current figures: copy their data over the committed references.
+rule update_figure_references:
+    input:
+        expand("results/figures/data/{fig}.nc", fig=FIGURES),
+    params:
+        reference_dir=config["figure_checks"]["reference_dir"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/checks/update_figure_references.log",
+    script:
+        "../scripts/update_figure_references.py"

@@ -39,6 +39,7 @@ def caption_params(name):
         d=c["d"],
         gbar=ph["M"] * ph["g"] * math.sin(c["beta"]) / c.get("F", ph["F"]),
         F=c.get("F", ph["F"]),
+        omega=ph["omega"],
         period=c.get("period", 0),
         beta=c["beta"],
         r=ph["r"],
@@ -223,3 +224,9 @@ def _check_items():
 for _item in config["checks"]["known"]:
     if _item not in _check_items():
         _fail("checks.known", _item, f"an item of the paper-value check: {_check_items()}")
+
+
+#: every figure whose plotted data the `check` target compares with its committed reference
+FIGURES = (list(SCENES) + list(BRANCH_SCENES) + ["figBiS", "basins", "regime_map"]
+           + list(config["energy"]["figures"]) + ["design", "work_precision", "failure_map", "analytics_accuracy"])
+FIGURE_REFERENCES = [f"{config['figure_checks']['reference_dir']}/{fig}.nc" for fig in FIGURES]

@@ -42,6 +42,7 @@ rule energy_figure:
     output:
         pdf="results/figures/{efig}.pdf",
         png="results/figures/{efig}.png",
+        data="results/figures/data/{efig}.nc",
     params:
         panels=lambda wc: config["energy"]["figures"][wc.efig]["panels"],
         velocities=lambda wc: config["energy"]["figures"][wc.efig].get("velocities", False),
@@ -65,6 +66,7 @@ rule design:
         md="results/tables/design.md",
         pdf="results/figures/design.pdf",
         png="results/figures/design.png",
+        data="results/figures/data/design.nc",
     conda:
         "../envs/vibroimpact.yaml"
     log:

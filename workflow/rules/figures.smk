@@ -7,6 +7,7 @@ rule scene_figure:
     output:
         pdf="results/figures/{scene}.pdf",
         png="results/figures/{scene}.png",
+        data="results/figures/data/{scene}.nc",
     conda:
         "../envs/vibroimpact.yaml"
     log:

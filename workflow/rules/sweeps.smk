@@ -104,6 +104,7 @@ rule figBiS:
     output:
         pdf="results/figures/figBiS.pdf",
         png="results/figures/figBiS.png",
+        data="results/figures/data/figBiS.nc",
     conda:
         "../envs/vibroimpact.yaml"
     log:
@@ -118,6 +119,7 @@ rule fig_basins:
     output:
         pdf="results/figures/basins.pdf",
         png="results/figures/basins.png",
+        data="results/figures/data/basins.nc",
     conda:
         "../envs/vibroimpact.yaml"
     log:
@@ -132,6 +134,7 @@ rule fig_regime_map:
     output:
         pdf="results/figures/regime_map.pdf",
         png="results/figures/regime_map.png",
+        data="results/figures/data/regime_map.nc",
     conda:
         "../envs/vibroimpact.yaml"
     log:

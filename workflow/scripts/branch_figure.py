@@ -4,6 +4,7 @@ import logging
 import xarray as xr
 
 from vibroimpact import plotting
+from vibroimpact.datasets import provenance
 from vibroimpact.tables import grazing_lines
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
@@ -18,4 +19,5 @@ if name == "fig2":
     fig = plotting.fig2(branches[:n], sims[:n], d_ranges, grazing)
 else:
     fig = plotting.fig3(branches[:n], d_ranges)
-plotting.save(fig, snakemake.output.pdf.removesuffix(".pdf"))
+plotting.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+              attrs=provenance(**dict(snakemake.params)))

@@ -9,6 +9,6 @@ p = snakemake.params.p
 params = vi.Params(d=p["d"], gbar=p["gbar"], r=p["r"])
 ds = vi.portraits.orbit_dataset(params, p["phi"], p["v0"], t_show=p["t_show"], samples_per_unit=p["samples_per_unit"],
                                  name=p["name"], max_events=p["max_events"], tol=p["tol"])
-ds.attrs.update(beta=p["beta"], motion_stated=p["motion"], **provenance(**p))
+ds.attrs.update(beta=p["beta"], F=p["F"], omega=p["omega"], motion_stated=p["motion"], **provenance(**p))
 write_netcdf(ds, snakemake.output[0])
 logging.info("%s: %s (stated %s)", p["name"], ds.attrs["motion"], p["motion"])

@@ -10,7 +10,7 @@ logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 load = lambda f: xr.load_dataset(f, engine="netcdf4")
 i = snakemake.input
 rows = (checks.caption_rows(load(i.captions)) + checks.stability_rows(pd.read_csv(i.table1))
-        + checks.grazing_rows(load(i.bis))
+        + checks.grazing_rows(load(i.bis)) + checks.simulation_rows([load(f) for f in i.sims])
         + checks.energy_rows([load(f) for f in i.branches_s], [load(f) for f in i.branches_F], [load(f) for f in i.sweeps]))
 df = checks.apply_known(pd.DataFrame(rows), snakemake.params.known)
 table = checks.markdown(df)

@@ -13,4 +13,5 @@ ds.attrs.update(provenance(**p))
 write_netcdf(ds, snakemake.output.nc)
 with open(snakemake.output.md, "w") as fh:
     fh.write(failure_markdown(ds))
-plotting.save(plotting.fig_failure_map(ds), snakemake.output.pdf.removesuffix(".pdf"))
+plotting.save(plotting.fig_failure_map(ds), snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+              attrs=provenance(**dict(snakemake.params)))

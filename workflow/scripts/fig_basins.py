@@ -4,7 +4,9 @@ import logging
 import xarray as xr
 
 from vibroimpact import plotting
+from vibroimpact.datasets import provenance
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 fig = plotting.fig_basins(xr.load_dataset(snakemake.input[0], engine="netcdf4"))
-plotting.save(fig, snakemake.output.pdf.removesuffix(".pdf"))
+plotting.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+              attrs=provenance(**dict(snakemake.params)))

@@ -14,4 +14,5 @@ ds.attrs.update(provenance(**p))
 write_netcdf(ds, snakemake.output.nc)
 with open(snakemake.output.md, "w") as fh:
     fh.write(work_precision_markdown(ds))
-plotting.save(plotting.fig_work_precision(ds), snakemake.output.pdf.removesuffix(".pdf"))
+plotting.save(plotting.fig_work_precision(ds), snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+              attrs=provenance(**dict(snakemake.params)))

@@ -1,0 +1,144 @@
+"""The event loop's building blocks against closed forms, and its sliding window against a plain run."""
+
+import math
+
+import numpy as np
+import pytest
+from conftest import TOL_T
+
+import vibroimpact as vi
+from vibroimpact import kernels as K
+
+
+def test_period_one_bouncing_orbit_is_the_closed_form():
+    """Far from the top wall the ball bounces on the bottom once per forcing period.  Over one
+    period the forcing averages out, so Zdot- = Zdot+ + 2 gbar with Zdot+ = -r Zdot-, hence
+    Zdot- = 2 gbar / (1 + r); the flight returns to the wall when sin(phase) = pi gbar (1-r)/(1+r)
+    (the displacement over the period, 2 Zdot+ + 2 gbar - 2 sin(phase) / pi, vanishes)."""
+    gbar, r = 0.7, 0.5
+    p = vi.Params(d=3.0, gbar=gbar, r=r)
+    vm, phase = 2 * gbar / (1 + r), math.asin(math.pi * gbar * (1 - r) / (1 + r))
+    ds = vi.simulate(p, phase + 1e-3, vm * 1.001, n_impacts=5000, stop_when_periodic=True)
+    assert ds.attrs["status"] == "periodic" and ds.attrs["period_events"] == 1
+    assert ds["wall"].values[-1] == 1 and ds["kind"].values[-1] == K.IMPACT
+    assert abs(ds["v_minus"].values[-1] - vm) < 1e-8
+    # of the two phases with that sine, the orbit that attracts meets the wall while the forcing
+    # decelerates it (cos < 0)
+    assert abs(ds["phase"].values[-1] - (math.pi - phase)) < 1e-8
+    assert abs(ds["t"].values[-1] - ds["t"].values[-2] - 2.0) < 1e-8
+
+
+def test_period_test_separates_motions_that_share_their_phases():
+    """Events two forcing periods apart, all at one phase, with Zdot- alternating: the motion
+    repeats after two events, not one (the velocities differ at lag one)."""
+    n, tol = 12, 1e-9
+    t = 2.0 * np.arange(n)
+    wall = np.ones(n, np.int8)
+    kind = np.zeros(n, np.int8)
+    phase = np.full(n, 1.0)
+    vm = np.where(np.arange(n) % 2 == 0, 0.5, 0.7)
+    counts = np.zeros(9, np.int64)
+    found = [K.period_update(i, t, wall, vm, phase, kind, counts, tol) for i in range(n)]
+    assert 1 not in found
+    assert found[5] == 2  # events 2..5 each repeat the event two before: two full cycles
+    # the same events with one velocity: period one after two repetitions
+    counts[:] = 0
+    found = [K.period_update(i, t, wall, np.full(n, 0.5), phase, kind, counts, tol) for i in range(n)]
+    assert found[2] == 1
+    # phases either side of 0 = 2 pi are the same phase
+    counts[:] = 0
+    wrap = np.where(np.arange(n) % 2 == 0, 1e-12, 2 * np.pi - 1e-12)
+    found = [K.period_update(i, t, wall, np.full(n, 0.5), wrap, kind, counts, tol) for i in range(n)]
+    assert found[2] == 1
+    # the longest period looked for is the counters' last lag: period 2 with lags up to 2
+    short = np.zeros(3, np.int64)
+    found = [K.period_update(i, t, wall, vm, phase, kind, short, tol) for i in range(n)]
+    assert found[5] == 2
+
+
+@pytest.mark.parametrize("gbar", [0.2, 0.9])
+def test_chattering_sum_applies_exactly_where_the_acceleration_stays_within_the_drift_bound(gbar):
+    """At phase 0 the acceleration into the bottom, cos(pi t) + gbar, falls by 1 - cos(pi tau) over the
+    sequence: the sum is used if and only if that is at most CHATTER_DRIFT of it (closed form at a
+    maximum of the forcing, where the rule's bound is attained to second order)."""
+    r, a = 0.5, 1.0 + gbar
+    applied, refused = 0, 0
+    for u in np.geomspace(1e-7, 1e-4, 60):
+        tau = 2 * u / ((1 - r) * a)
+        change = (1 - math.cos(math.pi * tau)) / a
+        got = K._accumulation_time(0.0, u, 1, gbar, r, 1e-3)
+        if change < K.CHATTER_DRIFT * (1 - 1e-6):
+            assert got == pytest.approx(tau, rel=1e-15)
+            applied += 1
+        elif change > K.CHATTER_DRIFT * (1 + 1e-6):
+            assert got < 0
+            refused += 1
+    assert applied > 5 and refused > 5
+    # away from the wall (acceleration pulling off it) and above v_chatter: never summed
+    assert K._accumulation_time(math.pi, 1e-8, 1, 0.2, r, 1e-3) < 0
+    assert K._accumulation_time(0.0, 2e-3, 1, gbar, r, 1e-3) < 0
+
+
+def test_a_flight_that_never_reaches_a_wall_ends_the_run_with_no_impact():
+    """gbar = 0, at rest at the centre at phase 0: Z = (1 - cos(pi t)) / pi^2 stays in [0, 0.21],
+    inside walls at +-0.5."""
+    p = vi.Params(d=1.0, gbar=0.0, r=0.5)
+    ds = vi.simulate(p, 0.0, 0.0, Z0=0.0, n_impacts=5)
+    assert ds.attrs["status"] == "no_impact" and ds.sizes["impact"] == 1
+    ds = vi.simulate(p, 0.0, 0.0, Z0=0.0, t_end=50.0)
+    assert ds.attrs["status"] == "t_end"
+
+
+def _window(d, gbar, r, phi, v0, *, max_events, pmax, cap, window, tol=1e-9):
+    win = [np.full(window, np.nan), np.zeros(window, np.int8), np.full(window, np.nan),
+           np.full(window, np.nan), np.zeros(window, np.int8)]
+    st, lag, total, n = K.run_window(d, gbar, r, phi, v0, max_events, math.inf, 1e-9, tol, pmax, cap, *win)
+    return win, K.STATUS_NAMES[st], lag, total, n
+
+
+@pytest.mark.parametrize("d, gbar, pmax, expected", [
+    (0.3, 0.7, 8, "n_events"),       # chattering into sticking and release, period longer than pmax
+    (0.3, 0.5, 8, "periodic"),       # 4 events per period, found after ~50 events
+    (0.3, 0.5, 4, "periodic"),       # the same with pmax = the period: the last lag is looked at
+    (0.235, 0.21216, 8, "n_events"),  # chaotic (beta = pi/3)
+])
+def test_sliding_window_run_equals_one_long_run(d, gbar, pmax, expected):
+    """run_window keeps only a small buffer and resumes from its last event again and again; the
+    events, their count and the detected period equal one run that keeps everything."""
+    max_events, phi, v0 = 3000, 0.3, 0.5
+    keep = 3 * pmax + 1
+    win, status, lag, total, n = _window(d, gbar, 0.5, phi, v0, max_events=max_events, pmax=pmax,
+                                         cap=keep + 3, window=keep)
+    ref = vi.simulate(vi.Params(d=d, gbar=gbar, r=0.5), phi, v0, n_impacts=max_events,
+                      stop_when_periodic=True, max_period_events=pmax)
+    assert status == ref.attrs["status"] == expected
+    assert total == ref.sizes["impact"] > keep + 3 and lag == ref.attrs["period_events"]
+    assert n == keep
+    tail = ref.isel(impact=slice(-n, None))
+    np.testing.assert_allclose(win[0][:n], tail["t"].values, rtol=TOL_T, atol=0)
+    np.testing.assert_array_equal(win[1][:n], tail["wall"].values)
+    np.testing.assert_array_equal(win[4][:n], tail["kind"].values)
+    np.testing.assert_allclose(win[2][:n], tail["v_minus"].values, rtol=0, atol=TOL_T)
+    np.testing.assert_allclose(win[3][:n], tail["phase"].values, rtol=0, atol=TOL_T)
+    if gbar == 0.7:
+        kinds = ref["kind"].values
+        assert (kinds == K.STICK).sum() > 50 and (kinds == K.RELEASE).sum() > 50
+
+
+def test_batch_runs_equal_single_runs_event_for_event():
+    """simulate_batch and attractor_batch (parallel) against simulate, including the event count."""
+    from vibroimpact.sweeps import attractor_batch
+
+    d = np.array([0.3, 0.235, 0.2])
+    gbar = np.array([0.9, 0.21216, 0.0311])
+    b = vi.simulate_batch(d, gbar, 0.5, 0.4, 0.6, n_impacts=400, stop_when_periodic=True, max_period_events=1)
+    att = attractor_batch(d, gbar, 0.5, 0.4, 0.6, max_periods=100, window=65, pmax=64)
+    for k in range(3):
+        p = vi.Params(d=d[k], gbar=gbar[k], r=0.5)
+        one = vi.simulate(p, 0.4, 0.6, n_impacts=400, stop_when_periodic=True, max_period_events=1)
+        n = int(b["n_events"].values[k])
+        assert n == one.sizes["impact"]
+        np.testing.assert_array_equal(b["t"].values[k, :n], one["t"].values)
+        long = vi.simulate(p, 0.4, 0.6, t_end=200.0, stop_when_periodic=True, max_period_events=64)
+        assert int(att["n_events"].values[k]) == long.sizes["impact"]
+        assert K.STATUS_NAMES[int(att["status"].values[k])] == long.attrs["status"]

@@ -31,6 +31,9 @@ config["studies"] = [
 validate(config, "config/schema.yaml")
 
 
+report: "workflow/report/workflow.rst"
+
+
 include: "workflow/rules/common.smk"
 include: "workflow/rules/orbits.smk"
 include: "workflow/rules/figures.smk"

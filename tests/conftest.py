@@ -58,3 +58,37 @@ CAPTIONS = {
 @pytest.fixture
 def pi6():
     return vi.Params(d=0.16, gbar=gbar_of(math.pi / 6), r=0.5)
+
+
+# ---- the Snakemake workflow in a temporary copy (tests/test_workflow.py, tests/test_report.py) ----
+import shutil  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import yaml  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _copy_workflow(tmp_path):
+    for item in ("Snakefile", "workflow", "config", "profiles", "reference"):
+        src = ROOT / item
+        if not src.exists():
+            continue
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / item)
+    return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+
+
+def _snakemake(tmp_path, *args):
+    return subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", *args], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=600)
+
+
+@pytest.fixture(scope="session")
+def default_run(tmp_path_factory):
+    """The shipped config's `check` target, built once per test session in a temporary copy."""
+    tmp_path = tmp_path_factory.mktemp("default")
+    _copy_workflow(tmp_path)
+    res = _snakemake(tmp_path, "check")
+    return tmp_path, res

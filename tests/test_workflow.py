@@ -1,29 +1,9 @@
 """The Snakemake workflow end to end on a tiny config, and config validation before any job."""
 
-import shutil
-import subprocess
-import sys
-from pathlib import Path
-
 import pytest
 import xarray as xr
 import yaml
-
-ROOT = Path(__file__).resolve().parents[1]
-
-
-def _copy_workflow(tmp_path):
-    for item in ("Snakefile", "workflow", "config", "profiles", "reference"):
-        src = ROOT / item
-        if not src.exists():
-            continue
-        (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / item)
-    return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
-
-
-def _snakemake(tmp_path, *args):
-    return subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", *args], cwd=tmp_path,
-                          capture_output=True, text=True, timeout=600)
+from conftest import ROOT, _copy_workflow, _snakemake
 
 
 @pytest.mark.slow
@@ -125,11 +105,10 @@ def test_unknown_caption_in_a_scene_is_named(tmp_path):
 
 
 @pytest.mark.slow
-def test_check_target_passes_on_the_default_config(tmp_path):
+def test_check_target_passes_on_the_default_config(default_run):
     """`snakemake check` on the shipped config: every published value reproduced or a listed
     discrepancy with its evidence; nothing fails."""
-    _copy_workflow(tmp_path)
-    res = _snakemake(tmp_path, "check")
+    tmp_path, res = default_run
     assert res.returncode == 0, res.stderr[-3000:]
     import pandas as pd
 

@@ -91,6 +91,15 @@ def time_series(ax, ds):
     ax.plot(t, ds["X"] + d / 2, color=BOTTOM, label=r"$X^*\pm d/2$")
     ax.plot(t, ds["X"] - d / 2, color=BOTTOM)
     ax.plot(t, ds["x"], color=BALL, label=r"$x^*$ (ball)")
+    if "wall" in ds and "impact" in ds.dims:
+        # the impacts in the window, at the wall they hit: count the bottom impacts per period
+        tk = ds["t"].values
+        hit = np.isfinite(tk) & (tk <= t[-1]) & np.isin(ds["kind"].values, (0, 1))
+        # the bottom wall (Z = d/2) is the end at X - d/2 in the absolute frame: x* = X - Z
+        xk = np.interp(tk[hit], t, ds["X"].values) - ds["wall"].values[hit] * d / 2
+        for w, col, mk, name in ((1, BOTTOM, "v", "bottom impact"), (-1, TOP, "^", "top impact")):
+            sel = ds["wall"].values[hit] == w
+            ax.plot(tk[hit][sel], xk[sel], mk, color=col, ms=5, ls="none", label=name)
     ax.set_xlabel("t")
     ax.set_ylabel("displacement")
 
@@ -112,11 +121,12 @@ def phase_portrait(ax, ds):
 def fig0b(datasets):
     """Time series of 1:1, 2:1 and 3:1 motions."""
     use_style()
-    fig, axes = plt.subplots(1, len(datasets), figsize=(3.3 * len(datasets), 2.8), squeeze=False)
+    fig, axes = plt.subplots(1, len(datasets), figsize=(3.8 * len(datasets), 3.4), squeeze=False)
     for ax, ds, panel in zip(axes[0], datasets, "abcdefg", strict=False):
         time_series(ax, ds)
         ax.set_title(_title(ds, panel))
-    axes[0, 0].legend(loc="lower left")
+    # one legend for all panels, below them, clear of the data
+    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="outside lower center", ncol=4)
     return fig
 
 

@@ -30,7 +30,7 @@ rule work_precision:
         nc="results/bench/work_precision.nc",
         md="results/tables/work_precision.md",
         pdf="results/figures/work_precision.pdf",
-        png="results/figures/work_precision.png",
+        png=report("results/figures/work_precision.png", caption="../report/work_precision.rst", category="Speed and accuracy"),
         data="results/figures/data/work_precision.nc",
     params:
         **config["work_precision"],
@@ -50,7 +50,7 @@ rule failure_map:
         nc="results/bench/failure_map.nc",
         md="results/tables/failure_map.md",
         pdf="results/figures/failure_map.pdf",
-        png="results/figures/failure_map.png",
+        png=report("results/figures/failure_map.png", caption="../report/failure_map.rst", category="Speed and accuracy"),
         data="results/figures/data/failure_map.nc",
     params:
         **config["failure_map"],
@@ -73,7 +73,7 @@ rule analytics_accuracy:
     output:
         nc="results/bench/analytics_accuracy.nc",
         pdf="results/figures/analytics_accuracy.pdf",
-        png="results/figures/analytics_accuracy.png",
+        png=report("results/figures/analytics_accuracy.png", caption="../report/analytics_accuracy.rst", category="Speed and accuracy"),
         data="results/figures/data/analytics_accuracy.nc",
     conda:
         "../envs/vibroimpact.yaml"

@@ -7,7 +7,7 @@ rule fig2:
         sims=scene_branch_files("fig2", kind="sim"),
     output:
         pdf="results/figures/fig2.pdf",
-        png="results/figures/fig2.png",
+        png=report("results/figures/fig2.png", caption="../report/fig2.rst", category="Paper figures"),
         data="results/figures/data/fig2.nc",
     params:
         scene=BRANCH_SCENES["fig2"],
@@ -26,7 +26,7 @@ rule fig3:
         sims=scene_branch_files("fig3", kind="sim"),
     output:
         pdf="results/figures/fig3.pdf",
-        png="results/figures/fig3.png",
+        png=report("results/figures/fig3.png", caption="../report/fig3.rst", category="Paper figures"),
         data="results/figures/data/fig3.nc",
     params:
         scene=BRANCH_SCENES["fig3"],

@@ -20,7 +20,7 @@ rule check_paper_values:
                     if p in {q for f in config["energy"]["figures"].values() for q in f["panels"]}],
         sweeps=[energy_path("sweep", SWEEPS[p]["beta"], p) for v in ("s", "F") for p in config["energy"]["design"][v]],
     output:
-        csv="results/checks/paper_values.csv",
+        csv=report("results/checks/paper_values.csv", caption="../report/paper_values.rst", category="Checks"),
         md="results/checks/paper_values.md",
     params:
         known=config["checks"]["known"],
@@ -38,7 +38,7 @@ rule check_figures:
         # committed references; a missing one is reported by the check (not a missing input)
         reference=[f for f in FIGURE_REFERENCES if os.path.exists(f)],
     output:
-        csv="results/checks/figures.csv",
+        csv=report("results/checks/figures.csv", caption="../report/figures_check.rst", category="Checks"),
         md="results/checks/figures.md",
     params:
         figures=FIGURES,

@@ -41,7 +41,7 @@ rule energy_figure:
         lambda wc: [sweep_path(p) for p in config["energy"]["figures"][wc.efig]["panels"]],
     output:
         pdf="results/figures/{efig}.pdf",
-        png="results/figures/{efig}.png",
+        png=report("results/figures/{efig}.png", caption="../report/energy.rst", category="Paper figures"),
         data="results/figures/data/{efig}.nc",
     params:
         panels=lambda wc: config["energy"]["figures"][wc.efig]["panels"],
@@ -65,7 +65,7 @@ rule design:
         csv="results/tables/design.csv",
         md="results/tables/design.md",
         pdf="results/figures/design.pdf",
-        png="results/figures/design.png",
+        png=report("results/figures/design.png", caption="../report/design.rst", category="Beyond the paper"),
         data="results/figures/data/design.nc",
     conda:
         "../envs/vibroimpact.yaml"

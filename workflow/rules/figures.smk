@@ -6,7 +6,7 @@ rule scene_figure:
         lambda wc: expand("results/orbits/caption-{name}.nc", name=config["scenes"][wc.scene]["captions"]),
     output:
         pdf="results/figures/{scene}.pdf",
-        png="results/figures/{scene}.png",
+        png=report("results/figures/{scene}.png", caption="../report/scene.rst", category="Paper figures"),
         data="results/figures/data/{scene}.nc",
     conda:
         "../envs/vibroimpact.yaml"

@@ -103,7 +103,7 @@ rule figBiS:
         branch31=branch_path("orbit", SWEEPS["figBiS"]["beta"], "BBBT"),
     output:
         pdf="results/figures/figBiS.pdf",
-        png="results/figures/figBiS.png",
+        png=report("results/figures/figBiS.png", caption="../report/figBiS.rst", category="Paper figures"),
         data="results/figures/data/figBiS.nc",
     conda:
         "../envs/vibroimpact.yaml"
@@ -118,7 +118,7 @@ rule fig_basins:
         basin_path("figBiS"),
     output:
         pdf="results/figures/basins.pdf",
-        png="results/figures/basins.png",
+        png=report("results/figures/basins.png", caption="../report/basins.rst", category="Beyond the paper"),
         data="results/figures/data/basins.nc",
     conda:
         "../envs/vibroimpact.yaml"
@@ -133,7 +133,7 @@ rule fig_regime_map:
         [map_path(m) for m in config["maps"]],
     output:
         pdf="results/figures/regime_map.pdf",
-        png="results/figures/regime_map.png",
+        png=report("results/figures/regime_map.png", caption="../report/regime_map.rst", category="Beyond the paper"),
         data="results/figures/data/regime_map.nc",
     conda:
         "../envs/vibroimpact.yaml"

@@ -238,7 +238,7 @@ def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, 
     u_t = np.full((n_dir, n_pt), np.nan)
     span = np.full((n_dir, n_pt), np.nan)
     count = np.zeros((n_dir, n_pt), np.int64)
-    status = sw["status"].values
+    status, lags = sw["status"].values, sw["period_events"].values
     for a in range(n_dir):
         for i in range(n_pt):
             if status[a, i] == K.STUCK_FOREVER:
@@ -246,7 +246,7 @@ def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, 
                 u_t[a, i], span[a, i] = 0.0, math.inf
                 continue
             m = int(np.isfinite(t[a, i]).sum())
-            lag = int(sw["period_events"].values[a, i])
+            lag = int(lags[a, i])
             if lag:
                 # one whole period, as the simulation measured it: from an event to the same event one
                 # period earlier (a period is identified after two cycles, so the window holds lag + 1)

@@ -22,7 +22,8 @@ def _units(label: str) -> str:
     return m.group(1) if m else "1"
 
 
-def _finite_array(values) -> np.ndarray:
+def _float_array(values) -> np.ndarray:
+    """Float array with masked entries as NaN."""
     a = np.ma.filled(np.ma.asarray(values, dtype=float), np.nan)
     return np.asarray(a, dtype=float)
 
@@ -42,7 +43,7 @@ def figure_data(fig, attrs: dict | None = None) -> xr.Dataset:
         xlab, ylab = ax.get_xlabel(), ax.get_ylabel()
 
         def put(name, values, axis_label, label, **extra):
-            arr = _finite_array(values)
+            arr = _float_array(values)
             dims = tuple(f"{name}_dim{k}" for k in range(arr.ndim))
             data[name] = xr.Variable(dims, arr, {"axes_title": title, "axis_label": axis_label,
                                                  "units": _units(axis_label), "label": label or "", **extra})

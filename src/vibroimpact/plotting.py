@@ -46,7 +46,6 @@ def save(fig, stem, *, data=None, attrs=None) -> list[Path]:
     for p in paths:
         fig.savefig(p)
     if data is not None:
-        fig.canvas.draw()  # settle autoscaled artists before reading them back
         write_netcdf(figure_data(fig, attrs), data, fmt="NETCDF3_64BIT")
         paths.append(Path(data))
     plt.close(fig)
@@ -57,8 +56,8 @@ def save(fig, stem, *, data=None, attrs=None) -> list[Path]:
 NEAR_GRAZING = 0.01
 
 
-def _pi_label(x, unit=""):
-    """``x`` as a fraction of pi when it is one (pi/6, 5 pi), else a number."""
+def _pi_tex(x, fmt=".4g"):
+    """``x`` in TeX as a fraction of pi when it is one (``\\pi/6``, ``5\\pi``), else formatted with ``fmt``."""
     import math
 
     for den in (1, 2, 3, 4, 6):
@@ -66,8 +65,13 @@ def _pi_label(x, unit=""):
         if abs(num - round(num)) < 1e-9 and round(num):
             n = int(round(num))
             top = r"\pi" if n == 1 else f"{n}\\pi"
-            return f"${top}$" + unit if den == 1 else f"${top}/{den}$" + unit
-    return f"{x:.4g}{unit}"
+            return top if den == 1 else f"{top}/{den}"
+    return format(x, fmt)
+
+
+def _pi_label(x, unit=""):
+    tex = _pi_tex(x)
+    return (f"${tex}$" if "\\pi" in tex else tex) + unit
 
 
 def _title(ds, panel):
@@ -177,13 +181,8 @@ def fig4(datasets):
 # Branches (paper Figs 2, 3)
 # ---------------------------------------------------------------------------------------------
 
-BETA_NAMES = {90.0: r"\pi/2", 60.0: r"\pi/3", 45.0: r"\pi/4", 30.0: r"\pi/6"}
-
-
 def _beta_label(beta):
-    import math
-
-    return "$\\beta=" + BETA_NAMES.get(round(math.degrees(beta), 6), f"{beta:.4f}") + "$"
+    return "$\\beta=" + _pi_tex(beta, ".4f") + "$"
 
 
 def branch_line(ax, d, y, stable, color, lw=1.2):

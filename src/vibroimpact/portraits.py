@@ -168,8 +168,9 @@ def bistability_dataset(branch21: xr.Dataset, branch31: xr.Dataset, g1: float, g
         # closes: the state one period later is the same, compared between impacts (at an impact
         # instant rounding decides whether the pre- or post-impact velocity is sampled)
         probe = np.linspace(0.05, 0.95, 19)
-        a, b = trajectory(run, probe), trajectory(run, probe + 2.0 * o.k)
-        closure[k] = max(float(np.max(np.abs(b.Z.values - a.Z.values))), float(np.max(np.abs(b.Zdot.values - a.Zdot.values))))
+        both = trajectory(run, np.concatenate([probe, probe + 2.0 * o.k]))
+        z, v = (both[x].values.reshape(2, -1) for x in ("Z", "Zdot"))
+        closure[k] = max(float(np.max(np.abs(z[1] - z[0]))), float(np.max(np.abs(v[1] - v[0]))))
         words.append(o.word)
         ds_d.append(float(d))
         v0s.append(float(o.v_minus[0]))

@@ -73,3 +73,58 @@ def test_energy_at_the_same_d_compares_the_two_coexisting_motions():
     row = next(r for r in checks.energy_rows([], [], [e]) if r["item"] == "2:1 -> 3:1 at the same d: U_T rises")
     assert row["computed"].startswith("3:1 above 2:1 at 1 of 2 bistable sweep points (U_T ratio 3:1 / 2:1 in [0.5000, 1.2000])")
     assert row["status"] == "fail"
+
+
+def test_zdot_order_of_the_2to1_orbit_is_its_voltage_order():
+    """Evidence for the known discrepancy of the Zdot_k order (Figs 0 (a), 2 captions: P3, P1, P2).
+    The 2:1 orbit at beta = pi/3, d = 0.19 (solved by Newton from the paper's Fig 0b (b) start), has
+    |Zdot| after P3 > after P2 > after P1, and the voltage rises with the impact speed on both walls
+    (one membrane model): so the Zdot_k order is the U_k order, which the captions of Fig 0 (b) and
+    Fig 5 give as P3, P2, P1."""
+    import numpy as np
+
+    from vibroimpact.energy import Membrane, speed_si, voltage_gain
+    from vibroimpact.orbits import find_orbit
+    from vibroimpact.params import Params
+
+    p = Params.from_physical(s=0.19 * 5.0 * math.pi**2 / (0.1245 * (5 * math.pi) ** 2), beta=math.pi / 3)
+    assert p.d == pytest.approx(0.19, rel=1e-12)
+    orbit = find_orbit(p, "BBT", 1.21, 0.2164)
+    names = [checks.transition_name(orbit.walls, j) for j in range(3)]
+    assert names == ["P3", "P1", "P2"]  # impacts B, B, T: into B from T, into B from B, into T from B
+    speeds = np.abs(orbit.v_minus)
+    assert [names[j] for j in np.argsort(-speeds)] == ["P3", "P2", "P1"]
+    gains = voltage_gain(speed_si(speeds, 5.0, 0.1245, 5 * math.pi), Membrane(h=2.6, K=4.0847e5, R=6.3e-3, r_b=5e-3,
+                                                                                U_in=2000.0, m=4.11e-3))
+    assert [names[j] for j in np.argsort(-gains)] == ["P3", "P2", "P1"]
+    assert np.all(np.diff(voltage_gain(np.linspace(0.05, 3.0, 50), Membrane(h=2.6, K=4.0847e5, R=6.3e-3, r_b=5e-3,
+                                                                            U_in=2000.0, m=4.11e-3))) > 0)
+
+
+@pytest.mark.parametrize("walls, into, names", [
+    ((1, 1, -1), True, ["P3", "P1", "P2"]),
+    ((1, 1, -1), False, ["P1", "P2", "P3"]),
+    ((1, -1), True, ["P3", "P2"]),
+    ((-1, -1, 1), True, ["P2", "P4", "P3"]),
+])
+def test_transition_names_follow_the_paper(walls, into, names):
+    """P1 bottom -> bottom, P2 bottom -> top, P3 top -> bottom, P4 top -> top (paper section 3)."""
+    assert [checks.transition_name(walls, j, into=into) for j in range(len(walls))] == names
+
+
+def test_check_summaries_per_figure():
+    """Each figure's caption sentence counts its own rows: data arrays (timings apart), the image row,
+    and the published values shown in it (captions by prefix, sections by figure)."""
+    figures = pd.DataFrame({"figure": ["fig2", "fig2", "fig2", "work_precision", "work_precision"],
+                            "variable": ["a0_line0_x", "a0_line0_y", checks.IMAGE_ROW, "a0_line0_x", checks.IMAGE_ROW],
+                            "max_difference": [0.0, 1e-15, 0.0, float("nan"), 12.0],
+                            "status": ["pass", "fail", "pass", "excluded", "excluded"]})
+    paper = pd.DataFrame({"item": ["fig4_a: motion", "simulated points on the BBT, beta=pi/2 branch", "x"],
+                          "where": ["caption", "Fig 2", "section 3"],
+                          "status": ["pass", "pass", "known discrepancy"]})
+    s = checks.check_summaries(paper, figures)
+    assert "1 of 2 arrays pass, 1 FAIL" in s["fig2"] and "image: pass (perceptual hash distance 0 bits)" in s["fig2"]
+    assert "1 known discrepancy, 1 pass" in s["fig2"]
+    assert "0 of 0 arrays pass (1 timing arrays excluded)" in s["work_precision"]
+    assert s["fig4"].endswith("published values shown here: 1 pass.")
+    assert "1 known discrepancy" in s["fig3"]

@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from vibroimpact import plotting
-from vibroimpact.figdata import compare, figure_data
+from vibroimpact import plots
+from vibroimpact.figdata import compare, compare_image, figure_data, hash_distance, image_hash
 
 
 def _figure(shift=0.0, extra=False):
@@ -29,7 +29,7 @@ def _figure(shift=0.0, extra=False):
 
 def test_figure_data_is_what_is_drawn(tmp_path):
     fig = _figure()
-    paths = plotting.save(fig, tmp_path / "f", data=tmp_path / "data" / "f.nc", attrs={"config": "{}"})
+    paths = plots.save(fig, tmp_path / "f", data=tmp_path / "data" / "f.nc", attrs={"config": "{}"})
     import xarray as xr
 
     ds = xr.load_dataset(paths[-1], engine="netcdf4")
@@ -79,11 +79,58 @@ def test_fig2_marks_and_names_every_admissible_critical_point():
             zip(br.critical_kind.values, br.critical_d.values, br.critical_admissible.values, strict=True)
             if a and lo <= d <= hi}
     assert {k for k, _ in crit} >= {"A", "grazing"}
-    ds = figure_data(plotting.fig2([br], [None], [(lo, hi)]))
+    ds = figure_data(plots.fig2([br], [None], [(lo, hi)]))
     for col in range(3):
         xs = [float(ds[v].values[0]) for v in ds.data_vars
               if v.startswith(f"a{col}_line") and v.endswith("_x") and ds[v].attrs["marker"] == "D"]
         assert sorted(round(x, 9) for x in xs) == sorted(d for _, d in crit for _ in range(3))
-        names = sorted(ds[v].attrs["label"] for v in ds.data_vars if v.startswith(f"a{col}_text"))
+        texts = sorted(ds[v].attrs["label"] for v in ds.data_vars if v.startswith(f"a{col}_text"))
+        names = [s for s in texts if not s.startswith("P")]
         n_a = sum(k == "A" for k, _ in crit)
         assert names == sorted([f"A{i + 1}" for i in range(n_a)] + ["G"] * sum(k == "grazing" for k, _ in crit))
+        # and each of the three curves its transition's name (BBT: P3 into the first bottom impact, P1, P2)
+        assert [s for s in texts if s.startswith("P")] == ["P1", "P2", "P3"]
+
+
+def test_image_layer_sees_a_change_the_same_figure_does_not(tmp_path):
+    """The same figure rendered twice hashes identically (Agg is deterministic); one added line or a
+    moved curve changes the hash; a figure with timings is reported as excluded, not passed."""
+    import xarray as xr
+
+    hashes = []
+    for k, kw in enumerate([{}, {}, {"extra": True}, {"shift": 0.3}]):
+        paths = plots.save(_figure(**kw), tmp_path / f"f{k}", data=tmp_path / f"f{k}.nc")
+        ds = xr.load_dataset(paths[-1], engine="netcdf4")
+        assert ds.attrs["png_phash"] == image_hash(paths[1])
+        hashes.append(ds)
+    assert hash_distance(hashes[0].attrs["png_phash"], hashes[1].attrs["png_phash"]) == 0
+    assert compare_image(hashes[1], hashes[0], max_distance=0)["status"] == "pass"
+    for changed in hashes[2:]:
+        row = compare_image(changed, hashes[0], max_distance=0)
+        assert row["status"] == "fail" and row["max_difference"] > 0
+    assert compare_image(hashes[2], hashes[0], max_distance=0, draws_timings=True)["status"] == "excluded"
+    no_hash = hashes[0].copy()
+    del no_hash.attrs["png_phash"]
+    assert compare_image(no_hash, hashes[0], max_distance=0)["status"].startswith("fail: no image hash")
+
+
+def _branch(word, d, stable, crit):
+    import xarray as xr
+
+    kinds, ds_, adm = zip(*crit, strict=True) if crit else ((), (), ())
+    return xr.Dataset({"stable": ("point", np.array(stable)), "admissible": ("point", np.ones(len(d), bool)),
+                       "critical_kind": ("critical", np.array(kinds, dtype=str)),
+                       "critical_d": ("critical", np.array(ds_, float)),
+                       "critical_admissible": ("critical", np.array(adm, bool))},
+                      coords={"d": ("point", np.array(d))}, attrs={"word": word, "step": 1e-3})
+
+
+def test_energy_figures_mark_d_graz_on_the_1to1_branch_and_G1_where_grazing_ends_the_2to1():
+    from vibroimpact.plots.energy import grazing_marks
+
+    d = np.round(np.arange(0.130, 0.221, 0.001), 6)
+    bt = _branch("BT", d, d > 0.16, [("grazing", 0.1579, True), ("grazing", 0.1201, True), ("grazing", 0.19, False)])
+    by_grazing = _branch("BBT", d, (d >= 0.1376) & (d <= 0.2), [("grazing", 0.13762, True), ("fold", 0.2003, True)])
+    by_doubling = _branch("BBT", d, (d >= 0.158) & (d <= 0.2), [("B", 0.15807, True), ("grazing", 0.13601, True)])
+    assert grazing_marks([bt, by_grazing]) == [(r"$d_{\rm graz}$", 0.1579), ("G1", 0.13762)]
+    assert grazing_marks([bt, by_doubling]) == [(r"$d_{\rm graz}$", 0.1579)]  # the 2:1 loses stability at B

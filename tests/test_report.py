@@ -30,6 +30,9 @@ def test_report_holds_every_figure_with_its_caption_and_the_checks(report):
     for text in ("Paper figures", "Beyond the paper", "Checks", "paper_values.csv", "figures.csv",
                  "located critical points A1"):
         assert text in html, text
+    # every figure's caption carries its check result (data arrays and image), none says "not run yet"
+    assert html.count("Check result: figure data vs committed reference") == len(FIGURES)
+    assert "not run yet" not in html
 
 
 @pytest.mark.slow

@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from .paper import PI6_D_B, PI6_G1, PI6_G2, STABLE_2TO1, agreement_tolerance, printed_unit
+from .paper import CURVE_ORDER, PI6_D_B, PI6_G1, PI6_G2, STABLE_2TO1, agreement_tolerance, printed_unit
 
 BETA_NAMES = {90.0: "pi/2", 60.0: "pi/3", 45.0: "pi/4", 30.0: "pi/6"}
 
@@ -216,6 +216,58 @@ def simulation_rows(sims: list[xr.Dataset]) -> list[dict]:
     return rows
 
 
+#: where each quantity of the curve-order rows comes from: (variable, into the impact?)
+ORDER_VARS = {"Zdot_k": ("v_minus", True), "U_k": ("gain", True), "Delta t_j": ("dt", True), "phi_k": ("phase", False)}
+
+
+def transition_name(walls, j, *, into=True) -> str:
+    """The paper's name of the flight into impact ``j`` (``into``) or out of it: P1 bottom -> bottom,
+    P2 bottom -> top, P3 top -> bottom, P4 top -> top (walls: +1 bottom, -1 top, cyclic)."""
+    n = len(walls)
+    a, b = (walls[(j - 1) % n], walls[j]) if into else (walls[j], walls[(j + 1) % n])
+    return {(1, 1): "P1", (1, -1): "P2", (-1, 1): "P3", (-1, -1): "P4"}[(int(a), int(b))]
+
+
+def _order_item(fig, what, beta):
+    return f"{fig}: {what} curves top to bottom, beta={_beta_name(beta)}"
+
+
+def curve_order_rows(orbit_branches: list[xr.Dataset], energy_branches: list[xr.Dataset]) -> list[dict]:
+    """The order of the 2:1 curves from top to bottom that the captions state (``paper.CURVE_ORDER``),
+    against the continued 2:1 branches.  On the branch's longest stable, admissible stretch the impacts
+    are sorted by the quantity (|Zdot_k|, U_k, Delta t_j or phi_k) and named by their transitions.  A
+    caption names the vertical order a reader sees, which curves meeting at a fold or crossing near an
+    end do not change: the row compares the order at the middle of the stretch (in d), and its note
+    gives every order found with the d range where it holds."""
+    rows = []
+    by_beta = {"orbit": {round(float(b.attrs["beta"]), 9): b for b in orbit_branches},
+               "energy": {round(float(b.attrs["beta"]), 9): b for b in energy_branches}}
+    for (fig, what), per_beta in CURVE_ORDER.items():
+        var, into = ORDER_VARS[what]
+        for beta, stated in per_beta.items():
+            br = by_beta["energy" if var == "gain" else "orbit"].get(round(beta, 9))
+            if br is None:
+                continue
+            item = _order_item(fig, what, beta)
+            if br.attrs.get("status") == "failed" or not br.sizes.get("point", 0):
+                rows.append(_row(item, fig, stated, "no branch", "", False, str(br.attrs.get("reason", ""))))
+                continue
+            ok = (br.stable & br.admissible).values
+            edges = np.flatnonzero(np.diff(np.concatenate([[0], ok.astype(int), [0]]))).reshape(-1, 2)
+            a, b = edges[np.argmax(edges[:, 1] - edges[:, 0])]
+            walls = br.wall.values
+            names = [transition_name(walls, j, into=into) for j in range(walls.size)]
+            vals = np.abs(br[var].values[a:b]) if var in ("v_minus", "gain") else br[var].values[a:b]
+            orders = np.array([", ".join(names[j] for j in np.argsort(-v, kind="stable")) for v in vals])
+            d = br.d.values[a:b]
+            mid = orders[np.argmin(np.abs(d - 0.5 * (d.min() + d.max())))]
+            note = "; ".join(f"{o} for d in [{d[orders == o].min():.4f}, {d[orders == o].max():.4f}]"
+                             for o in dict.fromkeys(orders[np.argsort(d)]))
+            rows.append(_row(item, fig, stated, str(mid), "order at the middle of the stable stretch", mid == stated,
+                             note))
+    return rows
+
+
 def item_names(captions, betas) -> list[str]:
     """Every item the check produces for these caption names and inclines (rad): what
     ``checks.known`` may name, known before any job runs."""
@@ -228,6 +280,7 @@ def item_names(captions, betas) -> list[str]:
             if name == "pi/6":
                 names.append("lambda_1 < -1 for d < 0.133 (d_B), beta=pi/6")
     names += ["G1: 2:1 -> 3:1 grazing, d decreasing, beta=pi/6", "G2: 3:1 -> 2:1, d increasing, beta=pi/6"]
+    names += [_order_item(fig, what, beta) for (fig, what), per_beta in CURVE_ORDER.items() for beta in per_beta]
     return names + ENERGY_ITEMS
 
 
@@ -255,3 +308,57 @@ def markdown(df: pd.DataFrame) -> str:
     lines.append("")
     lines.append("Summary: " + ", ".join(f"{v} {k}" for k, v in sorted(counts.items())) + ".")
     return "\n".join(lines) + "\n"
+
+
+# ---------------------------------------------------------------------------------------------
+# Check results per figure (the report's captions)
+# ---------------------------------------------------------------------------------------------
+
+#: the figures each published item is drawn in (by the check table's "where" column, or the caption
+#: prefix of its item)
+WHERE_FIGURES = {"Fig 2": ("fig2",), "Fig 0": ("fig0",), "Fig 5": ("fig5",), "section 3": ("fig2", "fig3"), "section 4": ("fig3",),
+                 "section 4.2": ("figBiS",), "section 5": ("fig0", "fig5", "design")}
+
+
+def figures_of_item(item: str, where: str) -> tuple[str, ...]:
+    """The figures a row of the paper-value check belongs to."""
+    if where == "caption":
+        return (item.split("_", 1)[0],)
+    return WHERE_FIGURES.get(where, ())
+
+
+def check_summaries(paper: pd.DataFrame | None, figures: pd.DataFrame | None) -> dict[str, str]:
+    """One sentence per figure for its report caption: the figure-data check (variables compared,
+    failures, the largest difference, the image hash distance) and the published values it shows
+    (how many pass, how many are known discrepancies, how many fail)."""
+    out: dict[str, list[str]] = {}
+    if figures is not None:
+        for fig, rows in figures.groupby("figure", sort=False):
+            image = rows[rows.variable == IMAGE_ROW]
+            data = rows[rows.variable != IMAGE_ROW]
+            n_fail = int((~data.status.isin(["pass", "excluded"])).sum())
+            n_ex = int((data.status == "excluded").sum())
+            text = (f"figure data vs committed reference: {len(data) - n_ex - n_fail} of {len(data) - n_ex} arrays "
+                    f"pass" + (f" ({n_ex} timing arrays excluded)" if n_ex else "")
+                    + (f", {n_fail} FAIL" if n_fail else "")
+                    + (f", largest difference {data.max_difference.max():.2g}" if data.max_difference.notna().any() else ""))
+            if len(image):
+                r = image.iloc[0]
+                text += f"; image: {r.status} (perceptual hash distance {r.max_difference:g} bits)"
+            out.setdefault(str(fig), []).append(text)
+    if paper is not None:
+        counts: dict[str, dict[str, int]] = {}
+        for item, where, status in zip(paper["item"], paper["where"], paper["status"], strict=True):
+            for fig in figures_of_item(str(item), str(where)):
+                c = counts.setdefault(fig, {})
+                c[status] = c.get(status, 0) + 1
+        for fig, c in counts.items():
+            parts = [f"{n} {s if n == 1 else PLURAL.get(s, s)}" for s, n in sorted(c.items())]
+            out.setdefault(fig, []).append("published values shown here: " + ", ".join(parts))
+    return {fig: "Check result: " + "; ".join(parts) + "." for fig, parts in out.items()}
+
+
+PLURAL = {"known discrepancy": "known discrepancies", "fail": "fail"}
+
+#: the row of the figure check that compares the rendered images
+IMAGE_ROW = "PNG (perceptual hash)"

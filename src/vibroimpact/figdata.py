@@ -42,7 +42,7 @@ def figure_data(fig, attrs: dict | None = None) -> xr.Dataset:
         title = " ".join(t for t in (ax.get_title("left"), ax.get_title(), ax.get_title("right")) if t)
         xlab, ylab = ax.get_xlabel(), ax.get_ylabel()
 
-        def put(name, values, axis_label, label, **extra):
+        def put(name, values, axis_label, label, title=title, **extra):
             arr = _float_array(values)
             dims = tuple(f"{name}_dim{k}" for k in range(arr.ndim))
             data[name] = xr.Variable(dims, arr, {"axes_title": title, "axis_label": axis_label,
@@ -118,3 +118,40 @@ def compare(new: xr.Dataset, ref: xr.Dataset, *, rtol: float, atol: float, exclu
                      "axis_label": new[name].attrs.get("axis_label", ""), "max_difference": np.nan,
                      "status": "fail: new (not in the reference)"})
     return pd.DataFrame(rows, columns=["variable", "axes", "axis_label", "max_difference", "status"])
+
+
+#: side of the perceptual hash (bits: its square)
+HASH_SIZE = 16
+
+
+def image_hash(png, hash_size: int = HASH_SIZE) -> str:
+    """Perceptual hash (DCT of the grey image at 4 ``hash_size`` pixels a side, ImageHash's ``phash``)
+    of a PNG file, as hex."""
+    import imagehash
+    from PIL import Image
+
+    with Image.open(png) as im:
+        return str(imagehash.phash(im, hash_size=hash_size))
+
+
+def hash_distance(a: str, b: str) -> int:
+    """Number of differing bits of two hashes from :func:`image_hash`."""
+    import imagehash
+
+    return int(imagehash.hex_to_hash(a) - imagehash.hex_to_hash(b))
+
+
+def compare_image(new: xr.Dataset, ref: xr.Dataset, *, max_distance: int, draws_timings: bool = False) -> dict:
+    """The image row of the regeneration check: the perceptual hashes stored with the new and the
+    reference data (``png_phash``) differ in at most ``max_distance`` bits.  A figure that draws
+    timings is ``excluded``: its markers move with the machine's speed, as its timing arrays do."""
+    from .checks import IMAGE_ROW
+
+    row = {"variable": IMAGE_ROW, "axes": "", "axis_label": "rendered PNG", "max_difference": np.nan}
+    a, b = new.attrs.get("png_phash"), ref.attrs.get("png_phash")
+    if a is None or b is None:
+        return row | {"status": "fail: no image hash in the " + ("new data" if a is None else "reference")}
+    row["max_difference"] = float(hash_distance(a, b))
+    if draws_timings:
+        return row | {"status": "excluded"}
+    return row | {"status": "pass" if row["max_difference"] <= max_distance else "fail"}

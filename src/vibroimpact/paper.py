@@ -2,7 +2,8 @@
 
 import math
 
-__all__ = ["STABLE_2TO1", "PI6_D_B", "PI6_G1", "PI6_G2", "paper_stable", "printed_unit", "agreement_tolerance"]
+__all__ = ["STABLE_2TO1", "PI6_D_B", "PI6_G1", "PI6_G2", "CURVE_ORDER", "paper_stable", "printed_unit",
+           "agreement_tolerance"]
 
 
 def printed_unit(x: float) -> float:
@@ -41,3 +42,17 @@ def paper_stable(beta):
         if abs(b - beta) < 1e-9:
             return v
     return None
+
+
+#: the 2:1 period-2 curves from top to bottom, named by their transitions (P1 bottom -> bottom, P2 bottom
+#: -> top, P3 top -> bottom), as the captions state: (figure, quantity) -> {beta: order}.  Zdot_k and U_k
+#: follow a transition (the flight into the impact), Delta t_j is its flight, phi_k is the phase before it.
+CURVE_ORDER = {
+    ("Fig 2", "Zdot_k"): {b: "P3, P1, P2" for b in (math.pi / 2, math.pi / 3, math.pi / 4, math.pi / 6)},
+    ("Fig 2", "Delta t_j"): {b: "P2, P3, P1" for b in (math.pi / 2, math.pi / 3, math.pi / 4, math.pi / 6)},
+    ("Fig 2", "phi_k"): {b: "P1, P3, P2" for b in (math.pi / 2, math.pi / 3, math.pi / 4, math.pi / 6)},
+    ("Fig 0", "Zdot_k"): {math.pi / 3: "P3, P1, P2"},
+    ("Fig 0", "U_k"): {math.pi / 3: "P3, P2, P1"},
+    ("Fig 5", "U_k"): {math.pi / 2: "P3, P2, P1", math.pi / 3: "P3, P2, P1", math.pi / 4: "P3, P2, P1",
+                       math.pi / 6: "P2, P3, P1"},
+}

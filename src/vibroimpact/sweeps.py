@@ -394,7 +394,6 @@ def bistable_intervals(sw: xr.Dataset, transitions: xr.Dataset) -> xr.Dataset:
     t_d = transitions["d"].values
     t_w = transitions["d_width"].values
     t_before = transitions["before"].values.astype(str)
-    t_after = transitions["after"].values.astype(str)
 
     def located(direction, label, side, bound):
         """The located transition of ``direction`` ending ``label`` nearest beyond ``bound``."""

@@ -29,9 +29,6 @@ rule work_precision:
     output:
         nc="results/bench/work_precision.nc",
         md="results/tables/work_precision.md",
-        pdf="results/figures/work_precision.pdf",
-        png=report("results/figures/work_precision.png", caption="../report/work_precision.rst", category="Speed and accuracy"),
-        data="results/figures/data/work_precision.nc",
     params:
         **config["work_precision"],
     conda:
@@ -49,9 +46,6 @@ rule failure_map:
     output:
         nc="results/bench/failure_map.nc",
         md="results/tables/failure_map.md",
-        pdf="results/figures/failure_map.pdf",
-        png=report("results/figures/failure_map.png", caption="../report/failure_map.rst", category="Speed and accuracy"),
-        data="results/figures/data/failure_map.nc",
     params:
         **config["failure_map"],
     conda:
@@ -72,9 +66,6 @@ rule analytics_accuracy:
         branch31=branch_path("orbit", SWEEPS["figBiS"]["beta"], "BBBT"),
     output:
         nc="results/bench/analytics_accuracy.nc",
-        pdf="results/figures/analytics_accuracy.pdf",
-        png=report("results/figures/analytics_accuracy.png", caption="../report/analytics_accuracy.rst", category="Speed and accuracy"),
-        data="results/figures/data/analytics_accuracy.nc",
     conda:
         "../envs/vibroimpact.yaml"
     log:
@@ -104,3 +95,21 @@ rule workflow_cost:
         "logs/tables/workflow_cost.log",
     script:
         "../scripts/workflow_cost.py"
+
+
+rule bench_figure:
+    """Draw a speed-and-accuracy figure from its saved dataset (redrawn without rerunning the timings)."""
+    input:
+        "results/bench/{bench}.nc",
+    output:
+        pdf="results/figures/{bench}.pdf",
+        png=report("results/figures/{bench}.png", caption="../report/bench.rst", category="Speed and accuracy"),
+        data="results/figures/data/{bench}.nc",
+    wildcard_constraints:
+        bench="work_precision|failure_map|analytics_accuracy",
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/figures/{bench}.log",
+    script:
+        "../scripts/bench_figure.py"

@@ -19,6 +19,10 @@ rule check_paper_values:
         branches_F=[energy_path("branch", SWEEPS[p]["beta"], "BT", "F") for p in config["energy"]["design"]["F"]
                     if p in {q for f in config["energy"]["figures"].values() for q in f["panels"]}],
         sweeps=[energy_path("sweep", SWEEPS[p]["beta"], p) for v in ("s", "F") for p in config["energy"]["design"][v]],
+        # the 2:1 branches whose curve order the captions of Figs 0, 2 and 5 state
+        order_orbits=[branch_path("orbit", b, "BBT") for b in BRANCH_SCENES["fig2"]["betas"]],
+        order_energy=sorted({energy_path("branch", SWEEPS[p]["beta"], "BBT", "s") for f in config["energy"]["figures"].values()
+                             for p in f["panels"] if SWEEPS[p]["vary"] == "s"}),
     output:
         csv=report("results/checks/paper_values.csv", caption="../report/paper_values.rst", category="Checks"),
         md="results/checks/paper_values.md",

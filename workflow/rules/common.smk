@@ -230,3 +230,17 @@ for _item in config["checks"]["known"]:
 FIGURES = (list(SCENES) + list(BRANCH_SCENES) + ["figBiS", "basins", "regime_map"]
            + list(config["energy"]["figures"]) + ["design", "work_precision", "failure_map", "analytics_accuracy"])
 FIGURE_REFERENCES = [f"{config['figure_checks']['reference_dir']}/{fig}.nc" for fig in FIGURES]
+
+
+# ---- the report's captions: each figure's check result, from the last `check` run -------------------
+def _check_summaries():
+    import pandas as pd
+
+    from vibroimpact.checks import check_summaries
+
+    read = lambda f: pd.read_csv(f) if os.path.exists(f) else None
+    return check_summaries(read("results/checks/paper_values.csv"), read("results/checks/figures.csv"))
+
+
+# read by workflow/report/*.rst when `snakemake --report` renders the captions; not a setting
+config["_check_results"] = _check_summaries()

@@ -37,8 +37,11 @@ rule sweep_energy:
 
 rule energy_figure:
     input:
-        lambda wc: [f for p in config["energy"]["figures"][wc.efig]["panels"] for f in energy_panel_inputs(p)],
-        lambda wc: [sweep_path(p) for p in config["energy"]["figures"][wc.efig]["panels"]],
+        energies=lambda wc: [f for p in config["energy"]["figures"][wc.efig]["panels"] for f in energy_panel_inputs(p)],
+        sweeps=lambda wc: [sweep_path(p) for p in config["energy"]["figures"][wc.efig]["panels"]],
+        # the continued branches, for the grazing points d_graz and G1 each panel marks
+        orbits=lambda wc: [branch_path("orbit", SWEEPS[p]["beta"], w, SWEEPS[p]["vary"])
+                           for p in config["energy"]["figures"][wc.efig]["panels"] for w in ("BT", "BBT") if w in WORDS],
     output:
         pdf="results/figures/{efig}.pdf",
         png=report("results/figures/{efig}.png", caption="../report/energy.rst", category="Paper figures"),
@@ -77,14 +80,17 @@ rule design:
 
 rule study_figure:
     input:
-        lambda wc: [
+        energies=lambda wc: [
             f"results/energy/beta-{wc.beta}_r-{wc.r}/study_s.nc",
             *[f"results/energy/beta-{wc.beta}_r-{wc.r}/orbit-{w}_vary-s.nc" for w in ("BT", "BBT") if w in WORDS],
-            f"results/sweeps/beta-{wc.beta}_r-{wc.r}/study_s.nc",
         ],
+        sweeps="results/sweeps/beta-{beta}_r-{r}/study_s.nc",
+        orbits=lambda wc: [f"results/branches/beta-{wc.beta}_r-{wc.r}/orbit-{w}_vary-s.nc" for w in ("BT", "BBT")
+                           if w in WORDS],
     output:
         pdf="results/studies/beta-{beta}_r-{r}/study.pdf",
         png="results/studies/beta-{beta}_r-{r}/study.png",
+        data="results/studies/beta-{beta}_r-{r}/study-figure-data.nc",
     params:
         panels=["study_s"],
         velocities=True,

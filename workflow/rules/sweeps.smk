@@ -135,6 +135,8 @@ rule fig_regime_map:
         pdf="results/figures/regime_map.pdf",
         png=report("results/figures/regime_map.png", caption="../report/regime_map.rst", category="Beyond the paper"),
         data="results/figures/data/regime_map.nc",
+    params:
+        scans=SWEEPS,  # the paper's sweeps, drawn over the maps whose plane they lie in
     conda:
         "../envs/vibroimpact.yaml"
     log:

@@ -3,7 +3,6 @@ import logging
 
 import xarray as xr
 
-from vibroimpact import plotting
 from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.tables import stable_interval
 from vibroimpact.workprecision import analytics_accuracy
@@ -16,5 +15,3 @@ logging.info("reference G1 = %.13g, G2 = %.13g (from the analytic branches)", g1
 ds = analytics_accuracy(g1=g1, g2=g2)
 ds.attrs.update(provenance(G1_from=snakemake.input.branch21, G2_from=snakemake.input.branch31))
 write_netcdf(ds, snakemake.output.nc)
-plotting.save(plotting.fig_analytics_accuracy(ds), snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
-              attrs=provenance(**dict(snakemake.params)))

@@ -3,7 +3,7 @@ import logging
 
 import xarray as xr
 
-from vibroimpact import plotting
+from vibroimpact import plots
 from vibroimpact.datasets import provenance
 from vibroimpact.tables import grazing_lines
 
@@ -16,8 +16,8 @@ d_ranges = [(lo * k_s, hi * k_s) for lo, hi in scene["s_ranges"]]
 name = snakemake.rule
 if name == "fig2":
     grazing = grazing_lines(branches, scene) if "grazing" in scene else None
-    fig = plotting.fig2(branches[:n], sims[:n], d_ranges, grazing)
+    fig = plots.fig2(branches[:n], sims[:n], d_ranges, grazing)
 else:
-    fig = plotting.fig3(branches[:n], d_ranges)
-plotting.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
-              attrs=provenance(**dict(snakemake.params)))
+    fig = plots.fig3(branches[:n], d_ranges)
+plots.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+           attrs=provenance(**dict(snakemake.params)))

@@ -5,7 +5,8 @@ from pathlib import Path
 import pandas as pd
 import xarray as xr
 
-from vibroimpact.figdata import compare
+from vibroimpact.checks import IMAGE_ROW
+from vibroimpact.figdata import compare, compare_image
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 p = snakemake.params
@@ -15,17 +16,24 @@ for fig, new, ref in zip(p.figures, snakemake.input.data, p.references, strict=T
         frames.append(pd.DataFrame([{"variable": "", "axes": "", "axis_label": "", "max_difference": float("nan"),
                                      "status": f"fail: no reference {ref}"}]).assign(figure=fig))
         continue
-    df = compare(xr.load_dataset(new, engine="netcdf4"), xr.load_dataset(ref, engine="netcdf4"),
-                 rtol=p.rtol, atol=p.atol, exclude=p.exclude_axis_labels)
-    frames.append(df.assign(figure=fig))
+    new, ref = xr.load_dataset(new, engine="netcdf4"), xr.load_dataset(ref, engine="netcdf4")
+    df = compare(new, ref, rtol=p.rtol, atol=p.atol, exclude=p.exclude_axis_labels)
+    image = compare_image(new, ref, max_distance=p.image_max_distance, draws_timings=bool((df.status == "excluded").any()))
+    frames.append(pd.concat([df, pd.DataFrame([image])], ignore_index=True).assign(figure=fig))
 df = pd.concat(frames, ignore_index=True)[["figure", "variable", "axes", "axis_label", "max_difference", "status"]]
-summary = (df.assign(failed=~df.status.isin(["pass", "excluded"]))
+image = df[df.variable == IMAGE_ROW].set_index("figure")
+arrays = df[df.variable != IMAGE_ROW]
+summary = (arrays.assign(failed=~arrays.status.isin(["pass", "excluded"]))
            .groupby("figure", sort=False)
-           .agg(variables=("variable", "size"), excluded=("status", lambda s: int((s == "excluded").sum())),
+           .agg(arrays=("variable", "size"), excluded=("status", lambda s: int((s == "excluded").sum())),
                 failed=("failed", "sum"), max_difference=("max_difference", "max"))
            .reset_index())
-summary["status"] = summary["failed"].map(lambda n: "pass" if n == 0 else "fail")
-table = (f"Figure data against the committed references (rtol {p.rtol:g}, atol {p.atol:g}; timings excluded).\n\n"
+summary["image"] = [f"{image.status.get(f, 'missing')} ({image.max_difference.get(f, float('nan')):g} bits)"
+                    for f in summary.figure]
+summary["status"] = [("pass" if n == 0 and image.status.get(f) in ("pass", "excluded") else "fail")
+                     for n, f in zip(summary.failed, summary.figure, strict=True)]
+table = (f"Figure data against the committed references (rtol {p.rtol:g}, atol {p.atol:g}; timings excluded), "
+         f"and the rendered PNG (perceptual hash distance <= {p.image_max_distance} bits; figures with timings excluded).\n\n"
          + summary.to_markdown(index=False) + "\n")
 logging.info("\n%s", table)
 failed = df[~df.status.isin(["pass", "excluded"])]

@@ -3,7 +3,7 @@ import logging
 
 import xarray as xr
 
-from vibroimpact import plotting
+from vibroimpact import plots
 from vibroimpact.datasets import provenance
 from vibroimpact.tables import design_markdown, design_table
 
@@ -14,5 +14,5 @@ df = design_table(s_sets + F_sets)
 df.to_csv(snakemake.output.csv, index=False)
 with open(snakemake.output.md, "w") as fh:
     fh.write(design_markdown(df))
-plotting.save(plotting.fig_design(s_sets, F_sets, df), snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
-              attrs=provenance(**dict(snakemake.params)))
+plots.save(plots.fig_design(s_sets, F_sets, df), snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+           attrs=provenance(**dict(snakemake.params)))

@@ -3,18 +3,19 @@ import logging
 
 import xarray as xr
 
-from vibroimpact import plotting
+from vibroimpact import plots
 from vibroimpact.datasets import provenance
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 load = lambda f: xr.load_dataset(f, engine="netcdf4")
-n_w = len(snakemake.params.words)
-files = list(snakemake.input)
+i = snakemake.input
 panels = snakemake.params.panels
-per = 1 + n_w
-energies = [load(files[i * per]) for i in range(len(panels))]
-branches = [[load(f) for f in files[i * per + 1:(i + 1) * per]] for i in range(len(panels))]
-sweeps = [load(f) for f in files[len(panels) * per:]]
-fig = plotting.fig_energy(panels, sweeps, energies, branches, velocities=snakemake.params.velocities)
-plotting.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
-              attrs=provenance(**dict(snakemake.params)))
+n_w = len(snakemake.params.words)
+per = 1 + n_w  # per panel: the sweep's energy, then the energies of the branches
+energies = [load(i.energies[k * per]) for k in range(len(panels))]
+branches = [[load(f) for f in i.energies[k * per + 1:(k + 1) * per]] for k in range(len(panels))]
+orbits = [[load(f) for f in i.orbits[k * n_w:(k + 1) * n_w]] for k in range(len(panels))]
+sweeps = [load(f) for f in i.sweeps]
+fig = plots.fig_energy(panels, sweeps, energies, branches, velocities=snakemake.params.velocities, orbit_sets=orbits)
+plots.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+           attrs=provenance(**dict(snakemake.params)))

@@ -1,7 +1,6 @@
 """Where each method fails: near grazing, chattering into sticking, a long chaotic run."""
 import logging
 
-from vibroimpact import plotting
 from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.tables import failure_markdown
 from vibroimpact.workprecision import failure_map
@@ -13,5 +12,3 @@ ds.attrs.update(provenance(**p))
 write_netcdf(ds, snakemake.output.nc)
 with open(snakemake.output.md, "w") as fh:
     fh.write(failure_markdown(ds))
-plotting.save(plotting.fig_failure_map(ds), snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
-              attrs=provenance(**dict(snakemake.params)))

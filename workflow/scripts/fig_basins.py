@@ -3,10 +3,10 @@ import logging
 
 import xarray as xr
 
-from vibroimpact import plotting
+from vibroimpact import plots
 from vibroimpact.datasets import provenance
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
-fig = plotting.fig_basins(xr.load_dataset(snakemake.input[0], engine="netcdf4"))
-plotting.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
-              attrs=provenance(**dict(snakemake.params)))
+fig = plots.fig_basins(xr.load_dataset(snakemake.input[0], engine="netcdf4"))
+plots.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+           attrs=provenance(**dict(snakemake.params)))

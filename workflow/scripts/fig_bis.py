@@ -3,12 +3,12 @@ import logging
 
 import xarray as xr
 
-from vibroimpact import plotting
+from vibroimpact import plots
 from vibroimpact.datasets import provenance
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 i = snakemake.input
 load = lambda f: xr.load_dataset(f, engine="netcdf4")
-fig = plotting.fig_bis(load(i.sweep), load(i.transitions), load(i.portraits), [load(i.branch21), load(i.branch31)])
-plotting.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
-              attrs=provenance(**dict(snakemake.params)))
+fig = plots.fig_bis(load(i.sweep), load(i.transitions), load(i.portraits), [load(i.branch21), load(i.branch31)])
+plots.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+           attrs=provenance(**dict(snakemake.params)))

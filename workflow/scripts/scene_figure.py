@@ -3,11 +3,11 @@ import logging
 
 import xarray as xr
 
-from vibroimpact import plotting
+from vibroimpact import plots
 from vibroimpact.datasets import provenance
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 datasets = [xr.load_dataset(f, engine="netcdf4") for f in snakemake.input]
-fig = getattr(plotting, snakemake.wildcards.scene)(datasets)
-plotting.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
-              attrs=provenance(**dict(snakemake.params)))
+fig = getattr(plots, snakemake.wildcards.scene)(datasets)
+plots.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+           attrs=provenance(**dict(snakemake.params)))

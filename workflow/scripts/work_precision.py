@@ -1,7 +1,6 @@
 """Work-precision of every method on the 1:1, 2:1, 3:1 and chaotic scenes."""
 import logging
 
-from vibroimpact import plotting
 from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.tables import work_precision_markdown
 from vibroimpact.workprecision import work_precision
@@ -14,5 +13,3 @@ ds.attrs.update(provenance(**p))
 write_netcdf(ds, snakemake.output.nc)
 with open(snakemake.output.md, "w") as fh:
     fh.write(work_precision_markdown(ds))
-plotting.save(plotting.fig_work_precision(ds), snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
-              attrs=provenance(**dict(snakemake.params)))

@@ -1,0 +1,14 @@
+"""Draw a speed-and-accuracy figure (work-precision, failure map, accuracy of the analytics) from its dataset."""
+import json
+import logging
+
+import xarray as xr
+
+from vibroimpact import plots
+from vibroimpact.datasets import provenance
+
+logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+ds = xr.load_dataset(snakemake.input[0], engine="netcdf4")
+fig = getattr(plots, f"fig_{snakemake.wildcards.bench}")(ds)
+plots.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+           attrs=provenance(**json.loads(ds.attrs.get("config", "{}"))))

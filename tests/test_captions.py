@@ -90,3 +90,28 @@ def test_near_grazing_captions_have_a_loop_close_to_the_wall(name, word, near):
                    for j in range(n))
     assert abs(simulated - analytic) <= 1e-9  # the attractor's identification tolerance
     assert (simulated < 0.01 * d) == near
+
+
+@pytest.mark.parametrize("name", ["fig4_d", "figFN2_b"])
+def test_grazing_captions_are_also_drawn_where_the_orbit_does_graze(name):
+    """A caption showing "grazing behaviour" at a d where the loop still clears the wall gets the same
+    orbit at its located grazing point: there the dense trajectory of an exact run (not the orbit
+    equations that located it) touches the wall, and for Fig 4 (d) the point is G1 of the 2:1 branch
+    continued from a different orbit (Fig BiS (e), d = 0.14)."""
+    beta, d, v, phi, *_, force = (*CAPTIONS[name], 5.0)[:8]
+    p = vi.Params(d=d, gbar=gbar_of(beta, force), r=0.5)
+    ds = vi.portraits.orbit_dataset(p, phi, v, t_show=2.0, samples_per_unit=400)
+    assert ds.attrs["orbit_clearance"] > 1e-3 * d  # the caption's own d does not touch
+    ds = vi.portraits.add_located_grazing(ds, p, samples_per_unit=4000)
+    assert ds.attrs["grazing_status"] == "located" and abs(ds.attrs["grazing_clearance"]) < 1e-12
+    dg = ds.attrs["grazing_d"]
+    # the loop's extremum: where Zdot passes through zero continuously (at an impact it jumps)
+    z, zd = ds.grazing_Z.values, ds.grazing_Zdot.values
+    turn = np.flatnonzero((zd[:-1] > 0) & (zd[1:] <= 0) & (np.abs(zd[:-1]) + np.abs(zd[1:]) < 1e-2))
+    gap = dg / 2 - z[turn].max()  # the loop reaches the bottom wall Z = d/2
+    assert -1e-12 <= gap < 1e-6
+    if name == "fig4_d":
+        pb = vi.Params(d=0.14, gbar=gbar_of(beta), r=0.5)
+        br = vi.continue_orbit(vi.find_orbit(pb, "BBT", 5.855, 0.4185), d_range=(0.13, 0.15), step=1e-3)
+        g = br.critical_d.values[(br.critical_kind.values == "grazing") & br.critical_admissible.values]
+        assert np.min(np.abs(g - dg)) < 1e-10

@@ -46,6 +46,7 @@ def caption_params(name):
         phi=c["phi"],
         v0=c["v0"],
         motion=c["motion"],
+        grazing=c.get("grazing", False),
         tol=config["attractor"]["tol"],
         max_events=config["attractor"]["max_events"],
         samples_per_unit=RESOLUTION["samples_per_unit"],

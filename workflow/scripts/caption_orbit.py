@@ -9,6 +9,9 @@ p = snakemake.params.p
 params = vi.Params(d=p["d"], gbar=p["gbar"], r=p["r"])
 ds = vi.portraits.orbit_dataset(params, p["phi"], p["v0"], t_show=p["t_show"], samples_per_unit=p["samples_per_unit"],
                                  name=p["name"], max_events=p["max_events"], tol=p["tol"])
+if p["grazing"]:  # the caption shows "grazing behaviour": the same orbit where it does graze
+    ds = vi.portraits.add_located_grazing(ds, params, samples_per_unit=p["samples_per_unit"])
+    logging.info("%s: located grazing %s", p["name"], {k: v for k, v in ds.attrs.items() if k.startswith("grazing")})
 ds.attrs.update(beta=p["beta"], F=p["F"], omega=p["omega"], motion_stated=p["motion"], **provenance(**p))
 write_netcdf(ds, snakemake.output[0])
 logging.info("%s: %s (stated %s)", p["name"], ds.attrs["motion"], p["motion"])

@@ -9,6 +9,8 @@ from ._common import BALL, BOTTOM, TOP, pi_label, use_style
 
 #: an orbit whose interior loop comes within this fraction of d of a wall is titled "near grazing"
 NEAR_GRAZING = 0.01
+#: the orbit drawn at its located grazing point
+GRAZING_COLOR = "tab:red"
 
 
 def _title(ds, panel):
@@ -18,6 +20,10 @@ def _title(ds, panel):
     if clearance is not None and np.isfinite(clearance):
         near = " near grazing" if clearance < NEAR_GRAZING * a["d"] else ""
         head += f",{near} clearance {clearance:.1e}"
+    if a.get("grazing_status") == "located":
+        head += f"\ngrazing at d={a['grazing_d']:.5f} (located; |clearance| {abs(a['grazing_clearance']):.0e})"
+    elif "grazing_status" in a:
+        head += f"\ngrazing not located: {a['grazing_status']}"
     line2 = r"$\dot Z(t_0)$" f"={a['v0']:.4g}, " r"$\varphi$" f"={a['phi']:.4g}"
     if "beta" in a:
         line2 = (r"$\beta$=" + pi_label(float(a["beta"])) + (rf", $\|\hat F\|$={a['F']:g} N" if "F" in a else "")
@@ -51,6 +57,10 @@ def phase_portrait(ax, ds):
     ax.plot(ds["Z"], ds["Zdot"], color="k", lw=0.7)
     for w, col, name in ((1, BOTTOM, "bottom wall"), (-1, TOP, "top wall")):
         ax.axvline(w * d / 2, color=col, ls="--", lw=0.8, label=name)
+    if "grazing_Z" in ds:  # the caption shows grazing behaviour: the same orbit where it does graze
+        (line,) = ax.plot(ds["grazing_Z"], ds["grazing_Zdot"], color=GRAZING_COLOR, lw=0.7,
+                          label=f"same orbit at its grazing d={ds.attrs['grazing_d']:.5f}")
+        ax.add_artist(ax.legend(handles=[line], loc="lower center", fontsize=5, framealpha=0.85))
     if "cycle_v_minus" in ds:
         w = ds["cycle_wall"].values
         ax.plot(w * d / 2, ds["cycle_v_minus"], "o", mfc="none", color="tab:orange", ms=5, label="attractor impacts")

@@ -47,6 +47,7 @@ def caption_params(name):
         v0=c["v0"],
         motion=c["motion"],
         grazing=c.get("grazing", False),
+        beta_assumed=c.get("beta_assumed", False),
         tol=config["attractor"]["tol"],
         max_events=config["attractor"]["max_events"],
         samples_per_unit=RESOLUTION["samples_per_unit"],

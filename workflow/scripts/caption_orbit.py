@@ -12,6 +12,7 @@ ds = vi.portraits.orbit_dataset(params, p["phi"], p["v0"], t_show=p["t_show"], s
 if p["grazing"]:  # the caption shows "grazing behaviour": the same orbit where it does graze
     ds = vi.portraits.add_located_grazing(ds, params, samples_per_unit=p["samples_per_unit"])
     logging.info("%s: located grazing %s", p["name"], {k: v for k, v in ds.attrs.items() if k.startswith("grazing")})
-ds.attrs.update(beta=p["beta"], F=p["F"], omega=p["omega"], motion_stated=p["motion"], **provenance(**p))
+ds.attrs.update(beta=p["beta"], beta_assumed=int(p["beta_assumed"]), F=p["F"], omega=p["omega"], motion_stated=p["motion"],
+                **provenance(**p))
 write_netcdf(ds, snakemake.output[0])
 logging.info("%s: %s (stated %s)", p["name"], ds.attrs["motion"], p["motion"])

@@ -78,6 +78,10 @@ def fig0b(datasets):
         ax.set_title(_title(ds, panel))
     # one legend for all panels, below them, clear of the data
     fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="outside lower center", ncol=4)
+    betas = {round(float(ds.attrs["beta"]), 9) for ds in datasets if ds.attrs.get("beta_assumed")}
+    if len(betas) == 1:  # the caption gives no incline (config `beta_assumed`): say which one is assumed
+        fig.suptitle(r"$\beta$ = " + pi_label(betas.pop()) + " assumed: the paper's caption gives none; "
+                     "it reproduces all three orbits", fontsize=8)
     return fig
 
 

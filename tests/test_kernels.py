@@ -58,7 +58,7 @@ def test_period_test_separates_motions_that_share_their_phases():
 
 @pytest.mark.parametrize("gbar", [0.2, 0.9])
 def test_chattering_sum_applies_exactly_where_the_acceleration_stays_within_the_drift_bound(gbar):
-    """At phase 0 the acceleration into the bottom, cos(pi t) + gbar, falls by 1 - cos(pi tau) over the
+    """At phase 0 (cosine 1, sine 0) the acceleration into the bottom, cos(pi t) + gbar, falls by 1 - cos(pi tau) over the
     sequence: the sum is used if and only if that is at most CHATTER_DRIFT of it (closed form at a
     maximum of the forcing, where the rule's bound is attained to second order)."""
     r, a = 0.5, 1.0 + gbar
@@ -66,7 +66,7 @@ def test_chattering_sum_applies_exactly_where_the_acceleration_stays_within_the_
     for u in np.geomspace(1e-7, 1e-4, 60):
         tau = 2 * u / ((1 - r) * a)
         change = (1 - math.cos(math.pi * tau)) / a
-        got = K._accumulation_time(0.0, u, 1, gbar, r, 1e-3)
+        got = K._accumulation_time(1.0, 0.0, u, 1, gbar, r, 1e-3)
         if change < K.CHATTER_DRIFT * (1 - 1e-6):
             assert got == pytest.approx(tau, rel=1e-15)
             applied += 1
@@ -75,8 +75,8 @@ def test_chattering_sum_applies_exactly_where_the_acceleration_stays_within_the_
             refused += 1
     assert applied > 5 and refused > 5
     # away from the wall (acceleration pulling off it) and above v_chatter: never summed
-    assert K._accumulation_time(math.pi, 1e-8, 1, 0.2, r, 1e-3) < 0
-    assert K._accumulation_time(0.0, 2e-3, 1, gbar, r, 1e-3) < 0
+    assert K._accumulation_time(-1.0, 0.0, 1e-8, 1, 0.2, r, 1e-3) < 0
+    assert K._accumulation_time(1.0, 0.0, 2e-3, 1, gbar, r, 1e-3) < 0
 
 
 def test_a_flight_that_never_reaches_a_wall_ends_the_run_with_no_impact():

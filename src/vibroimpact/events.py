@@ -17,7 +17,7 @@ import math
 
 from numba import njit
 
-from .flight import PI, TWO_PI, acceleration, displacement, gap_dd, velocity
+from .flight import PI, TWO_PI, gap_dd, half_angle_near, state3, state_from_half, velocity
 
 #: Below this |Zdot-| an impact time is polished in double-double arithmetic.
 POLISH_SPEED = 1e-3
@@ -38,17 +38,25 @@ def next_accel_zero(tau, theta, alpha):
     return (base + TWO_PI * 2 - alpha - theta) / PI
 
 
-@njit(cache=True)
-def _eval(which, tau, c, s, z0w, u, gbar):
-    """which=0: (Zdot, Z''); which=1: (Z - wall, Zdot)."""
+@njit(cache=True, inline="always")
+def _eval(which, tau, sh, ch, c, s, z0w, u, gbar):
+    """From the half-angle sine and cosine at ``tau``: which=0: (Zdot, Z'', Z'''); which=1:
+    (Z - wall, Zdot, Z'')."""
+    disp, vel, acc, jerk = state_from_half(tau, sh, ch, c, s, u, gbar)
     if which == 0:
-        return velocity(tau, c, s, u, gbar), acceleration(tau, c, s, gbar)
-    return z0w + displacement(tau, c, s, u, gbar), velocity(tau, c, s, u, gbar)
+        return vel, acc, jerk
+    return z0w + disp, vel, acc
 
 
 @njit(cache=True)
 def _rtsafe(which, lo, hi, flo, fhi, c, s, z0w, u, gbar):
-    """Root of a monotone function on [lo, hi] with f(lo), f(hi) of opposite sign (or zero)."""
+    """Root of a monotone function on [lo, hi] with f(lo), f(hi) of opposite sign (or zero).
+
+    Halley's method (third order: the second derivative comes with the same evaluation) from the
+    bracket's midpoint, safeguarded as rtsafe is: bisection where even Newton's step would not halve
+    the bracket (a flat f) and where Halley's step leaves it.  After the first point, the sine and
+    cosine at each new point come from the previous point's by angle addition while the steps are
+    small (:func:`~vibroimpact.flight.half_angle_near`)."""
     if flo == 0.0:
         return lo
     if fhi == 0.0:
@@ -61,19 +69,27 @@ def _rtsafe(which, lo, hi, flo, fhi, c, s, z0w, u, gbar):
     x = 0.5 * (lo + hi)
     dxold = abs(hi - lo)
     dx = dxold
-    f, df = _eval(which, x, c, s, z0w, u, gbar)
+    half = 0.5 * PI * x
+    sh = math.sin(half)
+    ch = math.cos(half)
+    f, df, d2f = _eval(which, x, sh, ch, c, s, z0w, u, gbar)
     for _ in range(200):
-        if ((x - xh) * df - f) * ((x - xl) * df - f) > 0.0 or abs(2.0 * f) > abs(dxold * df):
+        den = 2.0 * df * df - f * d2f
+        step = 2.0 * f * df / den if den != 0.0 else 0.0
+        xn = x - step
+        x_prev = x
+        if den == 0.0 or abs(2.0 * f) > abs(dxold * df) or (xn - xh) * (xn - xl) > 0.0:
             dxold = dx
             dx = 0.5 * (xh - xl)
             x = xl + dx
         else:
             dxold = dx
-            dx = f / df
-            x -= dx
+            dx = step
+            x = xn
         if abs(dx) <= 2.2e-16 * max(abs(x), 1e-300) or abs(xh - xl) <= 4.4e-16 * max(abs(x), 1e-300):
             return x
-        f, df = _eval(which, x, c, s, z0w, u, gbar)
+        sh, ch = half_angle_near(x, x_prev, sh, ch)
+        f, df, d2f = _eval(which, x, sh, ch, c, s, z0w, u, gbar)
         if f == 0.0:
             return x
         if f < 0.0:
@@ -93,13 +109,19 @@ def _gap_sign_dd(tau, theta, z0w, u, gbar, g):
 
 @njit(cache=True)
 def _polish(tau, lo, hi, theta, c, s, z0w, u, gbar):
-    """Newton steps on the double-double gap, kept inside [lo, hi]."""
-    for _ in range(3):
-        v = velocity(tau, c, s, u, gbar)
-        if v == 0.0:
-            break
+    """Steps on the double-double gap, kept inside [lo, hi]: each solves the local quadratic
+    ``g + v h + a h^2 / 2 = 0`` for the root nearest to ``tau``, which converges fast even where the
+    impact is slow (a Newton step ``g / v`` only halves the error there once ``|h| > |v / a|``)."""
+    for _ in range(6):
+        _, v, a, _ = state3(tau, c, s, u, gbar)
         g = gap_dd(tau, theta, z0w, u, gbar)
-        step = g / v
+        disc = v * v - 2.0 * a * g
+        if disc > 0.0 and v != 0.0:
+            step = 2.0 * g / (v + math.copysign(math.sqrt(disc), v))
+        elif v != 0.0:
+            step = g / v
+        else:
+            break
         new = tau - step
         if new < lo:
             new = lo
@@ -133,19 +155,30 @@ def next_impact(theta, z0, u, d, gbar, tau_max):
     wall : int
         +1 bottom (``Z = d/2``), -1 top (``Z = -d/2``), 0 none.
     """
-    half = 0.5 * d
     theta = theta % TWO_PI
-    c = math.cos(theta)
-    s = math.sin(theta)
+    alpha = math.acos(-gbar) if gbar < 1.0 else 0.0
+    tau, wall, _ = flight_impact(theta, math.cos(theta), math.sin(theta), alpha, z0, u, d, gbar, tau_max)
+    return tau, wall
+
+
+@njit(cache=True)
+def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
+    """:func:`next_impact` for the event loop: the start phase ``theta`` in [0, 2 pi) with its cosine
+    ``c`` and sine ``s``, and ``alpha = arccos(-gbar)`` (any value when ``gbar >= 1``), computed once
+    by the caller; returns ``(tau, wall, Zdot-)`` (``(inf, 0, nan)`` if no impact).
+
+    Every point is evaluated once, for its displacement, velocity and acceleration together
+    (:func:`~vibroimpact.flight.state3`)."""
+    half = 0.5 * d
     has_zeros = gbar < 1.0
-    alpha = math.acos(-gbar) if has_zeros else 0.0
     z0b = z0 - half  # gap to the bottom wall (exact 0 when starting there)
     z0t = z0 + half  # gap to the top wall
     ta = 0.0
     va = u
+    da = 0.0
     for _ in range(100000):
         if ta >= tau_max:
-            return math.inf, 0
+            return math.inf, 0, math.nan
         if has_zeros:
             tb = next_accel_zero(ta, theta, alpha)
         else:
@@ -154,18 +187,24 @@ def next_impact(theta, z0, u, d, gbar, tau_max):
         if tb >= tau_max:
             tb = tau_max
             last = True
-        vb = velocity(tb, c, s, u, gbar)
+        db, vb, _, _ = state3(tb, c, s, u, gbar)
         # split at the root of Zdot (Zdot is monotone on [ta, tb])
         n_sub = 1
         te = tb
+        de = db
+        ve = vb
         if (va < 0.0 and vb > 0.0) or (va > 0.0 and vb < 0.0):
             te = _rtsafe(0, ta, tb, va, vb, c, s, 0.0, u, gbar)
+            de, ve, _, _ = state3(te, c, s, u, gbar)
             n_sub = 2
         p = ta
         vp = va
+        dp = da
         for k in range(n_sub):
-            q = te if k == 0 else tb
-            vq = velocity(q, c, s, u, gbar) if k == 0 else vb
+            if k == 0:
+                q, vq, dq = te, ve, de
+            else:
+                q, vq, dq = tb, vb, db
             # direction of Z on the monotone piece [p, q]
             if k == 0 and n_sub == 2:
                 up = va > 0.0
@@ -173,36 +212,28 @@ def next_impact(theta, z0, u, d, gbar, tau_max):
                 up = vb > 0.0
             else:
                 up = (vp + vq) > 0.0
-            if up:
-                gq = z0b + displacement(q, c, s, u, gbar)
-                if gq >= -DD_MARGIN:
-                    if k == 0 and n_sub == 2 or vq == 0.0:
-                        gq = _gap_sign_dd(q, theta, z0b, u, gbar, gq)
-                    if gq >= 0.0:
-                        gp = z0b + displacement(p, c, s, u, gbar) if p > 0.0 else z0b
-                        if gp > 0.0:
-                            gp = 0.0
-                        t = _rtsafe(1, p, q, gp, gq, c, s, z0b, u, gbar)
-                        if abs(velocity(t, c, s, u, gbar)) < POLISH_SPEED:
-                            t = _polish(t, p, q, theta, c, s, z0b, u, gbar)
-                        return t, 1
-            else:
-                gq = z0t + displacement(q, c, s, u, gbar)
-                if gq <= DD_MARGIN:
-                    if k == 0 and n_sub == 2 or vq == 0.0:
-                        gq = _gap_sign_dd(q, theta, z0t, u, gbar, gq)
-                    if gq <= 0.0:
-                        gp = z0t + displacement(p, c, s, u, gbar) if p > 0.0 else z0t
-                        if gp < 0.0:
-                            gp = 0.0
-                        t = _rtsafe(1, p, q, gp, gq, c, s, z0t, u, gbar)
-                        if abs(velocity(t, c, s, u, gbar)) < POLISH_SPEED:
-                            t = _polish(t, p, q, theta, c, s, z0t, u, gbar)
-                        return t, -1
+            z0w = z0b if up else z0t
+            sgn = 1.0 if up else -1.0
+            gq = z0w + dq
+            if sgn * gq >= -DD_MARGIN:
+                if k == 0 and n_sub == 2 or vq == 0.0:
+                    gq = _gap_sign_dd(q, theta, z0w, u, gbar, gq)
+                if sgn * gq >= 0.0:
+                    gp = z0w + dp if p > 0.0 else z0w
+                    if sgn * gp > 0.0:
+                        gp = 0.0
+                    t = _rtsafe(1, p, q, gp, gq, c, s, z0w, u, gbar)
+                    v = velocity(t, c, s, u, gbar)
+                    if abs(v) < POLISH_SPEED:
+                        t = _polish(t, p, q, theta, c, s, z0w, u, gbar)
+                        v = velocity(t, c, s, u, gbar)
+                    return t, 1 if up else -1, v
             p = q
             vp = vq
+            dp = dq
         if last:
-            return math.inf, 0
+            return math.inf, 0, math.nan
         ta = tb
         va = vb
-    return math.inf, 0
+        da = db
+    return math.inf, 0, math.nan

@@ -62,6 +62,54 @@ def acceleration(tau, c, s, gbar):
     return c * math.cos(x) - s * math.sin(x) + gbar
 
 
+@njit(cache=True, inline="always")
+def state_from_half(tau, sh, ch, c, s, u, gbar):
+    """Displacement ``Z(tau) - Z(0)``, velocity, acceleration and jerk of a flight from the sine ``sh``
+    and cosine ``ch`` of half the forcing angle travelled, ``x / 2 = pi tau / 2``
+    (``sin x = 2 sh ch``, ``1 - cos x = 2 sh^2``)."""
+    x = PI * tau
+    sx = 2.0 * sh * ch
+    omc = 2.0 * sh * sh
+    if abs(x) < 0.25:
+        x2 = x * x
+        smx = -x * x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0 * (1.0 - x2 / 110.0))))
+    else:
+        smx = sx - x
+    cx = 1.0 - omc
+    disp = u * tau + 0.5 * gbar * tau * tau + (c * omc + s * smx) * INV_PI2
+    vel = u + gbar * tau + (c * sx - s * omc) * INV_PI
+    acc = c * cx - s * sx + gbar
+    jerk = -PI * (s * cx + c * sx)
+    return disp, vel, acc, jerk
+
+
+@njit(cache=True, inline="always")
+def state3(tau, c, s, u, gbar):
+    """Displacement, velocity, acceleration and jerk at ``tau`` (:func:`state_from_half`) for one
+    sine and one cosine, where separate formulas would take four to six trigonometric calls."""
+    half = 0.5 * PI * tau
+    return state_from_half(tau, math.sin(half), math.cos(half), c, s, u, gbar)
+
+
+#: below this half-angle step, :func:`half_angle_near` uses a Taylor polynomial instead of sin/cos
+NEAR_STEP = 0.05
+
+
+@njit(cache=True, inline="always")
+def half_angle_near(tau, tau_b, sh_b, ch_b):
+    """``sin`` and ``cos`` of ``pi tau / 2`` from their values ``sh_b``, ``ch_b`` at ``tau_b`` by angle
+    addition, with the small step's sine and cosine from their Taylor series (truncation below 1e-20
+    for a step under ``NEAR_STEP``); sin and cos themselves for a larger step."""
+    dl = 0.5 * PI * (tau - tau_b)
+    if abs(dl) >= NEAR_STEP:
+        half = 0.5 * PI * tau
+        return math.sin(half), math.cos(half)
+    d2 = dl * dl
+    sd = dl * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))))
+    cd = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0 * (1.0 - d2 / 90.0))))
+    return sh_b * cd + ch_b * sd, ch_b * cd - sh_b * sd
+
+
 # --------------------------------------------------------------------------------------------
 # Double-double arithmetic (Dekker / Knuth error-free transformations), for the gap only.
 # --------------------------------------------------------------------------------------------

@@ -24,8 +24,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .events import next_impact
-from .flight import PI, TWO_PI, velocity
+from .events import flight_impact
+from .flight import PI, TWO_PI
 
 # event kinds
 IMPACT = 0
@@ -120,9 +120,10 @@ def _no_shorter_period(i, p, vm, phase, tol):
 
 
 @njit(cache=True)
-def _accumulation_time(theta, u, w, gbar, r, v_chatter):
+def _accumulation_time(c, s, u, w, gbar, r, v_chatter):
     """Time to the accumulation point of a chattering sequence after an impact on wall ``w`` with
-    rebound velocity ``u``, or -1 when the rule does not apply (see the module docstring).
+    rebound velocity ``u`` at the phase with cosine ``c`` and sine ``s``, or -1 when the rule does
+    not apply (see the module docstring).
 
     The sum assumes a constant acceleration ``a``; it is used only where ``a`` changes by at most
     ``CHATTER_DRIFT * a`` before the accumulation point (bounded by ``|a'| tau + |a''| tau^2 / 2``
@@ -130,11 +131,11 @@ def _accumulation_time(theta, u, w, gbar, r, v_chatter):
     accumulation point, which therefore comes before the release, and the relative error of the sum
     is of order ``CHATTER_DRIFT``.  Otherwise the next bounce is computed exactly.
     """
-    a_in = w * (math.cos(theta) + gbar)
+    a_in = w * (c + gbar)
     if a_in <= 0.0 or abs(u) >= v_chatter:
         return -1.0
     tau = 2.0 * abs(u) / ((1.0 - r) * a_in)
-    drift = PI * abs(math.sin(theta)) * tau + 0.5 * PI * PI * tau * tau
+    drift = PI * abs(s) * tau + 0.5 * PI * PI * tau * tau
     if drift > CHATTER_DRIFT * a_in:
         return -1.0
     return tau
@@ -179,9 +180,16 @@ def run(d, gbar, r, t_start, theta_start, z_start, v_start, kind_start, wall_sta
     chatter_wall = 0  # wall of an impact just recorded: the chattering rule is checked there
     if kind_start == RESUME_IMPACT:
         chatter_wall = wall_start
+    c = math.cos(theta)  # cosine and sine of the current phase, recomputed only when it changes
+    s = math.sin(theta)
+    cs_theta = theta
     while True:
+        if cs_theta != theta:
+            c = math.cos(theta)
+            s = math.sin(theta)
+            cs_theta = theta
         if chatter_wall != 0:
-            tau_inf = _accumulation_time(theta, u, chatter_wall, gbar, r, v_chatter)
+            tau_inf = _accumulation_time(c, s, u, chatter_wall, gbar, r, v_chatter)
             if tau_inf >= 0.0:
                 # chattering: jump to the accumulation point and stick
                 if t + tau_inf > t_end:
@@ -248,12 +256,9 @@ def run(d, gbar, r, t_start, theta_start, z_start, v_start, kind_start, wall_sta
             continue
         # flight
         tau_max = t_end - t if t_end < math.inf else TAU_HORIZON
-        tau, w = next_impact(theta, z, u, d, gbar, tau_max)
+        tau, w, vminus = flight_impact(theta, c, s, alpha, z, u, d, gbar, tau_max)
         if w == 0:
             return i, T_END if t_end < math.inf else NO_IMPACT, lag
-        c = math.cos(theta)
-        s = math.sin(theta)
-        vminus = velocity(tau, c, s, u, gbar)
         t += tau
         theta = (theta + PI * tau) % TWO_PI
         z = w * half
@@ -304,7 +309,10 @@ def run_window(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, 
     bz = np.zeros(cap)
     counts = np.zeros(pmax + 1, dtype=np.int64)
     keep = 3 * pmax + 1
-    n, status, lag = run(d, gbar, r, 0.0, theta0, 0.5 * d, v0, IMPACT, 1, 0, t_end, v_chatter, True, tol,
+    # a run-time flag, not the literal True: `run` is then the very specialisation `simulate` calls,
+    # compiled once, so the two give the same events to the last bit
+    detect = tol == tol
+    n, status, lag = run(d, gbar, r, 0.0, theta0, 0.5 * d, v0, IMPACT, 1, 0, t_end, v_chatter, detect, tol,
                          counts, bt, bw, bvm, bvp, bph, bk, bz)
     total = n
     while status == FULL and total < max_events:
@@ -321,7 +329,7 @@ def run_window(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, 
         last = keep - 1
         room = min(cap, keep + max_events - total)
         n, status, lag = run(d, gbar, r, bt[last], bph[last], bz[last], bvp[last], _resume_code(bk[last]),
-                             bw[last], keep, t_end, v_chatter, True, tol, counts,
+                             bw[last], keep, t_end, v_chatter, detect, tol, counts,
                              bt[:room], bw[:room], bvm[:room], bvp[:room], bph[:room], bk[:room], bz[:room])
         total += n - keep
     m = min(win_t.shape[0], n)

@@ -59,3 +59,42 @@ def test_workflow_cost_reads_benchmark_files(tmp_path):
     jobs, per_fig = workflow_cost(tmp_path)
     assert float(jobs.seconds.sum()) == 1.5
     assert float(per_fig.set_index("figure").loc["regime_map", "seconds"]) == 1.5
+
+
+def _wp(err, cost, family, setting):
+    import xarray as xr
+
+    err, cost = np.asarray(err, float), np.asarray(cost, float)
+    return xr.Dataset({"err_t": (("solver", "scene"), err), "us_per_impact": (("solver", "scene"), cost),
+                       "family": ("solver", family), "setting": ("solver", setting)},
+                      coords={"solver": [f"m{i}" for i in range(len(family))], "scene": ["a", "b"]})
+
+
+def test_matched_accuracy_takes_the_cheapest_setting_that_reaches_the_target():
+    """Per family and scene the cheapest setting with error <= 1e-12; none: "cannot reach" (a finer
+    setting that misses the target, or one on the wrong walls, never counts); ratios to exact."""
+    from vibroimpact.workprecision import matched_accuracy
+
+    wp = _wp(err=[[1e-15, 1e-15], [1e-9, 1e-9], [1e-13, np.inf], [5e-13, 2e-12], [1e-6, 1e-6]],
+             cost=[[1.0, 2.0], [5.0, 5.0], [40.0, 40.0], [20.0, 10.0], [3.0, 3.0]],
+             family=["exact", "heyoka", "heyoka", "heyoka", "rk4"], setting=[np.nan, 1e-9, 1e-16, 1e-12, 1e-2])
+    ma = matched_accuracy(wp, 1e-12)
+    h = ma.sel(family="heyoka")
+    assert h.setting.sel(scene="a") == 1e-12 and h.us_per_impact.sel(scene="a") == 20.0  # cheaper of two
+    assert not bool(h.reached.sel(scene="b"))  # 2e-12 misses, inf is wrong walls
+    assert float(h.ratio_to_exact.sel(scene="a")) == 20.0
+    assert not bool(ma.sel(family="rk4").reached.any())
+    assert bool(ma.sel(family="exact").reached.all())
+
+
+def test_absent_peers_are_recorded_not_dropped_silently(monkeypatch):
+    from vibroimpact import peer_heyoka, peer_siconos
+    from vibroimpact.workprecision import method_ladder, peer_status
+
+    monkeypatch.setattr(peer_heyoka, "available", lambda: False)
+    monkeypatch.setattr(peer_heyoka, "heyoka_version", lambda: None)
+    monkeypatch.setattr(peer_siconos, "available", lambda: False)
+    status = peer_status()
+    assert status["heyoka"].startswith("not installed") and "not installed" in status["siconos"]
+    ladder = method_ladder(["DOP853"], [1e-6], [1e-2], heyoka_tols=[1e-9], siconos_tols=[1e-9], siconos_steps=[1e-3])
+    assert {f for f, _, _ in ladder} == {"exact", "python", "ivp-DOP853", "rk4"}

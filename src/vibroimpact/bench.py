@@ -135,3 +135,111 @@ def sweep_benchmark(n_points: int = 1000, max_periods: float = 200) -> xr.Datase
                                 dict(units="1", long_name="points with no period within max_periods")),
         }
     )
+
+
+#: the two scenes of the kernel's speed target: (beta, d, phi, v0)
+KERNEL_SCENES = {"2:1": (math.pi / 6, 0.16, 1.015, 0.1924), "chaotic": (math.pi / 3, 0.235, 0.4, 0.6)}
+
+
+def _count_worker(args: str) -> None:
+    """Run in a fresh interpreter with numba's JIT disabled: count, per impact, the sine/cosine calls
+    and the point evaluations of the event finder over a stretch of each scene's flights."""
+    import json
+    import types
+
+    from . import events, flight
+
+    a = json.loads(args)
+    counts = {"trig": 0, "points": 0, "roots": 0}
+
+    def counted(name, key):
+        f = getattr(events, name)
+
+        def g(*x):
+            counts[key] += 1
+            return f(*x)
+
+        setattr(events, name, g)
+
+    for name, key in (("state3", "points"), ("state_from_half", "points"), ("state_from_sc", "points"), ("_rtsafe", "roots")):
+        counted(name, key)
+    fm = types.SimpleNamespace(**{k: getattr(math, k) for k in dir(math) if not k.startswith("_")})
+
+    def trig(f):
+        def g(x):
+            counts["trig"] += 1
+            return f(x)
+        return g
+
+    fm.sin, fm.cos = trig(math.sin), trig(math.cos)
+    flight.math = events.math = fm
+    out = {}
+    for name, (beta, d, phi, v0) in KERNEL_SCENES.items():
+        p = Params(d=d, gbar=0.1245 * 9.8 * math.sin(beta) / 5.0, r=0.5)
+        ds = simulate(p, phi, v0, n_impacts=a["n"] + 50)
+        th, z0, u = (ds[k].values[50:-1] for k in ("phase", "z", "v_plus"))
+        for k in counts:
+            counts[k] = 0
+        for j in range(th.size):
+            c, s = math.cos(th[j]), math.sin(th[j])  # as the event loop does, once per flight
+            events.flight_impact(th[j], c, s, math.acos(-p.gbar), z0[j], u[j], p.d, p.gbar, math.inf)
+        counts["trig"] += 2 * th.size
+        out[name] = {k: v / th.size for k, v in counts.items()}
+    print(json.dumps(out))
+
+
+def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400) -> xr.Dataset:
+    """Cost of the exact kernel on the two target scenes: microseconds per impact on one thread
+    (``simulate``), impacts per second of ``simulate_batch`` on 1 and on all cores, and per impact the
+    sine/cosine calls, point evaluations and root searches of the event finder (counted over
+    ``n_counted`` flights of the same algorithm run as plain Python)."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    import numba
+
+    env = dict(os.environ, NUMBA_DISABLE_JIT="1")
+    res = subprocess.run([sys.executable, "-m", "vibroimpact.bench", json.dumps({"n": n_counted})], env=env,
+                         capture_output=True, text=True, check=True)
+    counts = json.loads(res.stdout)
+    names = list(KERNEL_SCENES)
+    us, rate1, rateall = [], [], []
+    cores = numba.config.NUMBA_NUM_THREADS
+    for name in names:
+        beta, d, phi, v0 = KERNEL_SCENES[name]
+        p = Params(d=d, gbar=0.1245 * 9.8 * math.sin(beta) / 5.0, r=0.5)
+        simulate(p, phi, v0, n_impacts=100)
+        t = time.perf_counter()
+        simulate(p, phi, v0, n_impacts=n_impacts)
+        us.append((time.perf_counter() - t) / n_impacts * 1e6)
+        m = 64 * cores
+        phis = np.linspace(0, 2 * np.pi, m, endpoint=False)
+        for threads, rates in ((1, rate1), (cores, rateall)):
+            numba.set_num_threads(threads)
+            simulate_batch([p.d] * m, p.gbar, 0.5, phis, v0, n_impacts=10)
+            t = time.perf_counter()
+            simulate_batch([p.d] * m, p.gbar, 0.5, phis, v0, n_impacts=n_impacts // m)
+            rates.append(m * (n_impacts // m) / (time.perf_counter() - t))
+        numba.set_num_threads(cores)
+    per = lambda key: ("scene", [counts[n][key] for n in names])
+    ds = xr.Dataset(
+        {
+            "us_per_impact": ("scene", us, dict(units="us", long_name="simulate, one thread")),
+            "impacts_per_second_1": ("scene", rate1, dict(units="1/s", long_name="simulate_batch on one core")),
+            "impacts_per_second_all": ("scene", rateall, dict(units="1/s", long_name=f"simulate_batch on {cores} cores")),
+            "trig_per_impact": (*per("trig"), dict(units="1", long_name="sine and cosine calls per impact")),
+            "points_per_impact": (*per("points"), dict(units="1", long_name="points evaluated per impact")),
+            "roots_per_impact": (*per("roots"), dict(units="1", long_name="root searches per impact")),
+        },
+        coords={"scene": names},
+        attrs=dict(cores=cores, n_impacts=n_impacts, n_counted=n_counted),
+    )
+    return annotate(ds)
+
+
+if __name__ == "__main__":
+    import sys
+
+    _count_worker(sys.argv[1])

@@ -17,7 +17,7 @@ import math
 
 from numba import njit
 
-from .flight import PI, TWO_PI, gap_dd, half_angle_near, state3, state_from_half, velocity
+from .flight import PI, TWO_PI, gap_dd, half_angle_near, state3, state_from_half, state_from_sc, velocity
 
 #: Below this |Zdot-| an impact time is polished in double-double arithmetic.
 POLISH_SPEED = 1e-3
@@ -26,41 +26,44 @@ DD_MARGIN = 1e-12
 
 
 @njit(cache=True)
-def next_accel_zero(tau, theta, alpha):
-    """Smallest local time > ``tau`` where ``cos(theta + pi t) = -gbar`` (``alpha = arccos(-gbar)``)."""
+def accel_zero(tau, theta, alpha):
+    """Smallest local time ``t > tau`` where ``cos(theta + pi t) = -gbar`` (``alpha = arccos(-gbar)``),
+    and the sign of ``sin(theta + pi t)`` there: +1 at the phase ``alpha``, -1 at ``2 pi - alpha``."""
     psi = theta + PI * tau
     base = math.floor(psi / TWO_PI) * TWO_PI
-    for cand in (base + alpha, base + TWO_PI - alpha, base + TWO_PI + alpha):
+    for k in range(3):
+        cand = base + (alpha, TWO_PI - alpha, TWO_PI + alpha)[k]
         if cand > psi:
             t = (cand - theta) / PI
             if t > tau:
-                return t
-    return (base + TWO_PI * 2 - alpha - theta) / PI
+                return t, (1.0, -1.0, 1.0)[k]
+    return (base + TWO_PI * 2 - alpha - theta) / PI, -1.0
 
 
-@njit(cache=True, inline="always")
-def _eval(which, tau, sh, ch, c, s, z0w, u, gbar):
-    """From the half-angle sine and cosine at ``tau``: which=0: (Zdot, Z'', Z'''); which=1:
-    (Z - wall, Zdot, Z'')."""
-    disp, vel, acc, jerk = state_from_half(tau, sh, ch, c, s, u, gbar)
-    if which == 0:
-        return vel, acc, jerk
-    return z0w + disp, vel, acc
+@njit(cache=True)
+def next_accel_zero(tau, theta, alpha):
+    """Smallest local time > ``tau`` where ``cos(theta + pi t) = -gbar`` (``alpha = arccos(-gbar)``)."""
+    return accel_zero(tau, theta, alpha)[0]
 
 
 @njit(cache=True)
 def _rtsafe(which, lo, hi, flo, fhi, c, s, z0w, u, gbar):
-    """Root of a monotone function on [lo, hi] with f(lo), f(hi) of opposite sign (or zero).
+    """Root of a monotone function on [lo, hi] with f(lo), f(hi) of opposite sign (or zero):
+    ``which=0`` Zdot, ``which=1`` the gap ``Z - wall`` (``z0w`` its value at the flight's start).
 
     Halley's method (third order: the second derivative comes with the same evaluation) from the
     bracket's midpoint, safeguarded as rtsafe is: bisection where even Newton's step would not halve
     the bracket (a flat f) and where Halley's step leaves it.  After the first point, the sine and
     cosine at each new point come from the previous point's by angle addition while the steps are
-    small (:func:`~vibroimpact.flight.half_angle_near`)."""
-    if flo == 0.0:
-        return lo
-    if fhi == 0.0:
-        return hi
+    small (:func:`~vibroimpact.flight.half_angle_near`).
+
+    Returns ``(x, disp, vel)``: the root and the displacement and velocity there, from the last
+    evaluated point by Taylor's formula (its distance to the root is at rounding level, or the
+    bracket's width of a few ulps), so no further evaluation is needed."""
+    if flo == 0.0 or fhi == 0.0:
+        x = lo if flo == 0.0 else hi
+        disp, vel, _, _ = state3(x, c, s, u, gbar)
+        return x, disp, vel
     # orient so that f(xl) < 0 < f(xh)
     if flo < 0.0:
         xl, xh = lo, hi
@@ -72,12 +75,22 @@ def _rtsafe(which, lo, hi, flo, fhi, c, s, z0w, u, gbar):
     half = 0.5 * PI * x
     sh = math.sin(half)
     ch = math.cos(half)
-    f, df, d2f = _eval(which, x, sh, ch, c, s, z0w, u, gbar)
+    disp, vel, acc, jerk = state_from_half(x, sh, ch, c, s, u, gbar)
+    xe = x
     for _ in range(200):
+        if which == 0:
+            f, df, d2f = vel, acc, jerk
+        else:
+            f, df, d2f = z0w + disp, vel, acc
+        if f == 0.0:
+            return x, disp, vel
+        if f < 0.0:
+            xl = x
+        else:
+            xh = x
         den = 2.0 * df * df - f * d2f
         step = 2.0 * f * df / den if den != 0.0 else 0.0
         xn = x - step
-        x_prev = x
         if den == 0.0 or abs(2.0 * f) > abs(dxold * df) or (xn - xh) * (xn - xl) > 0.0:
             dxold = dx
             dx = 0.5 * (xh - xl)
@@ -87,16 +100,12 @@ def _rtsafe(which, lo, hi, flo, fhi, c, s, z0w, u, gbar):
             dx = step
             x = xn
         if abs(dx) <= 2.2e-16 * max(abs(x), 1e-300) or abs(xh - xl) <= 4.4e-16 * max(abs(x), 1e-300):
-            return x
-        sh, ch = half_angle_near(x, x_prev, sh, ch)
-        f, df, d2f = _eval(which, x, sh, ch, c, s, z0w, u, gbar)
-        if f == 0.0:
-            return x
-        if f < 0.0:
-            xl = x
-        else:
-            xh = x
-    return x
+            h = x - xe
+            return x, disp + h * (vel + 0.5 * h * acc), vel + h * (acc + 0.5 * h * jerk)
+        sh, ch = half_angle_near(x, xe, sh, ch)
+        disp, vel, acc, jerk = state_from_half(x, sh, ch, c, s, u, gbar)
+        xe = x
+    return x, disp, vel
 
 
 @njit(cache=True)
@@ -171,6 +180,7 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
     (:func:`~vibroimpact.flight.state3`)."""
     half = 0.5 * d
     has_zeros = gbar < 1.0
+    sa = math.sqrt(1.0 - gbar * gbar) if has_zeros else 0.0  # sin(alpha)
     z0b = z0 - half  # gap to the bottom wall (exact 0 when starting there)
     z0t = z0 + half  # gap to the top wall
     ta = 0.0
@@ -179,23 +189,31 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
     for _ in range(100000):
         if ta >= tau_max:
             return math.inf, 0, math.nan
+        sgn = 0.0
         if has_zeros:
-            tb = next_accel_zero(ta, theta, alpha)
+            tb, sgn = accel_zero(ta, theta, alpha)
         else:
             tb = ta + 2.0
         last = False
         if tb >= tau_max:
             tb = tau_max
             last = True
-        db, vb, _, _ = state3(tb, c, s, u, gbar)
+        if sgn != 0.0 and not last and PI * tb >= 0.25:
+            # at a zero of the acceleration cos(theta + pi tb) = -gbar is known, and so is the sine:
+            # x = pi tb by angle subtraction, no trigonometric call (away from the flight's start,
+            # where 1 - cos x would lose digits)
+            sp = sgn * sa
+            cx = -gbar * c + sp * s
+            db, vb, _, _ = state_from_sc(tb, sp * c + gbar * s, 1.0 - cx, c, s, u, gbar)
+        else:
+            db, vb, _, _ = state3(tb, c, s, u, gbar)
         # split at the root of Zdot (Zdot is monotone on [ta, tb])
         n_sub = 1
         te = tb
         de = db
         ve = vb
         if (va < 0.0 and vb > 0.0) or (va > 0.0 and vb < 0.0):
-            te = _rtsafe(0, ta, tb, va, vb, c, s, 0.0, u, gbar)
-            de, ve, _, _ = state3(te, c, s, u, gbar)
+            te, de, ve = _rtsafe(0, ta, tb, va, vb, c, s, 0.0, u, gbar)
             n_sub = 2
         p = ta
         vp = va
@@ -222,8 +240,7 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
                     gp = z0w + dp if p > 0.0 else z0w
                     if sgn * gp > 0.0:
                         gp = 0.0
-                    t = _rtsafe(1, p, q, gp, gq, c, s, z0w, u, gbar)
-                    v = velocity(t, c, s, u, gbar)
+                    t, _, v = _rtsafe(1, p, q, gp, gq, c, s, z0w, u, gbar)
                     if abs(v) < POLISH_SPEED:
                         t = _polish(t, p, q, theta, c, s, z0w, u, gbar)
                         v = velocity(t, c, s, u, gbar)

@@ -63,13 +63,10 @@ def acceleration(tau, c, s, gbar):
 
 
 @njit(cache=True, inline="always")
-def state_from_half(tau, sh, ch, c, s, u, gbar):
-    """Displacement ``Z(tau) - Z(0)``, velocity, acceleration and jerk of a flight from the sine ``sh``
-    and cosine ``ch`` of half the forcing angle travelled, ``x / 2 = pi tau / 2``
-    (``sin x = 2 sh ch``, ``1 - cos x = 2 sh^2``)."""
+def state_from_sc(tau, sx, omc, c, s, u, gbar):
+    """Displacement ``Z(tau) - Z(0)``, velocity, acceleration and jerk of a flight from ``sin x`` and
+    ``1 - cos x`` of the forcing angle travelled, ``x = pi tau``."""
     x = PI * tau
-    sx = 2.0 * sh * ch
-    omc = 2.0 * sh * sh
     if abs(x) < 0.25:
         x2 = x * x
         smx = -x * x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0 * (1.0 - x2 / 110.0))))
@@ -81,6 +78,13 @@ def state_from_half(tau, sh, ch, c, s, u, gbar):
     acc = c * cx - s * sx + gbar
     jerk = -PI * (s * cx + c * sx)
     return disp, vel, acc, jerk
+
+
+@njit(cache=True, inline="always")
+def state_from_half(tau, sh, ch, c, s, u, gbar):
+    """:func:`state_from_sc` from the sine ``sh`` and cosine ``ch`` of half the angle travelled
+    (``sin x = 2 sh ch``, ``1 - cos x = 2 sh^2``: no cancellation however short the flight)."""
+    return state_from_sc(tau, 2.0 * sh * ch, 2.0 * sh * sh, c, s, u, gbar)
 
 
 @njit(cache=True, inline="always")

@@ -31,11 +31,29 @@ def _params(beta, d, r=0.5):
     return Params(d=d, gbar=0.1245 * 9.8 * math.sin(beta) / 5.0, r=r)
 
 
-def method_ladder(ivp_methods, ivp_tols, rk4_steps):
-    """(family, setting, label) of every method configuration."""
+def peer_status() -> dict[str, str]:
+    """For each peer library: its version, or why it is absent (recorded in the datasets)."""
+    from . import peer_heyoka, peer_siconos
+
+    out = {"heyoka": peer_heyoka.heyoka_version() or "not installed (pip install heyoka: the 'peers' extra)"}
+    out["siconos"] = (peer_siconos.version() if peer_siconos.available()
+                      else peer_siconos.unavailable_reason() or peer_siconos.NOT_INSTALLED)
+    return out
+
+
+def method_ladder(ivp_methods, ivp_tols, rk4_steps, heyoka_tols=(), siconos_tols=(), siconos_steps=()):
+    """(family, setting, label) of every method configuration; the peers' only where installed
+    (:func:`peer_status`)."""
+    from . import peer_heyoka, peer_siconos
+
     out = [("exact", math.nan, "exact (numba)"), ("python", math.nan, "same algorithm, plain Python")]
     out += [(f"ivp-{m}", tol, f"solve_ivp {m} rtol={tol:g}") for m in ivp_methods for tol in ivp_tols]
     out += [("rk4", h, f"RK4 + bisection h={h:g}") for h in rk4_steps]
+    if heyoka_tols and peer_heyoka.available():
+        out += [("heyoka", tol, f"heyoka tol={tol:.0e}") for tol in heyoka_tols]
+    if (siconos_tols or siconos_steps) and peer_siconos.available():
+        out += [("siconos-ed", tol, f"Siconos event-driven tol={tol:.0e}") for tol in siconos_tols]
+        out += [("siconos-mj", h, f"Siconos Moreau-Jean h={h:g}") for h in siconos_steps]
     return out
 
 
@@ -47,7 +65,24 @@ def _run(family, setting, p, phi, v0, n, t_end=math.inf, max_seconds=30.0):
     if family.startswith("ivp-"):
         return M.run_ivp(p, phi, v0, n, method=family[4:], rtol=setting, atol=setting * 1e-2, t_end=t_end,
                          max_seconds=max_seconds)
+    if family == "heyoka":
+        from .peer_heyoka import run_heyoka
+
+        return run_heyoka(p, phi, v0, n, tol=setting, t_end=t_end, max_seconds=max_seconds)
+    if family.startswith("siconos"):
+        from .peer_siconos import run_siconos
+
+        kw = {"tol": setting} if family == "siconos-ed" else {"h": setting}
+        method = "event-driven" if family == "siconos-ed" else "moreau-jean"
+        try:
+            return run_siconos(p, phi, v0, n, method=method, t_end=t_end, max_seconds=max_seconds, **kw)
+        except Exception as err:  # the peer process failed: recorded as a crash of that method
+            return M.Run(np.array([]), np.array([], dtype=int), np.array([]), f"{M.CRASHED}: {err}", math.nan)
     return M.run_rk4(p, phi, v0, n, h=setting, t_end=t_end)
+
+
+def _cost_key(family):
+    return "ivp" if family.startswith("ivp") else family
 
 
 def _errors(run, ref):
@@ -65,12 +100,14 @@ def _errors(run, ref):
 
 def work_precision(*, n_err=20, n_cost=None, ivp_methods=("RK45", "DOP853", "LSODA", "Radau"),
                    ivp_tols=(1e-3, 1e-5, 1e-7, 1e-9, 1e-11), rk4_steps=(1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4),
-                   scenes=None) -> xr.Dataset:
+                   heyoka_tols=(), siconos_tols=(), siconos_steps=(), scenes=None) -> xr.Dataset:
     """Errors against the reference over the first ``n_err`` impacts, and cost per impact over
-    ``n_cost[family]`` impacts, for every method configuration and scene."""
+    ``n_cost[family]`` impacts, for every method configuration and scene.  Compilation (numba, heyoka's
+    LLVM) happens before each timed run and is reported apart (``compile_seconds``, heyoka)."""
     scenes = scenes or SCENES
-    n_cost = {"exact": 20_000, "python": 400, "ivp": 60, "rk4": 2_000} | (n_cost or {})
-    ladder = method_ladder(ivp_methods, ivp_tols, rk4_steps)
+    n_cost = ({"exact": 20_000, "python": 400, "ivp": 60, "rk4": 2_000, "heyoka": 2_000, "siconos-ed": 60,
+               "siconos-mj": 20} | (n_cost or {}))
+    ladder = method_ladder(ivp_methods, ivp_tols, rk4_steps, heyoka_tols, siconos_tols, siconos_steps)
     shape = (len(ladder), len(scenes))
     err_t, err_v, cost, total = (np.full(shape, np.nan) for _ in range(4))
     wrong = np.full(shape, -1, dtype=np.int64)
@@ -78,7 +115,7 @@ def work_precision(*, n_err=20, n_cost=None, ivp_methods=("RK45", "DOP853", "LSO
         p = _params(beta, d)
         ref = trajectory(p.d, p.gbar, p.r, phi, v0, n_err)
         for i, (family, setting, _) in enumerate(ladder):
-            n = max(n_err, n_cost["ivp" if family.startswith("ivp") else family])
+            n = max(n_err, n_cost[_cost_key(family)])
             run = _run(family, setting, p, phi, v0, n)
             err_t[i, j], err_v[i, j], wrong[i, j] = _errors(run, ref)
             cost[i, j] = run.seconds / max(len(run.t), 1) * 1e6
@@ -91,11 +128,57 @@ def work_precision(*, n_err=20, n_cost=None, ivp_methods=("RK45", "DOP853", "LSO
             "seconds": (("solver", "scene"), total, {"units": "s", "long_name": "wall-clock time of the timed run"}),
             "first_wrong_wall": (("solver", "scene"), wrong, {"units": "1", "long_name": "first impact on the wrong wall (-1: none)"}),
             "family": ("solver", [m[0] for m in ladder]),
-            "setting": ("solver", [m[1] for m in ladder], {"long_name": "rtol (solve_ivp) or step h (RK4)"}),
+            "setting": ("solver", [m[1] for m in ladder],
+                        {"long_name": "tolerance (solve_ivp rtol, heyoka, Siconos event-driven) or step h (RK4, Moreau-Jean)"}),
+            "compile_seconds": ("solver", [_compile_seconds(f, s) for f, s, _ in ladder],
+                                {"units": "s", "long_name": "compilation before the timed runs (excluded from the cost)"}),
         },
         coords={"solver": [m[2] for m in ladder], "scene": list(scenes)},
     )
-    ds.attrs.update(n_err=n_err, n_cost=str(n_cost), reference="40-digit mpmath chain of flights (vibroimpact.reference)")
+    ds.attrs.update(n_err=n_err, n_cost=str(n_cost), reference="40-digit mpmath chain of flights (vibroimpact.reference)",
+                    peers=str(peer_status()), matched_accuracy=MATCHED_ACCURACY)
+    return annotate(ds)
+
+
+def _compile_seconds(family, setting):
+    if family == "heyoka":
+        from .peer_heyoka import compile_seconds
+
+        return compile_seconds(setting)
+    return math.nan
+
+
+#: the accuracy at which methods are compared for cost: the cheapest setting reaching it
+MATCHED_ACCURACY = 1e-12
+
+
+def matched_accuracy(wp: xr.Dataset, target: float = MATCHED_ACCURACY) -> xr.Dataset:
+    """Per method family and scene: the cheapest setting whose impact-time error is at most ``target``
+    (all walls right), its cost per impact and its ratio to the exact simulator's cost in the same run;
+    ``reached`` is False ("cannot reach") where no setting gets there."""
+    fams = list(dict.fromkeys(wp.family.values.astype(str)))
+    scenes = list(wp.scene.values)
+    cost = np.full((len(fams), len(scenes)), np.nan)
+    setting = np.full_like(cost, np.nan)
+    err = np.full_like(cost, np.nan)
+    for i, f in enumerate(fams):
+        rows = np.flatnonzero(wp.family.values == f)
+        for j in range(len(scenes)):
+            e = wp.err_t.values[rows, j]
+            ok = np.isfinite(e) & (e <= target)
+            if ok.any():
+                k = rows[ok][np.argmin(wp.us_per_impact.values[rows[ok], j])]
+                cost[i, j], setting[i, j], err[i, j] = wp.us_per_impact.values[k, j], wp.setting.values[k], wp.err_t.values[k, j]
+    exact = cost[fams.index("exact")] if "exact" in fams else np.full(len(scenes), np.nan)
+    ds = xr.Dataset(
+        {"us_per_impact": (("family", "scene"), cost, {"units": "us", "long_name": f"cheapest cost per impact at error <= {target:g}"}),
+         "setting": (("family", "scene"), setting, {"long_name": "that setting (tolerance or step; NaN: none or not applicable)"}),
+         "err_t": (("family", "scene"), err, {"units": "1", "long_name": "its impact-time error"}),
+         "ratio_to_exact": (("family", "scene"), cost / exact, {"units": "1", "long_name": "cost / exact simulator's cost, same run"}),
+         "reached": (("family", "scene"), np.isfinite(cost), {"long_name": f"some setting reaches error <= {target:g}"})},
+        coords={"family": fams, "scene": scenes},
+    )
+    ds.attrs.update(target=target)
     return annotate(ds)
 
 
@@ -112,8 +195,28 @@ def _flight(family, setting, theta, z0, u, d, gbar):
     if family.startswith("ivp-"):
         tau, w, _ = M.ivp_flight(theta, z0, u, d, gbar, setting, setting * 1e-2, family[4:])
         return tau, w
+    if family == "heyoka":
+        from .peer_heyoka import heyoka_flight
+
+        tau, w, _ = heyoka_flight(theta, z0, u, d, gbar, setting)
+        return tau, w
     tau, w, _, _ = M.rk4_flight(theta, z0, u, d, gbar, setting, 50.0, 10_000_000)
     return tau, w
+
+
+def _flights(family, setting, states, d, gbar):
+    """(tau, wall) of each flight; Siconos in one call of its peer process (a crash: no impacts)."""
+    if family.startswith("siconos"):
+        from .peer_siconos import siconos_flights
+
+        method = "event-driven" if family == "siconos-ed" else "moreau-jean"
+        kw = {"tol": setting} if family == "siconos-ed" else {"h": setting}
+        try:
+            res = siconos_flights([(*s, d, gbar) for s in states], method, **kw)
+        except Exception:
+            return [(math.inf, 0)] * len(states)
+        return [(r.tau, r.wall) for r in res]
+    return [_flight(family, setting, *s, d, gbar) for s in states]
 
 
 #: impacts slower than this are inside a chattering sequence (the exact simulator sums those below
@@ -133,12 +236,13 @@ def failure_thresholds() -> dict:
 
 
 def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=("RK45", "DOP853", "LSODA", "Radau"),
-                ivp_tols=(1e-6, 1e-10), rk4_steps=(1e-2, 1e-3), chaos_impacts=100, chatter_t_end=20.0,
-                max_seconds=2.0) -> xr.Dataset:
+                ivp_tols=(1e-6, 1e-10), rk4_steps=(1e-2, 1e-3), heyoka_tols=(), siconos_tols=(), siconos_steps=(),
+                chaos_impacts=100, chatter_t_end=20.0, max_seconds=2.0) -> xr.Dataset:
     """Outcome of every method on hard cases: near-grazing flights whose extremum passes eps inside
     a wall (no impact) or crosses it by eps (an impact) at both walls; chattering into sticking;
     a long chaotic run followed against the reference."""
-    ladder = [m for m in method_ladder(ivp_methods, ivp_tols, rk4_steps) if m[0] != "python"]
+    ladder = [m for m in method_ladder(ivp_methods, ivp_tols, rk4_steps, heyoka_tols, siconos_tols, siconos_steps)
+              if m[0] != "python"]
     d, gbar = 0.3, 0.2
     cases, outcome, detail = [], [], []
     rng = np.random.default_rng(7)
@@ -165,8 +269,9 @@ def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=
     chat_t = np.array([float(e[1]) for e in chat])
     chat_w = np.array([e[2] for e in chat], dtype=int)
     for i, (family, setting, _) in enumerate(ladder):
-        for j, (_, state, ref_tau, ref_wall, side, wall) in enumerate(grazing):
-            tau, w = _flight(family, setting, *state, d, gbar)
+        found = _flights(family, setting, [g[1] for g in grazing], d, gbar)
+        for j, (_, _state, ref_tau, ref_wall, side, wall) in enumerate(grazing):
+            tau, w = found[j]
             if w == ref_wall and abs(tau - ref_tau) <= TIME_RTOL * max(1.0, ref_tau):
                 out = "correct"
             elif side == "hit" and (w != wall or tau > ref_tau + LATE):
@@ -190,6 +295,8 @@ def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=
             outcome[i, j] = "crashed"
         elif followed == len(chat_t):
             outcome[i, j] = "correct"
+        elif followed == n and run.status == M.NO_IMPACT:
+            outcome[i, j] = "missed impact"  # the ball left through the wall: no further impact found
         elif followed == n and run.status != M.OK:
             outcome[i, j] = "stalled"
         else:
@@ -219,7 +326,7 @@ def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=
         },
         coords={"solver": [m[2] for m in ladder], "case": cases},
     )
-    ds.attrs.update(d=d, gbar=gbar, **failure_thresholds(), note="the plain-Python run of the exact algorithm takes the same decisions as the compiled one")
+    ds.attrs.update(d=d, gbar=gbar, **failure_thresholds(), peers=str(peer_status()), note="the plain-Python run of the exact algorithm takes the same decisions as the compiled one")
     return ds
 
 

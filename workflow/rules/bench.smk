@@ -11,6 +11,7 @@ rule bench:
 rule bench_simulator:
     output:
         nc="results/bench/simulator.nc",
+        kernel="results/bench/kernel.nc",
         md="results/tables/bench_simulator.md",
     params:
         **config["bench"],
@@ -29,6 +30,8 @@ rule work_precision:
     output:
         nc="results/bench/work_precision.nc",
         md="results/tables/work_precision.md",
+        matched="results/bench/matched_accuracy.nc",
+        matched_md="results/tables/matched_accuracy.md",
     params:
         **config["work_precision"],
     conda:

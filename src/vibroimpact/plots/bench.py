@@ -15,7 +15,20 @@ FAMILY_STYLE = {
     "ivp-LSODA": ("tab:green", "^", "solve_ivp LSODA"),
     "ivp-Radau": ("tab:purple", "v", "solve_ivp Radau"),
     "rk4": ("tab:red", "D", "RK4 + bisection"),
+    "heyoka": ("tab:brown", "P", "heyoka (Taylor, LLVM)"),
+    "siconos-ed": ("tab:pink", "X", "Siconos event-driven (LSODAR)"),
+    "siconos-mj": ("tab:olive", "h", "Siconos Moreau-Jean"),
 }
+
+
+def _peers_note(ds):
+    """'peers: heyoka 7.13.2; siconos: not installed (...)' from a benchmark dataset's record."""
+    import ast
+
+    peers = ds.attrs.get("peers")
+    if not peers:
+        return None
+    return "peers: " + "; ".join(f"{k} {v}" for k, v in ast.literal_eval(peers).items())
 
 #: Okabe & Ito's colour-blind-safe palette, one colour per outcome of the failure map, with a glyph
 #: printed in each cell as a second cue (outcomes in the order of ``workprecision.OUTCOMES``)
@@ -30,8 +43,14 @@ OUTCOME_STYLE = {
 }
 
 
+def _setting_name(family):
+    return {"rk4": "h", "siconos-mj": "h"}.get(family, "rtol" if family.startswith("ivp") else "tol")
+
+
 def _setting_label(family, setting):
-    return f"h={setting:g}" if family == "rk4" else f"{setting:.0e}".replace("e-0", "e-")
+    if _setting_name(family) == "h":
+        return f"h={setting:g}"
+    return f"{setting:.0e}".replace("e-0", "e-")
 
 
 def fig_work_precision(wp):
@@ -51,7 +70,7 @@ def fig_work_precision(wp):
             x, y = sub.us_per_impact.values[m], sub.err_t.values[m]
             settings = sub.setting.values[m]
             if np.isfinite(settings).any():
-                label += f" ({'h' if fam == 'rk4' else 'rtol'} {settings[0]:g} … {settings[-1]:g})"
+                label += f" ({_setting_name(fam)} {settings[0]:.3g} … {settings[-1]:.3g})"
             finite = np.isfinite(y)
             ax.loglog(x[finite], np.maximum(y[finite], 1e-17), marker=marker, color=color, lw=1, ms=5, label=label)
             if (~finite).any():
@@ -65,7 +84,8 @@ def fig_work_precision(wp):
         ax.set_xlabel("cost per impact (µs)")
         ax.axhline(top, color="0.7", lw=0.6, ls=":")
     axes[0, 0].set_ylabel("largest impact-time error vs 40-digit reference\n(first 20 impacts; x: wrong walls)")
-    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="outside lower center", ncol=4, fontsize=6)
+    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="outside lower center", ncol=4, fontsize=6,
+               title=_peers_note(wp), title_fontsize=6)
     return fig
 
 

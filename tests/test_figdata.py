@@ -134,3 +134,25 @@ def test_energy_figures_mark_d_graz_on_the_1to1_branch_and_G1_where_grazing_ends
     by_doubling = _branch("BBT", d, (d >= 0.158) & (d <= 0.2), [("B", 0.15807, True), ("grazing", 0.13601, True)])
     assert grazing_marks([bt, by_grazing]) == [(r"$d_{\rm graz}$", 0.1579), ("G1", 0.13762)]
     assert grazing_marks([bt, by_doubling]) == [(r"$d_{\rm graz}$", 0.1579)]  # the 2:1 loses stability at B
+
+
+def test_methods_needing_a_system_package_are_excluded_present_or_absent():
+    """Siconos' rows are drawn where it is installed: the check excludes them whether only the
+    reference or only the new data has them, and still compares everything else."""
+    import xarray as xr
+
+    def ds(with_peer, y=1.0):
+        v = {"a0_line0_y": xr.Variable(("n",), [y, 2.0], {"label": "heyoka", "axes_title": "2:1", "axis_label": "err"})}
+        if with_peer:
+            v["a0_line1_y"] = xr.Variable(("n",), [5.0, 6.0], {"label": "Siconos event-driven", "axes_title": "2:1",
+                                                                  "axis_label": "err"})
+            v["a1_image0_z"] = xr.Variable(("r", "c"), [[1.0]], {"label": "", "axes_title": "Siconos (system package)",
+                                                                   "axis_label": "image"})
+        return xr.Dataset(v)
+
+    for new, ref in ((ds(False), ds(True)), (ds(True), ds(False))):
+        df = compare(new, ref, rtol=1e-9, atol=0.0, optional=["Siconos"])
+        assert set(df.status) == {"pass", "excluded"} and (df.status == "excluded").sum() == 2
+    df = compare(ds(False, y=1.5), ds(True), rtol=1e-9, atol=0.0, optional=["Siconos"])
+    assert df.set_index("variable").status["a0_line0_y"] == "fail"
+    assert (compare(ds(False), ds(True), rtol=1e-9, atol=0.0).status == "fail: missing").sum() == 2

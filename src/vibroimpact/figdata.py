@@ -50,7 +50,8 @@ def figure_data(fig, attrs: dict | None = None) -> xr.Dataset:
 
         for j, line in enumerate(ax.get_lines()):
             label = line.get_label()
-            label = "" if label.startswith("_") else label
+            # matplotlib's own names ("_child3") are dropped; "_name" (kept out of legends) is kept
+            label = "" if label.startswith("_child") else label.lstrip("_")
             style = dict(marker=str(line.get_marker()), linestyle=str(line.get_linestyle()))
             put(f"a{i}_line{j}_x", line.get_xdata(), xlab, label, **style)
             put(f"a{i}_line{j}_y", line.get_ydata(), ylab, label, **style)
@@ -79,22 +80,30 @@ def figure_data(fig, attrs: dict | None = None) -> xr.Dataset:
     return ds
 
 
-def compare(new: xr.Dataset, ref: xr.Dataset, *, rtol: float, atol: float, exclude=()) -> pd.DataFrame:
+def compare(new: xr.Dataset, ref: xr.Dataset, *, rtol: float, atol: float, exclude=(), optional=()) -> pd.DataFrame:
     """One row per reference variable: ``variable``, ``axes``, ``max_difference``, ``status``.
 
     A variable passes when it is present with the reference's shape, NaN exactly where the
     reference is NaN, and ``|new - ref| <= atol + rtol |ref|`` elsewhere.  Variables whose axis label
-    contains one of ``exclude`` (case-insensitive) are reported as ``excluded`` (e.g. timings,
+    contains one of ``exclude`` (case-insensitive), or whose legend label or axes title contains one of
+    ``optional`` (methods that need a system package, present on some machines only), are reported as
+    ``excluded``, in the reference or only in the new data (e.g. timings,
     which are not results).  Variables only in ``new`` are reported as ``new`` (a figure that
     gained an artist fails until the reference is updated).
     """
     rows = []
     pats = [p.lower() for p in exclude]
+    opts = [p.lower() for p in optional]
+
+    def is_optional(var):
+        a = var.attrs
+        return any(p in (a.get("label", "") + " " + a.get("axes_title", "")).lower() for p in opts)
+
     for name in ref.data_vars:
         r = ref[name]
         row = {"variable": name, "axes": r.attrs.get("axes_title", ""), "axis_label": r.attrs.get("axis_label", ""),
                "max_difference": np.nan}
-        if any(p in row["axis_label"].lower() for p in pats):
+        if any(p in row["axis_label"].lower() for p in pats) or is_optional(r):
             rows.append(row | {"status": "excluded"})
             continue
         if name not in new:
@@ -114,6 +123,11 @@ def compare(new: xr.Dataset, ref: xr.Dataset, *, rtol: float, atol: float, exclu
         good = bool(np.all(diff <= atol + rtol * np.abs(b[ok])))
         rows.append(row | {"status": "pass" if good else "fail"})
     for name in sorted(set(new.data_vars) - set(ref.data_vars)):
+        if is_optional(new[name]):
+            rows.append({"variable": name, "axes": new[name].attrs.get("axes_title", ""),
+                         "axis_label": new[name].attrs.get("axis_label", ""), "max_difference": np.nan,
+                         "status": "excluded"})
+            continue
         rows.append({"variable": name, "axes": new[name].attrs.get("axes_title", ""),
                      "axis_label": new[name].attrs.get("axis_label", ""), "max_difference": np.nan,
                      "status": "fail: new (not in the reference)"})

@@ -17,7 +17,7 @@ for fig, new, ref in zip(p.figures, snakemake.input.data, p.references, strict=T
                                      "status": f"fail: no reference {ref}"}]).assign(figure=fig))
         continue
     new, ref = xr.load_dataset(new, engine="netcdf4"), xr.load_dataset(ref, engine="netcdf4")
-    df = compare(new, ref, rtol=p.rtol, atol=p.atol, exclude=p.exclude_axis_labels)
+    df = compare(new, ref, rtol=p.rtol, atol=p.atol, exclude=p.exclude_axis_labels, optional=p.optional_peers)
     image = compare_image(new, ref, max_distance=p.image_max_distance, draws_timings=bool((df.status == "excluded").any()))
     frames.append(pd.concat([df, pd.DataFrame([image])], ignore_index=True).assign(figure=fig))
 df = pd.concat(frames, ignore_index=True)[["figure", "variable", "axes", "axis_label", "max_difference", "status"]]

@@ -63,6 +63,8 @@ def fig_work_precision(wp):
     top = 1.0
     for ax, sc in zip(axes[0], scenes, strict=True):
         sub = wp.sel(scene=sc)
+        # first, so that the methods' lines follow in FAMILY_STYLE's order, optional peers last
+        ax.axhline(top, color="0.7", lw=0.6, ls=":")
         for fam, (color, marker, label) in FAMILY_STYLE.items():
             m = sub.family.values == fam
             if not m.any():
@@ -74,7 +76,7 @@ def fig_work_precision(wp):
             finite = np.isfinite(y)
             ax.loglog(x[finite], np.maximum(y[finite], 1e-17), marker=marker, color=color, lw=1, ms=5, label=label)
             if (~finite).any():
-                ax.plot(x[~finite], np.full((~finite).sum(), top), "x", color=color, ms=7)
+                ax.plot(x[~finite], np.full((~finite).sum(), top), "x", color=color, ms=7, label=f"_{label}: wrong walls")
             # the ladder's ends, so its direction and range can be read off each panel
             ends = [k for k in (0, len(x) - 1) if np.isfinite(settings[k]) and finite[k]]
             for k in ends[: 2 if len(x) > 1 else 1]:
@@ -82,7 +84,6 @@ def fig_work_precision(wp):
                             xytext=(4, 2 if k == 0 else -7), textcoords="offset points")
         ax.set_title(f"{sc} motion")
         ax.set_xlabel("cost per impact (µs)")
-        ax.axhline(top, color="0.7", lw=0.6, ls=":")
     axes[0, 0].set_ylabel("largest impact-time error vs 40-digit reference\n(first 20 impacts; x: wrong walls)")
     fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="outside lower center", ncol=4, fontsize=6,
                title=_peers_note(wp), title_fontsize=6)
@@ -99,16 +100,27 @@ def fig_failure_map(fm):
 
     use_style()
     colors = [OUTCOME_STYLE[o][0] for o in OUTCOMES]
-    codes = np.vectorize(OUTCOMES.index)(fm.outcome.values)
-    fig, ax = plt.subplots(figsize=(12, 4.8))
-    ax.imshow(codes, cmap=ListedColormap(colors), vmin=-0.5, vmax=len(OUTCOMES) - 0.5, aspect="auto")
-    ax.grid(False)
-    for (i, j), code in np.ndenumerate(codes):
-        glyph = OUTCOME_STYLE[OUTCOMES[code]][1]
-        if glyph:
-            ax.text(j, i, glyph, ha="center", va="center", fontsize=6, color="white" if glyph == "X" else "black")
-    ax.set_yticks(range(fm.sizes["solver"]), fm.solver.values, fontsize=7)
-    ax.set_xticks(range(fm.sizes["case"]), fm.case.values, rotation=70, ha="right", fontsize=7)
+    # methods that need a system package (Siconos) in their own panel below: the main panel is the same
+    # on every machine
+    optional = np.array([str(f).startswith("siconos") for f in fm.family.values]) if "family" in fm else \
+        np.zeros(fm.sizes["solver"], bool)
+    parts = [(~optional, "")] + ([(optional, "Siconos (system package python3-siconos)")] if optional.any() else [])
+    fig, axes = plt.subplots(len(parts), 1, figsize=(12, 2.6 + 0.22 * fm.sizes["solver"]), sharex=True, squeeze=False,
+                             height_ratios=[max(int(m.sum()), 1) for m, _ in parts])
+    for ax, (rows, title) in zip(axes[:, 0], parts, strict=True):
+        sub = fm.isel(solver=np.flatnonzero(rows))
+        codes = np.vectorize(OUTCOMES.index)(sub.outcome.values)
+        ax.imshow(codes, cmap=ListedColormap(colors), vmin=-0.5, vmax=len(OUTCOMES) - 0.5, aspect="auto")
+        ax.grid(False)
+        for (i, j), code in np.ndenumerate(codes):
+            glyph = OUTCOME_STYLE[OUTCOMES[code]][1]
+            if glyph:
+                ax.text(j, i, glyph, ha="center", va="center", fontsize=6, color="white" if glyph == "X" else "black")
+        ax.set_yticks(range(sub.sizes["solver"]), sub.solver.values, fontsize=7)
+        if title:
+            ax.set_title(title, fontsize=7, loc="left")
+    axes[-1, 0].set_xticks(range(fm.sizes["case"]), fm.case.values, rotation=70, ha="right", fontsize=7)
+    ax = axes[0, 0]
     ax.set_title("Where each method fails: near-grazing flights at both walls (B: bottom, T: top; extremum eps "
                  "inside the wall: no impact; eps past it: an impact), chattering into sticking, a long chaotic run",
                  fontsize=8)

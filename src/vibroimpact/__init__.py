@@ -10,7 +10,10 @@ The main entry points are importable from here: simulation (:func:`simulate`, :f
 :func:`orbit_energy`, :func:`branch_energy`, :func:`sweep_energy`).
 """
 
-from . import portraits
+from . import (
+    _numba_cache,  # noqa: F401  (first: the numba cache is keyed by the source)
+    portraits,
+)
 from ._version import __version__
 from .continuation import branch_from_simulation, continue_orbit, simulate_along
 from .energy import Membrane, averages, branch_energy, orbit_energy, speed_si, sweep_energy, voltage_gain

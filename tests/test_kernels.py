@@ -142,3 +142,23 @@ def test_batch_runs_equal_single_runs_event_for_event():
         long = vi.simulate(p, 0.4, 0.6, t_end=200.0, stop_when_periodic=True, max_period_events=64)
         assert int(att["n_events"].values[k]) == long.sizes["impact"]
         assert K.STATUS_NAMES[int(att["status"].values[k])] == long.attrs["status"]
+
+
+def test_acceleration_zero_comes_with_the_sign_of_the_sine_there():
+    """events.accel_zero: the next time after tau where cos(theta + pi t) = -gbar, with no zero in
+    between, and the sign of sin(theta + pi t) there (+1 at the phase alpha, -1 at 2 pi - alpha); the
+    piece ends take their sine and cosine from it, without a trigonometric call."""
+    from vibroimpact.events import accel_zero
+
+    rng = np.random.default_rng(11)
+    for _ in range(400):
+        theta, tau, gbar = rng.uniform(0, 2 * math.pi), rng.uniform(0, 3), rng.uniform(0, 0.95)
+        alpha = math.acos(-gbar)
+        t, sgn = accel_zero(tau, theta, alpha)
+        psi = theta + math.pi * t
+        assert t > tau and math.cos(psi) == pytest.approx(-gbar, abs=1e-12)
+        assert sgn == math.copysign(1.0, math.sin(psi))
+        # no zero of cos + gbar strictly between tau and t
+        s = np.linspace(tau, t, 200)[1:-1]
+        f = np.cos(theta + math.pi * s) + gbar
+        assert np.all(f[:-1] * f[1:] > 0)

@@ -107,8 +107,10 @@ def ivp_flight(theta, z0, u, d, gbar, rtol, atol, method="DOP853", horizon=50.0)
     return math.inf, 0, math.nan
 
 
-def run_ivp(p: Params, phi, v0, n, *, method="DOP853", rtol=1e-12, atol=1e-12, t_end=math.inf, max_seconds=60.0):
-    """Event loop with solve_ivp: restart after each impact with Zdot+ = -r Zdot-."""
+def flight_loop(flight, p: Params, phi, v0, n, *, t_end=math.inf, max_seconds=60.0, errors=(ValueError,)):
+    """Chain flights from a bottom impact at phase ``phi`` with pre-impact velocity ``v0``: each flight
+    ``flight(theta, z0, u, k)`` (``k`` flights done) gives ``(tau, wall, Zdot-)``, then Zdot+ = -r Zdot-.
+    An exception of ``errors`` ends the run as crashed; ``max_seconds`` as stalled."""
     theta, z, u, t = phi, p.d / 2, -p.r * v0, 0.0
     ts, ws, vs = [], [], []
     status = OK
@@ -118,8 +120,8 @@ def run_ivp(p: Params, phi, v0, n, *, method="DOP853", rtol=1e-12, atol=1e-12, t
             status = STALLED
             break
         try:
-            tau, w, vm = ivp_flight(theta, z, u, p.d, p.gbar, rtol, atol, method)
-        except ValueError as err:  # solve_ivp's event location gives up in chattering
+            tau, w, vm = flight(theta, z, u, len(ts))
+        except errors as err:
             status = f"{CRASHED}: {err}"
             break
         if w == 0:
@@ -133,6 +135,13 @@ def run_ivp(p: Params, phi, v0, n, *, method="DOP853", rtol=1e-12, atol=1e-12, t
         ws.append(w)
         vs.append(vm)
     return Run(np.array(ts), np.array(ws, dtype=int), np.array(vs), status, time.perf_counter() - start)
+
+
+def run_ivp(p: Params, phi, v0, n, *, method="DOP853", rtol=1e-12, atol=1e-12, t_end=math.inf, max_seconds=60.0):
+    """Event loop with solve_ivp: restart after each impact with Zdot+ = -r Zdot-; solve_ivp's event
+    location raising ValueError (it gives up in chattering) ends the run as crashed."""
+    return flight_loop(lambda th, z, u, _k: ivp_flight(th, z, u, p.d, p.gbar, rtol, atol, method), p, phi, v0, n,
+                       t_end=t_end, max_seconds=max_seconds)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -49,7 +49,7 @@ import time
 
 import numpy as np
 
-from .methods import CRASHED, NO_IMPACT, OK, STALLED, Run
+from .methods import flight_loop
 from .params import Params
 
 __all__ = ["available", "heyoka_version", "integrator", "compile_seconds", "heyoka_flight", "run_heyoka"]
@@ -164,30 +164,11 @@ def run_heyoka(p: Params, phi, v0, n, *, tol, t_end=math.inf, max_seconds=60.0, 
     ta.reset_cooldowns()
     pars[1], pars[2] = p.gbar, p.d
     keep = restart == "cooldown"
-    theta, z, u, t = phi, p.d / 2, -p.r * v0, 0.0
-    ts, ws, vs = [], [], []
-    status = OK
-    start = time.perf_counter()
-    while len(ts) < n and t < t_end:
-        if time.perf_counter() - start > max_seconds:
-            status = STALLED
-            break
+    half = 0.5 * p.d
+
+    def flight(theta, z, u, k):
         if not keep:
             ta.reset_cooldowns()
-        try:
-            offset = restart == "offset" or (keep and not ts)
-            tau, w, vm = _propagate(ta, state, pars, theta, z, u, 0.5 * p.d, horizon, offset)
-        except (ValueError, RuntimeError) as err:
-            status = f"{CRASHED}: {err}"
-            break
-        if w == 0:
-            status = NO_IMPACT
-            break
-        t += tau
-        theta = (theta + math.pi * tau) % (2 * math.pi)
-        z = w * p.d / 2
-        u = -p.r * vm
-        ts.append(t)
-        ws.append(w)
-        vs.append(vm)
-    return Run(np.array(ts), np.array(ws, dtype=int), np.array(vs), status, time.perf_counter() - start)
+        return _propagate(ta, state, pars, theta, z, u, half, horizon, restart == "offset" or (keep and k == 0))
+
+    return flight_loop(flight, p, phi, v0, n, t_end=t_end, max_seconds=max_seconds, errors=(ValueError, RuntimeError))

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 from conftest import TOL_T, flight_state
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import brentq
 
@@ -25,9 +25,10 @@ speeds = st.floats(0.0, 2.0)
 
 
 def flight_starts(ds):
-    """Indices of the events that start a free flight (not a stuck span)."""
+    """Indices of the events that start a free flight: not a stuck span, and not a chattering
+    sequence summed to its accumulation point (the only way a STICK event is reached)."""
     t, kind = ds["t"].values, ds["kind"].values
-    return [j for j in range(len(t) - 1) if kind[j] != STICK and t[j + 1] > t[j]]
+    return [j for j in range(len(t) - 1) if kind[j] != STICK and kind[j + 1] != STICK and t[j + 1] > t[j]]
 
 
 @settings(max_examples=60, deadline=None)
@@ -55,6 +56,7 @@ def test_nothing_crosses_a_wall_between_recorded_impacts(p, phi, v0):
 
 @settings(max_examples=30, deadline=None)
 @given(params, phases, speeds)
+@example(vi.Params(d=1.0, gbar=1.0, r=5e-324), 1.0, 2.0)  # a rebound of 1e-323 summed into sticking
 def test_energy_along_a_flight_is_the_work_of_the_forcing(p, phi, v0):
     """The package's dense output obeys the equation of motion: on each flight the relative kinetic
     energy changes by the work of the force per unit mass, ``gbar + cos(pi t + phi)``, along the

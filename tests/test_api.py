@@ -30,3 +30,23 @@ def test_docstring_examples_run():
     from vibroimpact import orbits
 
     assert doctest.testmod(orbits, raise_on_error=False).failed == 0
+
+
+def test_the_top_level_imports_lazily_and_every_public_name_resolves():
+    """``import vibroimpact`` loads neither numba, scipy nor xarray (a workflow job pays only for what
+    it uses); every name in ``__all__`` then resolves to the object of the module that defines it."""
+    import subprocess
+    import sys
+
+    code = ("import sys, vibroimpact; "
+            "print(sorted(m for m in ('numba', 'scipy', 'xarray', 'matplotlib') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    assert out == "[]"
+    for name in vi.__all__:
+        obj = getattr(vi, name)
+        if name in vi._WHERE:
+            import importlib
+
+            assert obj is getattr(importlib.import_module(f"vibroimpact.{vi._WHERE[name]}"), name)
+    with pytest.raises(AttributeError, match="no attribute 'nonexistent'"):
+        vi.nonexistent  # noqa: B018

@@ -7,7 +7,15 @@ import pytest
 
 import vibroimpact as vi
 from vibroimpact.continuation import branch_from_simulation
-from vibroimpact.energy import Membrane, averages, branch_energy, orbit_energy, speed_si, sweep_energy, voltage_gain
+from vibroimpact.energy import (
+    Membrane,
+    averages,
+    branch_energy,
+    orbit_energy,
+    speed_si,
+    sweep_energy,
+    voltage_gain,
+)
 from vibroimpact.orbits import find_orbit
 from vibroimpact.sweeps import sweep
 

@@ -12,7 +12,6 @@ from vibroimpact.events import next_impact
 from vibroimpact.reference import _bracketed_root, first_impact, gap, grazing_state, velocity
 
 
-
 def random_states(n, seed):
     rng = np.random.default_rng(seed)
     for _ in range(n):
@@ -183,3 +182,61 @@ def test_at_rest_on_a_wall_pushed_into_it_is_an_impact_now(theta, wall, gbar):
     d = 0.3
     assert wall * (math.cos(theta) + gbar) > 0
     assert next_impact(theta, wall * d / 2, 0.0, d, gbar, math.inf) == (0.0, wall)
+
+
+@pytest.mark.parametrize("start", ["on_wall_slow", "on_wall", "inside"])
+def test_every_shortcut_of_the_event_finder_matches_the_reference(start):
+    """The finder skips an extremum its tangents keep off a wall, looks where the tangents meet when
+    they do not, and divides out the start's root on a flight that returns to the wall it left.
+    Flights of each kind (a wall left slowly, so that it returns within one piece; a wall left at
+    any speed; a start inside) against the reference: same wall, same time to TOL_T."""
+    rng = np.random.default_rng({"on_wall_slow": 11, "on_wall": 12, "inside": 13}[start])
+    n = 800 if start == "on_wall_slow" else 400  # a slow start samples close to its wall: fewer kept
+    checked = 0
+    for _ in range(n):
+        d = rng.uniform(0.1, 0.5)
+        gbar = rng.uniform(0.0, 0.6)
+        theta = rng.uniform(0, 2 * np.pi)
+        if start == "inside":
+            z0, u = rng.uniform(-d / 2, d / 2), rng.uniform(-1.0, 1.0)
+        else:
+            wall = rng.choice([-1, 1])
+            z0 = wall * d / 2
+            u = -wall * (10 ** rng.uniform(-6, -1) if start == "on_wall_slow" else rng.uniform(0.0, 1.0))
+        ref_tau, ref_wall, clearance = first_impact(theta, z0, u, d, gbar)
+        if ref_tau < 1e-3:  # a flight shorter than a few sampling steps: sample it finely
+            ref_tau, ref_wall, clearance = first_impact(theta, z0, u, d, gbar, horizon=2e-3, step=1e-8)
+            clearance = math.inf  # a return within 1e-3 has no extremum near the other wall
+        if ref_wall == 0 or clearance < 1e-5:
+            continue  # near-grazing states have their own tests
+        tau, wall_found = next_impact(theta, z0, u, d, gbar, math.inf)
+        assert wall_found == ref_wall, (theta, z0, u, d, gbar)
+        assert abs(tau - float(ref_tau)) < TOL_T * max(1.0, float(ref_tau)), (theta, z0, u, d, gbar)
+        checked += 1
+    assert checked >= 150
+
+
+@pytest.mark.parametrize("wall", [1, -1])
+@pytest.mark.parametrize("eps", [-1e-5, -1e-7, -1e-9])
+def test_a_hit_just_after_the_start_past_a_tight_tangent_bound_is_found(wall, eps):
+    """The extremum is skipped only when the tangents at the ends of its piece keep it off the wall.
+    A flight that starts just before its extremum, which crosses the wall by |eps|, has a piece short
+    enough that the bound lies within ~1e-4 of the extremum: a bound that were not an upper bound, or
+    a skip margin of the order of the crossing, would miss the hit."""
+    d, gbar = 0.3, 0.2
+    rng = np.random.default_rng(abs(hash((wall, eps, "tight"))) % 2**32)
+    for _ in range(5):
+        while True:
+            theta_e = rng.uniform(0, 2 * np.pi)
+            if -0.3 < wall * (math.cos(theta_e) + gbar) < -0.1:
+                break
+        # start after the last time the flight was beyond the wall (|Z''| > 0.1 there)
+        tau_e = 0.002 + rng.uniform(1.5, 2.0) * math.sqrt(2 * abs(eps) / 0.1)
+        th0, z0, u0 = grazing_state(theta_e, tau_e, d, gbar, wall, eps)
+        assert abs(z0) < d / 2
+        tau, w = next_impact(th0, z0, u0, d, gbar, math.inf)
+        f = gap(th0, z0, u0, gbar, wall * d / 2)
+        width = 4 * math.sqrt(abs(eps))
+        ref = mp.findroot(f, (max(mp.mpf(tau_e) - width, mp.mpf(0)), mp.mpf(tau_e)), solver="anderson")
+        assert w == wall
+        assert abs(tau - float(ref)) < TOL_T

@@ -133,7 +133,27 @@ def test_a_study_adds_only_its_own_jobs(tmp_path):
     out = res.stdout + res.stderr
     for rule in ("branch", "sweep", "branch_energy", "sweep_energy", "study_figure"):
         assert rule in out
-    for rule in ("fig2", "caption_orbit", "regime_map", "check"):
+    for rule in ("fig2", "caption_orbits", "regime_map", "check"):
         assert f"rule {rule}:" not in out and f"\n{rule} " not in out
     bad = _snakemake(tmp_path, "-n", "--config", "studies=[{beta: 3.0, r: 0.6}]")
     assert bad.returncode != 0 and "3.0" in bad.stdout + bad.stderr
+
+
+def test_every_benchmark_file_is_attributed_to_the_rule_that_writes_it():
+    """The workflow-cost table's per-rule rows: each rule's ``benchmark:`` path, with its wildcards
+    filled in, maps back to that rule's name (vibroimpact.tables.rule_of_benchmark)."""
+    import re
+
+    from vibroimpact.tables import rule_of_benchmark
+
+    root = ROOT
+    seen = 0
+    for smk in sorted((root / "workflow" / "rules").glob("*.smk")):
+        text = smk.read_text()
+        for m in re.finditer(r"^rule (\w+):\n(.*?)(?=^rule |\Z)", text, re.S | re.M):
+            b = re.search(r'benchmark:\n\s+"benchmarks/([^"]+)"', m.group(2))
+            if b:
+                path = re.sub(r"\{(\w+)\}", lambda w: {"word": "BBT", "vary": "s"}.get(w.group(1), "x1"), b.group(1))
+                assert rule_of_benchmark(path) == m.group(1), (m.group(1), path)
+                seen += 1
+    assert seen >= 25

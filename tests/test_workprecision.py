@@ -53,6 +53,26 @@ def test_failure_map_exact_is_always_right_and_event_detection_misses_short_cros
     assert "follows the reference's" in str(fm.sel(solver="exact (numba)", case="chattering into sticking").detail.values)
 
 
+def test_a_chaotic_run_cut_by_its_budget_while_right_is_stalled_not_wrong():
+    """Radau at rtol 1e-10 evaluates the right-hand side ~2500 times per chaotic impact: with a budget
+    of 10 000 it stops after a few impacts, all of them right; that is 'stalled', not a lost sequence
+    (which needs an impact off the reference), and it stops there on any machine."""
+    fm = failure_map(epsilons=(1e-2,), ivp_methods=("Radau",), ivp_tols=(1e-10,), rk4_steps=(),
+                     chaos_impacts=30, chatter_t_end=1.0, max_seconds=0.3, chatter_max_evals=2000,
+                     chaos_max_evals=10_000)
+    detail = str(fm.sel(solver="solve_ivp Radau rtol=1e-10", case="chaotic run (30 impacts)").detail.values)
+    again = failure_map(epsilons=(1e-2,), ivp_methods=("Radau",), ivp_tols=(1e-10,), rk4_steps=(),
+                        chaos_impacts=30, chatter_t_end=1.0, max_seconds=0.3, chatter_max_evals=2000,
+                        chaos_max_evals=10_000)
+    # the same number of impacts followed however long each took
+    assert detail.split(" (")[0] == str(again.sel(solver="solve_ivp Radau rtol=1e-10",
+                                                   case="chaotic run (30 impacts)").detail.values).split(" (")[0]
+    case = "chaotic run (30 impacts)"
+    radau = fm.sel(solver="solve_ivp Radau rtol=1e-10", case=case)
+    assert str(radau.outcome.values) == "stalled", str(radau.detail.values)
+    assert str(fm.sel(solver="exact (numba)", case=case).outcome.values) == "correct"
+
+
 def test_workflow_cost_reads_benchmark_files(tmp_path):
     (tmp_path / "maps").mkdir()
     (tmp_path / "maps" / "s_beta.tsv").write_text("s\th:m:s\tmax_rss\n1.5\t0:00:01\t100\n")

@@ -4,14 +4,14 @@ Numba invalidates a cached function only when its own file changes, not when a f
 from another module does (every kernel here inlines the flight's closed forms): after such a change
 a stale compilation would run silently, and results would differ at rounding level from a fresh
 one.  So the cache lives in a directory named after a hash of all the package's sources, unless the
-user set ``NUMBA_CACHE_DIR``.  Imported first by :mod:`vibroimpact`, before any decorated function.
+user set ``NUMBA_CACHE_DIR``.  Imported first by :mod:`vibroimpact`, before any decorated function; it does not import numba
+(which is slow to import) but sets ``NUMBA_CACHE_DIR``, read when numba is first imported.
 """
 
 import hashlib
 import os
+import sys
 from pathlib import Path
-
-import numba
 
 
 def cache_dir() -> str:
@@ -28,4 +28,7 @@ def cache_dir() -> str:
 
 
 if not os.environ.get("NUMBA_CACHE_DIR"):
-    numba.config.CACHE_DIR = cache_dir()
+    if "numba" in sys.modules:  # numba has read its environment already
+        sys.modules["numba"].config.CACHE_DIR = cache_dir()
+    else:  # numba reads it when first imported (and so do subprocesses: the same cache)
+        os.environ["NUMBA_CACHE_DIR"] = cache_dir()

@@ -188,11 +188,13 @@ def _count_worker(args: str) -> None:
     print(json.dumps(out))
 
 
-def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400) -> xr.Dataset:
+def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: int = 20_000) -> xr.Dataset:
     """Cost of the exact kernel on the two target scenes: microseconds per impact on one thread
     (``simulate``), impacts per second of ``simulate_batch`` on 1 and on all cores, and per impact the
     sine/cosine calls, point evaluations and root searches of the event finder (counted over
-    ``n_counted`` flights of the same algorithm run as plain Python)."""
+    ``n_counted`` flights of the same algorithm run as plain Python); in the same run, heyoka's
+    stepping cost per impact at tol = eps (:func:`~vibroimpact.peer_heyoka.stepping_cost`, over
+    ``n_heyoka`` impacts), NaN where heyoka is not installed."""
     import json
     import os
     import subprocess
@@ -204,12 +206,21 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400) -> xr.Datas
     res = subprocess.run([sys.executable, "-m", "vibroimpact.bench", json.dumps({"n": n_counted})], env=env,
                          capture_output=True, text=True, check=True)
     counts = json.loads(res.stdout)
+    from . import peer_heyoka
+
     names = list(KERNEL_SCENES)
-    us, rate1, rateall = [], [], []
+    us, rate1, rateall, hy_us, hy_steps = [], [], [], [], []
     cores = numba.config.NUMBA_NUM_THREADS
     for name in names:
         beta, d, phi, v0 = KERNEL_SCENES[name]
         p = Params(d=d, gbar=0.1245 * 9.8 * math.sin(beta) / 5.0, r=0.5)
+        if peer_heyoka.available():
+            hy = peer_heyoka.stepping_cost(p, phi, v0, n_heyoka, tol=np.finfo(float).eps)
+            hy_us.append(hy["us_per_impact"])
+            hy_steps.append(hy["steps_per_impact"])
+        else:
+            hy_us.append(math.nan)
+            hy_steps.append(math.nan)
         simulate(p, phi, v0, n_impacts=100)
         t = time.perf_counter()
         simulate(p, phi, v0, n_impacts=n_impacts)
@@ -232,9 +243,14 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400) -> xr.Datas
             "trig_per_impact": (*per("trig"), dict(units="1", long_name="sine and cosine calls per impact")),
             "points_per_impact": (*per("points"), dict(units="1", long_name="points evaluated per impact")),
             "roots_per_impact": (*per("roots"), dict(units="1", long_name="root searches per impact")),
+            "heyoka_stepping_us_per_impact": ("scene", hy_us, dict(
+                units="us", long_name="heyoka at tol = eps: seconds per Taylor step (one propagate_until, no "
+                "events, no Python loop) times its event loop's steps per impact")),
+            "heyoka_steps_per_impact": ("scene", hy_steps, dict(units="1", long_name="heyoka's Taylor steps per impact at tol = eps")),
         },
         coords={"scene": names},
-        attrs=dict(cores=cores, n_impacts=n_impacts, n_counted=n_counted),
+        attrs=dict(cores=cores, n_impacts=n_impacts, n_counted=n_counted, n_heyoka=n_heyoka,
+                   heyoka=peer_heyoka.heyoka_version() or "not installed"),
     )
     return annotate(ds)
 

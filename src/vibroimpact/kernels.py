@@ -54,6 +54,17 @@ CHATTER_DRIFT = 1e-9
 TAU_HORIZON = 1.0e5
 
 
+@njit(cache=True, inline="always")
+def _wrap(x):
+    """``x % TWO_PI`` for ``x >= 0``, bit for bit: below ``2 TWO_PI`` one subtraction, exact by
+    Sterbenz's lemma (as the remainder is), without the library call."""
+    if x < TWO_PI:
+        return x
+    if x < 2.0 * TWO_PI:
+        return x - TWO_PI
+    return x % TWO_PI
+
+
 @njit(cache=True)
 def _phase_distance(a, b):
     x = abs(a - b) % TWO_PI
@@ -260,7 +271,7 @@ def run(d, gbar, r, t_start, theta_start, z_start, v_start, kind_start, wall_sta
         if w == 0:
             return i, T_END if t_end < math.inf else NO_IMPACT, lag
         t += tau
-        theta = (theta + PI * tau) % TWO_PI
+        theta = _wrap(theta + PI * tau)
         z = w * half
         pending = IMPACT
 

@@ -85,10 +85,13 @@ def _python_worker(args):
 # ---------------------------------------------------------------------------------------------
 
 
-def ivp_flight(theta, z0, u, d, gbar, rtol, atol, method="DOP853", horizon=50.0):
-    """Next impact by solve_ivp with terminal events on both walls: (tau, wall, Zdot-) or (inf, 0, nan)."""
+def ivp_flight(theta, z0, u, d, gbar, rtol, atol, method="DOP853", horizon=50.0, evals=None):
+    """Next impact by solve_ivp with terminal events on both walls: (tau, wall, Zdot-) or (inf, 0, nan).
+    ``evals``: a one-element list that counts the right-hand side's evaluations."""
 
     def rhs(t, y):
+        if evals is not None:
+            evals[0] += 1
         return (y[1], math.cos(theta + math.pi * t) + gbar)
 
     def bottom(t, y):
@@ -107,16 +110,18 @@ def ivp_flight(theta, z0, u, d, gbar, rtol, atol, method="DOP853", horizon=50.0)
     return math.inf, 0, math.nan
 
 
-def flight_loop(flight, p: Params, phi, v0, n, *, t_end=math.inf, max_seconds=60.0, errors=(ValueError,)):
+def flight_loop(flight, p: Params, phi, v0, n, *, t_end=math.inf, max_seconds=60.0, errors=(ValueError,),
+                exhausted=None):
     """Chain flights from a bottom impact at phase ``phi`` with pre-impact velocity ``v0``: each flight
     ``flight(theta, z0, u, k)`` (``k`` flights done) gives ``(tau, wall, Zdot-)``, then Zdot+ = -r Zdot-.
-    An exception of ``errors`` ends the run as crashed; ``max_seconds`` as stalled."""
+    An exception of ``errors`` ends the run as crashed; ``max_seconds``, or ``exhausted()`` turning
+    true (a budget of work, which unlike a time budget gives the same run on any machine), as stalled."""
     theta, z, u, t = phi, p.d / 2, -p.r * v0, 0.0
     ts, ws, vs = [], [], []
     status = OK
     start = time.perf_counter()
     while len(ts) < n and t < t_end:
-        if time.perf_counter() - start > max_seconds:
+        if time.perf_counter() - start > max_seconds or (exhausted is not None and exhausted()):
             status = STALLED
             break
         try:
@@ -137,11 +142,15 @@ def flight_loop(flight, p: Params, phi, v0, n, *, t_end=math.inf, max_seconds=60
     return Run(np.array(ts), np.array(ws, dtype=int), np.array(vs), status, time.perf_counter() - start)
 
 
-def run_ivp(p: Params, phi, v0, n, *, method="DOP853", rtol=1e-12, atol=1e-12, t_end=math.inf, max_seconds=60.0):
+def run_ivp(p: Params, phi, v0, n, *, method="DOP853", rtol=1e-12, atol=1e-12, t_end=math.inf, max_seconds=60.0,
+            max_evals=None):
     """Event loop with solve_ivp: restart after each impact with Zdot+ = -r Zdot-; solve_ivp's event
-    location raising ValueError (it gives up in chattering) ends the run as crashed."""
-    return flight_loop(lambda th, z, u, _k: ivp_flight(th, z, u, p.d, p.gbar, rtol, atol, method), p, phi, v0, n,
-                       t_end=t_end, max_seconds=max_seconds)
+    location raising ValueError (it gives up in chattering) ends the run as crashed.  ``max_evals``:
+    stop (stalled) once the right-hand side has been evaluated that many times."""
+    evals = [0]
+    exhausted = None if max_evals is None else (lambda: evals[0] >= max_evals)
+    return flight_loop(lambda th, z, u, _k: ivp_flight(th, z, u, p.d, p.gbar, rtol, atol, method, evals=evals), p, phi,
+                       v0, n, t_end=t_end, max_seconds=max_seconds, exhausted=exhausted)
 
 
 # ---------------------------------------------------------------------------------------------

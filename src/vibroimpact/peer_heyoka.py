@@ -62,6 +62,8 @@ OFFSET_ULPS = 10.0
 RESTARTS = ("cooldown", "offset", "naive")
 
 _CACHE: dict = {}  # (tol, cooldown) -> (integrator, compile seconds, state view, pars view)
+#: Taylor steps taken by the event loop so far (read by :func:`stepping_cost`)
+STEPS = [0]
 
 
 def available() -> bool:
@@ -128,8 +130,11 @@ def _propagate(ta, state, pars, theta, z0, u, half, horizon, offset):
     k = -1  # event index, from heyoka's outcome -(index + 1) of a stopping terminal event
     if offset and u != 0.0 and abs(z0) == half and (z0 > 0) != (u > 0):
         k = -int(ta.step(min(OFFSET_ULPS * EPS * half / abs(u), horizon))[0]) - 1
+        STEPS[0] += 1
     if k != 0 and k != 1:
-        k = -int(ta.propagate_until(horizon)[0]) - 1
+        res = ta.propagate_until(horizon)
+        k = -int(res[0]) - 1
+        STEPS[0] += int(res[3])
     if k == 0 or k == 1:
         return ta.time, 1 if k == 0 else -1, float(state[1])
     return math.inf, 0, math.nan
@@ -172,3 +177,34 @@ def run_heyoka(p: Params, phi, v0, n, *, tol, t_end=math.inf, max_seconds=60.0, 
         return _propagate(ta, state, pars, theta, z, u, half, horizon, restart == "offset" or (keep and k == 0))
 
     return flight_loop(flight, p, phi, v0, n, t_end=t_end, max_seconds=max_seconds, errors=(ValueError, RuntimeError))
+
+
+def stepping_cost(p: Params, phi, v0, n, *, tol) -> dict:
+    """heyoka's cost per impact without any Python in the loop: the seconds per Taylor step of one
+    ``propagate_until`` over the time ``n`` impacts of :func:`run_heyoka` span (same equations and
+    tolerance, no events), times the steps per impact that event loop took.  ``free_end``: the timed
+    propagation's final (Z, Zdot) at ``span``, from a bottom impact at phase ``phi`` (Zdot+ = -r v0).
+
+    This is the floor a user driving heyoka from C++ would approach.  Returns ``us_per_impact``,
+    ``steps_per_impact``, ``us_per_step`` and the event loop's own ``loop_us_per_impact``."""
+    import heyoka as hy
+
+    ta_ev = integrator(tol)
+    ta_ev.reset_cooldowns()
+    STEPS[0] = 0
+    run = run_heyoka(p, phi, v0, n, tol=tol)
+    steps = STEPS[0]
+    span = float(run.t[-1])
+    z, v = hy.make_vars("Z", "V")
+    ta = hy.taylor_adaptive([(z, v), (v, hy.cos(hy.par[0] + math.pi * hy.time) + hy.par[1])], [0.5 * p.d, -p.r * v0],
+                            tol=float(tol), pars=[phi, p.gbar])
+    ta.propagate_until(1.0)  # touch the compiled code outside the clock
+    ta.time = 0.0
+    ta.state[:] = [0.5 * p.d, -p.r * v0]
+    start = time.perf_counter()
+    free = ta.propagate_until(span)
+    seconds = time.perf_counter() - start
+    per_step = seconds / max(int(free[3]), 1)
+    return dict(us_per_impact=per_step * steps / len(run.t) * 1e6, steps_per_impact=steps / len(run.t),
+                us_per_step=per_step * 1e6, loop_us_per_impact=run.seconds / len(run.t) * 1e6,
+                span=span, free_end=(float(ta.state[0]), float(ta.state[1])))

@@ -218,16 +218,38 @@ FIGURE_SOURCES = {
 }
 
 
+#: the rule that wrote a benchmark file, from its path under ``benchmarks/`` (first match; else the
+#: path's first directory, which is the rule's name for the rules that draw and tabulate)
+RULE_OF_BENCHMARK = (
+    (r"^orbits/caption-orbits", "caption_orbits"), (r"^branches/.*/orbit-", "branch"),
+    (r"^branches/.*/sim-", "branch_simulated"), (r"^sweeps/.*-transitions\.tsv$", "transitions"),
+    (r"^sweeps/", "sweep"), (r"^basins/", "basins"), (r"^maps/", "regime_map"),
+    (r"^bench/simulator", "bench_simulator"), (r"^bench/(\w+)\.tsv$", None),
+)
+
+
+def rule_of_benchmark(path: str) -> str:
+    """The rule whose ``benchmark:`` file is ``path`` (relative to the benchmarks directory)."""
+    import re
+
+    for pattern, rule in RULE_OF_BENCHMARK:
+        m = re.match(pattern, path)
+        if m:
+            return rule or m.group(1)
+    return path.split("/")[0]
+
+
 def workflow_cost(bench_dir) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Wall-clock seconds of every benchmarked job (from Snakemake ``benchmark:`` files), summed per
-    rule family and per figure.  A job feeding several figures counts in each."""
+    """Wall-clock seconds of every benchmarked job (from Snakemake ``benchmark:`` files) with its rule,
+    and per figure.  A job feeding several figures counts in each."""
     from pathlib import Path
 
     bench_dir = Path(bench_dir)
     jobs = []
     for f in sorted(bench_dir.rglob("*.tsv")):
         t = pd.read_csv(f, sep="\t")
-        jobs.append({"file": str(f.relative_to(bench_dir)), "seconds": float(t["s"].iloc[-1]),
+        rel = str(f.relative_to(bench_dir))
+        jobs.append({"file": rel, "rule": rule_of_benchmark(rel), "seconds": float(t["s"].iloc[-1]),
                      "max_rss_mb": float(t["max_rss"].iloc[-1]) if "max_rss" in t and t["max_rss"].iloc[-1] != "-" else np.nan})
     jobs = pd.DataFrame(jobs)
     per_fig = []
@@ -239,10 +261,15 @@ def workflow_cost(bench_dir) -> tuple[pd.DataFrame, pd.DataFrame]:
 
 
 def workflow_cost_markdown(jobs: pd.DataFrame, per_fig: pd.DataFrame) -> str:
+    """Per figure, then per rule (jobs, total and largest job seconds, most expensive first)."""
     lines = ["| figure | benchmarked jobs | total seconds |", "|---|---|---|"]
     for _, r in per_fig.iterrows():
         lines.append(f"| {r.figure} | {r.jobs} | {r.seconds:.1f} |")
     lines.append(f"| **all benchmarked jobs** | {len(jobs)} | {jobs.seconds.sum():.1f} |")
+    if len(jobs) and "rule" in jobs:
+        per_rule = (jobs.groupby("rule").seconds.agg(["count", "sum", "max"]).sort_values("sum", ascending=False)
+                    .rename(columns={"count": "jobs", "sum": "total seconds", "max": "largest job (s)"}))
+        lines += ["", "Per rule:", "", per_rule.round(1).to_markdown()]
     return "\n".join(lines) + "\n"
 
 

@@ -57,14 +57,19 @@ def method_ladder(ivp_methods, ivp_tols, rk4_steps, heyoka_tols=(), siconos_tols
     return out
 
 
-def _run(family, setting, p, phi, v0, n, t_end=math.inf, max_seconds=30.0):
+#: wall-clock safety net of a solve_ivp run stopped by its budget of right-hand-side evaluations
+IVP_SAFETY_SECONDS = 120.0
+
+
+def _run(family, setting, p, phi, v0, n, t_end=math.inf, max_seconds=30.0, max_evals=None):
     if family == "exact":
         return M.run_exact(p, phi, v0, n, t_end=t_end)
     if family == "python":
         return M.run_python(p, phi, v0, n, t_end=t_end)
     if family.startswith("ivp-"):
+        # a budget of evaluations, where given, instead of seconds: the same run on any machine and load
         return M.run_ivp(p, phi, v0, n, method=family[4:], rtol=setting, atol=setting * 1e-2, t_end=t_end,
-                         max_seconds=max_seconds)
+                         max_seconds=max_seconds if max_evals is None else IVP_SAFETY_SECONDS, max_evals=max_evals)
     if family == "heyoka":
         from .peer_heyoka import run_heyoka
 
@@ -237,10 +242,15 @@ def failure_thresholds() -> dict:
 
 def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=("RK45", "DOP853", "LSODA", "Radau"),
                 ivp_tols=(1e-6, 1e-10), rk4_steps=(1e-2, 1e-3), heyoka_tols=(), siconos_tols=(), siconos_steps=(),
-                chaos_impacts=100, chatter_t_end=20.0, max_seconds=2.0) -> xr.Dataset:
+                chaos_impacts=100, chatter_t_end=20.0, max_seconds=2.0, chatter_max_evals=20_000,
+                chaos_max_evals=50_000) -> xr.Dataset:
     """Outcome of every method on hard cases: near-grazing flights whose extremum passes eps inside
     a wall (no impact) or crosses it by eps (an impact) at both walls; chattering into sticking;
-    a long chaotic run followed against the reference."""
+    a long chaotic run followed against the reference.
+
+    A run that cannot finish is cut by a budget: ``solve_ivp`` by its right-hand-side evaluations
+    (``chatter_max_evals``, ``chaos_max_evals``), so that where it stops, and so its outcome, is the
+    same on every machine; the peers by ``max_seconds`` (Siconos runs in its own process)."""
     ladder = [m for m in method_ladder(ivp_methods, ivp_tols, rk4_steps, heyoka_tols, siconos_tols, siconos_steps)
               if m[0] != "python"]
     d, gbar = 0.3, 0.2
@@ -284,7 +294,8 @@ def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=
         # chattering into sticking: the impacts faster than CHATTER_V (those after each release,
         # which follow from the stick and release times) against the bounce-by-bounce reference
         p = Params(d=0.3, gbar=0.9, r=0.5)
-        run = _run(family, setting, p, 0.3, 0.5, 200_000, t_end=chatter_t_end, max_seconds=max_seconds)
+        run = _run(family, setting, p, 0.3, 0.5, 200_000, t_end=chatter_t_end, max_seconds=max_seconds,
+                   max_evals=chatter_max_evals)
         j = len(grazing)
         fast = np.abs(run.v) > CHATTER_V
         st, sw = run.t[fast], run.wall[fast]
@@ -310,13 +321,20 @@ def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=
     rt = np.array([float(x[0]) for x in ref])
     rw = np.array([x[1] for x in ref])
     for i, (family, setting, _) in enumerate(ladder):
-        run = _run(family, setting, pc, phi, v0, chaos_impacts, max_seconds=max_seconds)
+        run = _run(family, setting, pc, phi, v0, chaos_impacts, max_seconds=max_seconds, max_evals=chaos_max_evals)
         n = min(len(run.t), len(rt))
         bad = np.flatnonzero((run.wall[:n] != rw[:n]) | (np.abs(run.t[:n] - rt[:n]) > CHAOS_ATOL))
         followed = int(bad[0]) if bad.size else n
         j = len(grazing) + 1
-        outcome[i, j] = "correct" if followed == len(rt) else "wrong sequence"
-        detail[i, j] = f"follows the reference for {followed} of {len(rt)} impacts"
+        if followed == len(rt):
+            outcome[i, j] = "correct"
+        elif run.status.startswith(M.CRASHED):
+            outcome[i, j] = "crashed"
+        elif followed == n and run.status != M.OK:
+            outcome[i, j] = "stalled"  # right so far, but out of time (max_seconds) before the last impact
+        else:
+            outcome[i, j] = "wrong sequence"
+        detail[i, j] = f"follows the reference for {followed} of {len(rt)} impacts ({run.status}, {run.seconds:.3g} s)"
     ds = xr.Dataset(
         {
             "outcome": (("solver", "case"), outcome.astype(str), {"long_name": "outcome", "flag_meanings": " / ".join(OUTCOMES)}),

@@ -15,6 +15,8 @@ rule bench_simulator:
         md="results/tables/bench_simulator.md",
     params:
         **config["bench"],
+        n_impacts=RESOLUTION["bench_size"]["n_impacts"],
+        n_impacts_ivp=RESOLUTION["bench_size"]["n_impacts_ivp"],
     conda:
         "../envs/vibroimpact.yaml"
     log:
@@ -34,6 +36,7 @@ rule work_precision:
         matched_md="results/tables/matched_accuracy.md",
     params:
         **config["work_precision"],
+        n_err=RESOLUTION["bench_size"]["n_err"],
     conda:
         "../envs/vibroimpact.yaml"
     log:
@@ -51,13 +54,14 @@ rule failure_map:
         md="results/tables/failure_map.md",
     params:
         **config["failure_map"],
+        max_seconds=RESOLUTION["bench_size"]["max_seconds"],
     conda:
         "../envs/vibroimpact.yaml"
     log:
         "logs/bench/failure_map.log",
     benchmark:
         "benchmarks/bench/failure_map.tsv"
-    threads: workflow.cores  # timed: run alone
+    threads: 1  # outcomes, not timings: runs beside other jobs (max_seconds only bounds a stalled method)
     script:
         "../scripts/failure_map.py"
 
@@ -114,5 +118,7 @@ rule bench_figure:
         "../envs/vibroimpact.yaml"
     log:
         "logs/figures/{bench}.log",
+    benchmark:
+        "benchmarks/bench_figure/{bench}.tsv"
     script:
         "../scripts/bench_figure.py"

@@ -16,6 +16,8 @@ rule fig2:
         "../envs/vibroimpact.yaml"
     log:
         "logs/figures/fig2.log",
+    benchmark:
+        "benchmarks/fig2/fig2.tsv"
     script:
         "../scripts/branch_figure.py"
 
@@ -35,5 +37,7 @@ rule fig3:
         "../envs/vibroimpact.yaml"
     log:
         "logs/figures/fig3.log",
+    benchmark:
+        "benchmarks/fig3/fig3.tsv"
     script:
         "../scripts/branch_figure.py"

@@ -32,6 +32,8 @@ rule check_paper_values:
         "../envs/vibroimpact.yaml"
     log:
         "logs/checks/paper_values.log",
+    benchmark:
+        "benchmarks/check_paper_values/paper_values.tsv"
     script:
         "../scripts/check.py"
 

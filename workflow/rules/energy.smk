@@ -14,6 +14,8 @@ rule branch_energy:
         "../envs/vibroimpact.yaml"
     log:
         "logs/energy/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.log",
+    benchmark:
+        "benchmarks/branch_energy/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.tsv"
     script:
         "../scripts/energy.py"
 
@@ -31,6 +33,8 @@ rule sweep_energy:
         "../envs/vibroimpact.yaml"
     log:
         "logs/energy/beta-{beta}_r-{r}/{sweep}.log",
+    benchmark:
+        "benchmarks/sweep_energy/beta-{beta}_r-{r}/{sweep}.tsv"
     script:
         "../scripts/energy.py"
 
@@ -56,6 +60,8 @@ rule energy_figure:
         "../envs/vibroimpact.yaml"
     log:
         "logs/figures/{efig}.log",
+    benchmark:
+        "benchmarks/energy_figure/{efig}.tsv"
     script:
         "../scripts/energy_figure.py"
 
@@ -74,6 +80,8 @@ rule design:
         "../envs/vibroimpact.yaml"
     log:
         "logs/tables/design.log",
+    benchmark:
+        "benchmarks/design/design.tsv"
     script:
         "../scripts/design.py"
 
@@ -99,5 +107,7 @@ rule study_figure:
         "../envs/vibroimpact.yaml"
     log:
         "logs/studies/beta-{beta}_r-{r}.log",
+    benchmark:
+        "benchmarks/study_figure/beta-{beta}_r-{r}.tsv"
     script:
         "../scripts/energy_figure.py"

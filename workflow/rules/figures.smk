@@ -12,5 +12,7 @@ rule scene_figure:
         "../envs/vibroimpact.yaml"
     log:
         "logs/figures/{scene}.log",
+    benchmark:
+        "benchmarks/scene_figure/{scene}.tsv"
     script:
         "../scripts/scene_figure.py"

@@ -1,17 +1,18 @@
 # Caption orbits: exact simulation from the paper's initial conditions, with the attractor found.
 
 
-rule caption_orbit:
+rule caption_orbits:
+    # one job for all captions: each takes a fraction of a second, less than starting a job
     output:
-        "results/orbits/caption-{name}.nc",
+        expand("results/orbits/caption-{name}.nc", name=CAPTIONS),
     params:
-        p=lambda wc: caption_params(wc.name),
+        p=[caption_params(n) for n in CAPTIONS],
     conda:
         "../envs/vibroimpact.yaml"
     log:
-        "logs/orbits/caption-{name}.log",
+        "logs/orbits/caption-orbits.log",
     benchmark:
-        "benchmarks/orbits/caption-{name}.tsv"
+        "benchmarks/orbits/caption-orbits.tsv"
     script:
         "../scripts/caption_orbit.py"
 
@@ -29,5 +30,7 @@ rule caption_summary:
         "../envs/vibroimpact.yaml"
     log:
         "logs/orbits/captions.log",
+    benchmark:
+        "benchmarks/caption_summary/captions.tsv"
     script:
         "../scripts/caption_summary.py"

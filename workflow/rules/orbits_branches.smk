@@ -54,5 +54,7 @@ rule table1:
         "../envs/vibroimpact.yaml"
     log:
         "logs/tables/table1.log",
+    benchmark:
+        "benchmarks/table1/table1.tsv"
     script:
         "../scripts/table1.py"

@@ -90,6 +90,8 @@ rule bistability_portraits:
         "../envs/vibroimpact.yaml"
     log:
         "logs/sweeps/figBiS-portraits.log",
+    benchmark:
+        "benchmarks/bistability_portraits/portraits.tsv"
     script:
         "../scripts/bistability_portraits.py"
 
@@ -109,6 +111,8 @@ rule figBiS:
         "../envs/vibroimpact.yaml"
     log:
         "logs/figures/figBiS.log",
+    benchmark:
+        "benchmarks/figBiS/figBiS.tsv"
     script:
         "../scripts/fig_bis.py"
 
@@ -124,6 +128,8 @@ rule fig_basins:
         "../envs/vibroimpact.yaml"
     log:
         "logs/figures/basins.log",
+    benchmark:
+        "benchmarks/fig_basins/basins.tsv"
     script:
         "../scripts/fig_basins.py"
 
@@ -141,6 +147,8 @@ rule fig_regime_map:
         "../envs/vibroimpact.yaml"
     log:
         "logs/figures/regime_map.log",
+    benchmark:
+        "benchmarks/fig_regime_map/regime_map.tsv"
     script:
         "../scripts/fig_regime_map.py"
 
@@ -156,5 +164,7 @@ rule transitions_table:
         "../envs/vibroimpact.yaml"
     log:
         "logs/tables/transitions.log",
+    benchmark:
+        "benchmarks/transitions_table/transitions.tsv"
     script:
         "../scripts/transitions_table.py"

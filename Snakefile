@@ -43,6 +43,7 @@ include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/energy.smk"
 include: "workflow/rules/checks.smk"
 include: "workflow/rules/bench.smk"
+include: "workflow/rules/bifurcation.smk"
 
 
 rule all:

@@ -420,3 +420,102 @@ def test_unrefined_critical_point_is_kept_with_a_linear_estimate(monkeypatch):
         d = float(br.critical_d[k])
         assert lo <= d <= hi and hi - lo <= 1.01e-3
         assert abs(d - float(ref.critical_d[k])) < 1e-4  # linear zero of a smooth test function
+
+
+@pytest.mark.parametrize("vary", ["d", "gbar", "r", "s", "F", "beta", "omega"])
+def test_branch_equations_derivative_in_any_parameter_agrees_with_finite_differences(vary):
+    """The column d/dlam of the continuation's equations for every parameter (ParameterMap): d enters
+    through the walls, gbar through the flights, r through the rebounds, the physical ones through
+    the paper's scaling."""
+    from vibroimpact.continuation import ParameterMap, _augmented
+    from vibroimpact.orbits import parse_word
+
+    p = vi.Params.from_physical(s=0.14 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
+    o = find_orbit(p, "BBT", 5.855, 0.4185)
+    pm = ParameterMap(o, vary)
+    walls = parse_word("BBT")
+    Y = np.append(o.z, pm.lam0) + np.random.default_rng(7).uniform(-1e-3, 1e-3, o.z.size + 1)
+    _, J = _augmented(Y, walls, p.r, o.k, 0.0, 0.0, pm)
+    fd = _central_difference(lambda x: _augmented(x, walls, p.r, o.k, 0.0, 0.0, pm)[0], Y)
+    assert np.max(np.abs(J - fd)) < FD_TOL
+
+
+@pytest.fixture(scope="module")
+def g1_in_s():
+    """G1 (the 2:1 orbit grazes) at beta = pi/6, located on the branch continued in s."""
+    br = branch(math.pi / 6, "BBT", 5.855, 0.4185, 0.14, (0.135, 0.145), step=1e-3)
+    d_g1 = float(critical(br, "grazing")[0])
+    i = int(np.argmin(np.abs(br.d.values - 0.1385)))
+    return d_g1, float(br.phase[i, 0]), float(br.v_minus[i, 0])
+
+
+@pytest.mark.parametrize("vary", ["gbar", "beta", "omega", "r"])
+def test_grazing_point_is_the_same_whichever_parameter_finds_it(g1_in_s, vary):
+    """One codimension-one point, located along four other branches through it: at G1's length s*
+    (located in s), the branch continued in gbar, in beta, in omega and in r (from an orbit just
+    above G1) must graze exactly where G1 sits, gbar = M g sin(pi/6)/F, beta = pi/6,
+    omega = 5 pi, r = 0.5 (1e-9), each a different set of equations (parameter derivatives)."""
+    d_g1, phi, v0 = g1_in_s
+    ref = vi.Params.from_physical(s=1.0, beta=math.pi / 6)
+    s_g1 = d_g1 / ref.d
+    p = vi.Params.from_physical(s=s_g1, beta=math.pi / 6)
+    target = {"gbar": p.gbar, "beta": math.pi / 6, "omega": 5 * math.pi, "r": 0.5}[vary]
+    # start a little on the stable side of G1 (the 2:1 exists above G1 in d): move the parameter there
+    start = {"gbar": p.gbar * (1 - 3e-3), "beta": math.pi / 6 - 6e-3, "omega": 5 * math.pi * (1 + 3e-3),
+             "r": 0.5 + 1e-2}[vary]
+    kw = {"gbar": {}, "r": {}, "beta": {"beta": start}, "omega": {"omega": start}}[vary]
+    q = vi.Params.from_physical(s=s_g1, beta=kw.get("beta", math.pi / 6), omega=kw.get("omega", 5 * math.pi))
+    if vary in ("gbar", "r"):
+        q = vi.Params(d=q.d, gbar=start if vary == "gbar" else q.gbar, r=start if vary == "r" else 0.5)
+    o = find_orbit(q, "BBT", phi, v0)
+    lo, hi = sorted((target - 3 * (start - target), start + (start - target)))
+    br = continue_orbit(o, vary=vary, value_range=(lo, hi), step=2e-3)
+    graz = br.critical_value.values[br.critical_kind.values == "grazing"]
+    assert graz.size and np.min(np.abs(graz - target)) < 1e-9, (graz, target, br.attrs)
+
+
+def test_a_parameter_out_of_the_model_range_is_refused_or_stops_the_branch():
+    """value_range asked where it cannot hold: an error before any work names the parameter; a branch
+    that reaches r = 1 or beta = pi/2 stops there and says so."""
+    p = vi.Params.from_physical(s=0.14 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
+    o = find_orbit(p, "BBT", 5.855, 0.4185)
+    with pytest.raises(ValueError, match="vary = 'alpha'"):
+        continue_orbit(o, vary="alpha", value_range=(0, 1))
+    with pytest.raises(ValueError, match="needs value_range"):
+        continue_orbit(o, vary="beta", d_range=(0.1, 0.2))
+    with pytest.raises(ValueError, match="must contain the orbit's beta"):
+        continue_orbit(o, vary="beta", value_range=(0.6, 0.7))
+    np_ = vi.Params(d=p.d, gbar=p.gbar, r=p.r)
+    with pytest.raises(ValueError, match="needs physical parameters"):
+        continue_orbit(find_orbit(np_, "BBT", 5.855, 0.4185), vary="beta", value_range=(0.4, 0.6))
+
+
+@pytest.mark.parametrize("r", [0.3, 0.5, 0.8])
+def test_bouncing_ball_period_one_fold_and_doubling_match_the_closed_forms(r):
+    """The vibrated bouncing ball (top wall out of reach) has a period-1 orbit (one impact per forcing
+    period) that is born at Gamma_1 = pi (1 - r) / (1 + r) and doubles its period at
+    Gamma_2 = sqrt((pi (1 - r) / (1 + r))^2 + (2 (1 + r^2) / (1 + r)^2)^2) (Luck & Mehta 1993; here
+    gbar = 1 / Gamma, with the impact map's Det = r^2).  Continued in gbar from the stable orbit, the
+    fold and the period doubling it locates must sit at 1/Gamma_1 and 1/Gamma_2 to 1e-10."""
+    g_fold = (1 + r) / (math.pi * (1 - r))
+    g_pd = 1 / math.hypot(math.pi * (1 - r) / (1 + r), 2 * (1 + r * r) / (1 + r) ** 2)
+    g0 = 0.5 * (g_fold + g_pd)
+    theta = math.pi - math.asin(math.pi * g0 * (1 - r) / (1 + r))  # the stable one: cos(theta) < 0
+    o = find_orbit(vi.Params(d=50.0, gbar=g0, r=r), "B", theta, 2 * g0 / (1 + r), k=1)
+    assert o.stable
+    br = continue_orbit(o, vary="gbar", value_range=(0.8 * g_pd, min(0.999 * g_fold + 0.05, 0.99 * 2 * g_fold)),
+                        step=5e-3)
+    kinds, vals = br.critical_kind.values, br.critical_value.values
+    assert np.min(np.abs(vals[kinds == "fold"] - g_fold)) < 1e-10
+    assert np.min(np.abs(vals[kinds == "B"] - g_pd)) < 1e-10
+    # and in r at fixed gbar: the doubling where 1 / Gamma_2(r) = gbar (none in range for r = 0.8)
+    from scipy.optimize import brentq
+
+    lo, hi = max(r - 0.25, 0.01), min(r + 0.19, 0.99)
+    rb = continue_orbit(o, vary="r", value_range=(lo, hi), step=5e-3)
+    f = lambda x: 1 / math.hypot(math.pi * (1 - x) / (1 + x), 2 * (1 + x * x) / (1 + x) ** 2) - g0
+    grid = np.linspace(lo, hi, 200)
+    expected = [brentq(f, a, b, xtol=1e-15) for a, b in zip(grid[:-1], grid[1:], strict=True) if f(a) * f(b) < 0]
+    found = sorted(rb.critical_value.values[(rb.critical_kind.values == "B") & rb.critical_admissible.values])
+    assert len(found) == len(expected) == (0 if r == 0.8 else 1)
+    assert np.allclose(found, expected, rtol=0, atol=1e-10)

@@ -81,6 +81,8 @@ def test_bad_config_fails_before_any_job(tmp_path, key, value, words):
     (lambda c: c["maps"]["s_F"].update(y="s"), ["maps.s_F.y", "'s'", "different from x"]),
     # start_d inside d_range
     (lambda c: c["branches"]["words"]["BBT"].update(start_d=0.6), ["branches.words.BBT.start_d", "0.6", "inside branches.d_range"]),
+    # the bifurcation set starts from branches the config continues
+    (lambda c: c["bifurcation"].update(words=["BBT", "BBBBT"]), ["bifurcation.words", "BBBBT", "words of branches.words"]),
     # checks.known names an item the check produces
     (lambda c: c["checks"]["known"].update({"G3: no such point": "a reason long enough for the schema to accept it"}), ["checks.known", "G3: no such point", "an item of the paper-value check"]),
 ])
@@ -157,3 +159,14 @@ def test_every_benchmark_file_is_attributed_to_the_rule_that_writes_it():
                 assert rule_of_benchmark(path) == m.group(1), (m.group(1), path)
                 seen += 1
     assert seen >= 25
+
+
+def test_the_bifurcation_target_plans_its_rules_from_the_branches(tmp_path):
+    """`snakemake bifurcation`: one curve set and one figure per regime map, from the start branches."""
+    _copy_workflow(tmp_path)
+    res = _snakemake(tmp_path, "-n", "bifurcation")
+    assert res.returncode == 0, res.stderr[-2000:]
+    out = res.stdout + res.stderr
+    for rule in ("bifurcation_set", "fig_bifurcation_set", "branch", "regime_map"):
+        assert f"rule {rule}:" in out or f"\n{rule} " in out or f" {rule} " in out, rule
+    assert "results/bifurcation/s_beta.nc" in out and "results/figures/bifurcation_set_s_F.png" in out

@@ -30,7 +30,7 @@ from .datasets import annotate
 from .orbits import Orbit, OrbitError, _residual_and_jacobian, find_orbit, orbit_from_vector, parse_word
 from .params import Params
 
-__all__ = ["branch_from_simulation", "branch_parameters", "continue_orbit", "simulate_along"]
+__all__ = ["PARAMETERS", "ParameterMap", "branch_from_simulation", "branch_parameters", "continue_orbit", "simulate_along"]
 
 TESTS = ("B", "fold", "A", "NS", "grazing")
 
@@ -60,18 +60,113 @@ def branch_parameters(orbit: Orbit, vary: str):
     return g0, g1, to_physical
 
 
-def _augmented(Y, walls, r, k, g0, g1):
-    """Residual F(z, d) and its Jacobian [F_z | F_d] (2N+1 x 2N+2)."""
+#: parameters a branch can be continued in: non-dimensional, then physical (paper §2 scaling)
+PARAMETERS = ("d", "gbar", "r", "s", "F", "beta", "omega")
+
+
+class ParameterMap:
+    """How the model's ``(d, gbar, r)`` follow the continuation variable ``lam`` when ``vary`` changes.
+
+    ``vary`` in ``("d", "s", "F")``: ``lam = d`` and ``gbar = g0 + g1 d`` (module docstring).  ``vary`` in
+    ``("gbar", "r", "beta", "omega")``: ``lam`` is that parameter, the others fixed at the orbit's:
+    ``gbar = M g sin(beta) / F`` and ``d = s M omega^2 / (F pi^2)`` for the physical ones.
+    """
+
+    def __init__(self, orbit: Orbit, vary: str):
+        if vary not in PARAMETERS:
+            raise ValueError(f"vary = {vary!r}; allowed: {', '.join(PARAMETERS)}")
+        p = orbit.params
+        self.vary, self.phys, self.d0, self.g0, self.r0 = vary, dict(p.physical), p.d, p.gbar, p.r
+        if vary in ("s", "F", "beta", "omega") and not self.phys:
+            raise ValueError(f"vary = {vary!r} needs physical parameters: build the orbit's Params with "
+                             "Params.from_physical")
+        self.line = vary in ("d", "s", "F")
+        if self.line:
+            self.g_int, self.g_slope, _ = branch_parameters(orbit, vary)
+        self.lam0 = {"gbar": p.gbar, "r": p.r}.get(vary, self.phys.get(vary, p.d)) if not self.line else p.d
+
+    @property
+    def label(self) -> str:
+        """Name of the continuation variable (``d`` for the d-family)."""
+        return "d" if self.line else self.vary
+
+    def valid(self, lam) -> bool:
+        """Does ``lam`` keep the model's parameters in their range (d > 0, gbar >= 0, 0 <= r < 1,
+        0 <= beta <= pi/2, omega > 0)?"""
+        d, gbar, r = self.at(lam)
+        ok = d > 0 and gbar >= 0 and 0 <= r < 1
+        if self.vary == "beta":
+            ok = ok and 0 <= lam <= math.pi / 2
+        if self.vary in ("omega", "F"):
+            ok = ok and lam > 0
+        return bool(ok)
+
+    def at(self, lam):
+        """``(d, gbar, r)`` at ``lam``."""
+        if self.line:
+            return lam, self.g_int + self.g_slope * lam, self.r0
+        ph = self.phys
+        if self.vary == "gbar":
+            return self.d0, lam, self.r0
+        if self.vary == "r":
+            return self.d0, self.g0, lam
+        if self.vary == "beta":
+            return self.d0, ph["M"] * ph["g"] * math.sin(lam) / ph["F"], self.r0
+        return ph["s"] * ph["M"] * lam**2 / (ph["F"] * math.pi**2), self.g0, self.r0  # omega
+
+    def deriv(self, lam):
+        """``(dd/dlam, dgbar/dlam, dr/dlam)``."""
+        if self.line:
+            return 1.0, self.g_slope, 0.0
+        ph = self.phys
+        return {"gbar": (0.0, 1.0, 0.0), "r": (0.0, 0.0, 1.0),
+                "beta": (0.0, ph.get("M", 0) * ph.get("g", 0) * math.cos(lam) / ph.get("F", 1), 0.0),
+                "omega": (2.0 * ph.get("s", 0) * ph.get("M", 0) * lam / (ph.get("F", 1) * math.pi**2), 0.0, 0.0),
+                }[self.vary]
+
+    def physical(self, lam) -> dict:
+        """The physical values at ``lam`` that the branch changes (``s``, ``F``, ``beta``, ``omega``; empty
+        for a non-dimensional parameterisation)."""
+        if not self.phys:
+            return {}
+        d, _, _ = self.at(lam)
+        ph, k = self.phys, self.phys["M"] * self.phys["omega"] ** 2 / math.pi**2
+        if self.vary == "F":
+            return dict(s=ph["s"], F=k * ph["s"] / d)
+        if self.vary in ("s", "d"):
+            return dict(s=d * ph["F"] / k, F=ph["F"])
+        if self.vary in ("beta", "omega"):
+            return {self.vary: lam}
+        return {}
+
+    def value(self, lam) -> float:
+        """The varied parameter's own value at ``lam`` (``s`` in metres, ``F`` in newtons, ...)."""
+        if self.vary in ("d", "gbar", "r", "beta", "omega"):
+            return lam
+        return self.physical(lam)[self.vary]
+
+
+def _augmented(Y, walls, r, k, g0, g1, pm=None):
+    """Residual F(z, lam) and its Jacobian [F_z | F_lam] (2N+1 x 2N+2), ``lam`` the last entry of ``Y``:
+    ``d`` with ``gbar = g0 + g1 d`` and restitution ``r``, or as the parameter map ``pm`` says."""
     n = walls.shape[0]
-    z, d = Y[:-1], Y[-1]
-    gbar = g0 + g1 * d
+    z, lam = Y[:-1], Y[-1]
+    if pm is None:
+        d, gbar, dd, dg, dr = lam, g0 + g1 * lam, 1.0, g1, 0.0
+    else:
+        d, gbar, r = pm.at(lam)
+        dd, dg, dr = pm.deriv(lam)
     F, Jz = _residual_and_jacobian(z, walls, d, gbar, r, k)
     Fd = np.zeros(2 * n + 1)
-    tau = z[1:n + 1]
+    tau, v = z[1:n + 1], z[n + 1:]
     for j in range(n):
         jn = (j + 1) % n
-        Fd[2 * j] = -(walls[jn] - walls[j]) * 0.5 + g1 * 0.5 * tau[j] ** 2
-        Fd[2 * j + 1] = g1 * tau[j]
+        # d enters through the walls, gbar through the flight, r through the rebound u = -r v_j
+        Fd[2 * j] = -(walls[jn] - walls[j]) * 0.5 * dd + dg * 0.5 * tau[j] ** 2
+        Fd[2 * j + 1] = dg * tau[j]
+        if dr != 0.0:
+            Fd[2 * j] -= dr * v[j] * tau[j]
+            Fd[2 * j + 1] -= dr * v[j]
     return F, np.column_stack([Jz, Fd])
 
 
@@ -86,26 +181,26 @@ def _tangent(J, prev=None):
     return t / np.linalg.norm(t)
 
 
-def _correct(Yp, tangent, walls, r, k, g0, g1, tol=1e-13, max_iter=12):
+def _correct(Yp, tangent, walls, r, k, g0, g1, tol=1e-13, max_iter=12, pm=None):
     """Newton on F = 0 plus tangent . (Y - Yp) = 0."""
     Y = Yp.copy()
     for _ in range(max_iter):
-        F, J = _augmented(Y, walls, r, k, g0, g1)
+        F, J = _augmented(Y, walls, r, k, g0, g1, pm)
         G = np.append(F, tangent @ (Y - Yp))
         A = np.vstack([J, tangent])
         step = np.linalg.solve(A, -G)
         Y += step
         if np.max(np.abs(step)) < tol * max(1.0, np.max(np.abs(Y))):
             return Y
-    F, _ = _augmented(Y, walls, r, k, g0, g1)
+    F, _ = _augmented(Y, walls, r, k, g0, g1, pm)
     if np.max(np.abs(F)) < 1e-10:
         return Y
     raise OrbitError("corrector did not converge")
 
 
-def _orbit_at(Y, template: Orbit, g0, g1):
-    d = float(Y[-1])
-    p = Params(d=d, gbar=g0 + g1 * d, r=template.params.r)
+def _orbit_at(Y, template: Orbit, pm: ParameterMap):
+    d, gbar, r = pm.at(float(Y[-1]))
+    p = Params(d=float(d), gbar=float(gbar), r=float(r))
     return orbit_from_vector(p, template.word, template.k, Y[:-1].copy())
 
 
@@ -120,48 +215,54 @@ def continue_orbit(
     orbit: Orbit,
     *,
     vary: str = "d",
-    d_range: tuple[float, float],
+    d_range: tuple[float, float] | None = None,
+    value_range: tuple[float, float] | None = None,
     step: float = 1e-3,
     max_points: int = 100_000,
     locate: bool = True,
     xtol: float = 1e-13,
 ) -> xr.Dataset:
-    """Follow ``orbit`` in both directions along its branch while ``d`` stays within ``d_range``.
+    """Follow ``orbit`` in both directions along its branch in one parameter.
 
     Parameters
     ----------
     orbit : Orbit
-        Starting orbit (from :func:`~vibroimpact.orbits.find_orbit`).
-    vary : {"d", "s", "F"}
-        Parameterisation (module docstring).
-    d_range : (float, float)
-        Interval of d to cover.
+        Starting orbit (from :func:`~vibroimpact.orbits.find_orbit`; built with
+        :meth:`~vibroimpact.params.Params.from_physical` for a physical parameter).
+    vary : {"d", "gbar", "r", "s", "F", "beta", "omega"}
+        The parameter: non-dimensional ``d``, ``gbar`` or ``r``, or physical cylinder length ``s`` (m),
+        force ``F`` (N), incline ``beta`` (rad) or angular frequency ``omega`` (rad/s), the others fixed
+        (:class:`ParameterMap`).
+    d_range : (float, float), optional
+        Interval of d to cover (``vary`` in "d", "s", "F", whose continuation variable is d).
+    value_range : (float, float), optional
+        Interval of the varied parameter itself (any ``vary``; for "s" and "F" instead of ``d_range``).
     step : float
-        Arclength step in the ``(z, d)`` space (halved on a failed corrector, down to 1e-9).
+        Arclength step in the ``(z, lam)`` space (halved on a failed corrector, down to 1e-9).
     locate : bool
-        Refine the zeros of the test functions (critical and grazing points) to ``xtol`` in d.
+        Refine the zeros of the test functions (critical and grazing points) to ``xtol`` in the
+        continuation variable.
     max_points : int
         Most branch points per direction.
 
     Returns
     -------
     xarray.Dataset
-        Along ``point`` (ordered by arclength): ``d``, ``gbar`` (and ``s``, ``F`` for physical
-        parameterisations), per impact ``v_minus``, ``phase``, ``dt``, ``t``; ``eig_real``,
-        ``eig_imag``, ``eig_abs``, ``trace``, ``det``, ``discriminant``, ``stable``, ``stability``,
-        ``admissible``, ``reason``, ``clearance``.  Along ``critical``: ``critical_kind``,
-        ``critical_d`` (and ``critical_s``, ``critical_F``) and ``critical_admissible``.
+        Along ``point`` (ordered by arclength): ``d``, ``gbar``, ``r``, ``value`` (the varied
+        parameter; and ``s``, ``F``, ``beta`` or ``omega`` where physical), per impact ``v_minus``,
+        ``phase``, ``dt``, ``t``; ``eig_real``, ``eig_imag``, ``eig_abs``, ``trace``, ``det``,
+        ``discriminant``, ``stable``, ``stability``, ``admissible``, ``reason``, ``clearance``.  Along
+        ``critical``: ``critical_kind``, ``critical_d``, ``critical_value`` (and the physical values)
+        and ``critical_admissible``.
     """
-    lo, hi = sorted(float(x) for x in d_range)
-    if not lo < orbit.params.d < hi:
-        raise ValueError(f"d_range = {d_range!r} must contain the orbit's d = {orbit.params.d!r}")
+    pm = ParameterMap(orbit, vary)
+    lo, hi = _lam_range(pm, orbit, d_range, value_range)
     if not step > 0:
         raise ValueError(f"step = {step!r}; allowed: > 0")
     walls = parse_word(orbit.word)
-    g0, g1, to_physical = branch_parameters(orbit, vary)
     r, k = orbit.params.r, orbit.k
-    Y0 = np.append(orbit.z, orbit.params.d)
-    _, J0 = _augmented(Y0, walls, r, k, g0, g1)
+    Y0 = np.append(orbit.z, pm.lam0)
+    _, J0 = _augmented(Y0, walls, r, k, 0.0, 0.0, pm)
     t0 = _tangent(J0)
     halves, stops = [], []
     for sign in (+1.0, -1.0):
@@ -172,51 +273,80 @@ def continue_orbit(
         stop = f"max_points ({max_points}) reached"
         while len(Ys) < max_points:
             try:
-                Yn = _correct(Y + h * t, t, walls, r, k, g0, g1)
-            except (OrbitError, np.linalg.LinAlgError) as err:
+                Yn = _correct(Y + h * t, t, walls, r, k, 0.0, 0.0, pm=pm)
+                if not pm.valid(Yn[-1]):
+                    raise OrbitError(f"{vary} = {pm.value(Yn[-1]):.10g} is outside the model's range")
+            except (OrbitError, np.linalg.LinAlgError, ValueError) as err:
                 h *= 0.5
                 if h < 1e-9:
-                    stop = f"corrector failed down to a step of 1e-9 at d = {Y[-1]:.10g} ({err})"
+                    stop = f"corrector failed down to a step of 1e-9 at {pm.label} = {Y[-1]:.10g} ({err})"
                     break
                 continue
             if np.any(Yn[1:1 + len(walls)] <= 0):  # a flight time reached zero: the word degenerates
-                stop = f"a flight time reached zero near d = {Yn[-1]:.10g}: the word {orbit.word} degenerates"
+                stop = f"a flight time reached zero near {pm.label} = {Yn[-1]:.10g}: the word {orbit.word} degenerates"
                 break
-            _, J = _augmented(Yn, walls, r, k, g0, g1)
+            _, J = _augmented(Yn, walls, r, k, 0.0, 0.0, pm)
             t = _tangent(J, t)
             Y = Yn
             Ys.append(Y)
             h = min(step, 2 * h)
             if not lo <= Y[-1] <= hi:
-                stop = f"left d_range at d = {Y[-1]:.10g}"
+                stop = f"left {'d_range' if pm.line else 'value_range'} at {pm.label} = {Y[-1]:.10g}"
                 break
         halves.append(Ys)
         stops.append(stop)
     Ys = halves[1][::-1] + halves[0][1:]
-    orbits = [_orbit_at(Y, orbit, g0, g1) for Y in Ys]
-    ds = _branch_dataset(orbits, to_physical, vary)
-    crit = _locate(Ys, orbits, orbit, walls, r, k, g0, g1, xtol) if locate else []
+    orbits = [_orbit_at(Y, orbit, pm) for Y in Ys]
+    lams = np.array([float(Y[-1]) for Y in Ys])
+    ds = _branch_dataset(orbits, lams, pm)
+    crit = _locate(Ys, orbits, orbit, walls, r, k, xtol, pm) if locate else []
     # keep only the points inside the range (the last step may overshoot)
-    inside = (ds.d >= lo) & (ds.d <= hi)
-    ds = ds.isel(point=np.flatnonzero(inside.values))
+    inside = (lams >= lo) & (lams <= hi)
+    ds = ds.isel(point=np.flatnonzero(inside))
     crit = [c for c in crit if lo <= c[1] <= hi]
     ds = ds.assign_coords(critical=np.arange(len(crit)))
     ds["critical_kind"] = ("critical", np.array([c[0] for c in crit], dtype=object).astype(str))
-    ds["critical_d"] = ("critical", np.array([c[1] for c in crit], dtype=float))
+    ds["critical_d"] = ("critical", np.array([pm.at(c[1])[0] for c in crit], dtype=float))
+    ds["critical_value"] = ("critical", np.array([pm.value(c[1]) for c in crit], dtype=float),
+                            {"long_name": f"{vary} at the critical point"})
     ds["critical_admissible"] = ("critical", np.array([c[2] for c in crit], dtype=bool))
     ds["critical_refined"] = ("critical", np.array([c[3] for c in crit], dtype=bool),
                               {"long_name": "located to xtol (else: linear estimate between branch points)"})
     ds["critical_note"] = ("critical", np.array([c[4] for c in crit], dtype=object).astype(str),
                            {"long_name": "why a point could not be refined (empty when it was)"})
-    if to_physical(1.0):
-        for key in ("s", "F"):
-            ds[f"critical_{key}"] = ("critical", np.array([to_physical(c[1])[key] for c in crit], dtype=float))
-    ds.attrs.update(word=orbit.word, k=k, r=r, vary=vary, gbar_intercept=g0, gbar_slope=g1, step=step,
-                    stop_increasing=stops[0], stop_decreasing=stops[1])
+    for key in pm.physical(pm.lam0):
+        ds[f"critical_{key}"] = ("critical", np.array([pm.physical(c[1])[key] for c in crit], dtype=float))
+    ds.attrs.update(word=orbit.word, k=k, r=r, vary=vary, step=step, stop_increasing=stops[0],
+                    stop_decreasing=stops[1])
+    if pm.line:
+        ds.attrs.update(gbar_intercept=pm.g_int, gbar_slope=pm.g_slope)
     return ds
 
 
-def _locate(Ys, orbits, template, walls, r, k, g0, g1, xtol):
+def _lam_range(pm: ParameterMap, orbit: Orbit, d_range, value_range):
+    """The continuation variable's interval from ``d_range`` or ``value_range``, checked."""
+    if (d_range is None) == (value_range is None):
+        raise ValueError(f"give one of d_range = {d_range!r} and value_range = {value_range!r}")
+    if d_range is not None:
+        if not pm.line:
+            raise ValueError(f"d_range is for vary in 'd', 's', 'F'; vary = {pm.vary!r} needs value_range")
+        lo, hi = sorted(float(x) for x in d_range)
+        what, rng = "d_range", d_range
+    else:
+        vals = [float(x) for x in value_range]
+        if pm.vary in ("s", "F"):  # to d: d = k s / F
+            ph = pm.phys
+            kk = ph["M"] * ph["omega"] ** 2 / math.pi**2
+            vals = [kk * v / ph["F"] if pm.vary == "s" else kk * ph["s"] / v for v in vals]
+        lo, hi = sorted(vals)
+        what, rng = "value_range", value_range
+    if not lo < pm.lam0 < hi:
+        name, val = ("d", pm.lam0) if d_range is not None else (pm.vary, pm.value(pm.lam0))
+        raise ValueError(f"{what} = {rng!r} must contain the orbit's {name} = {val!r}")
+    return lo, hi
+
+
+def _locate(Ys, orbits, template, walls, r, k, xtol, pm):
     """Zeros of the test functions between consecutive branch points, refined on the arclength."""
     vals = [_tests(o) for o in orbits]
     found = []
@@ -230,20 +360,20 @@ def _locate(Ys, orbits, template, walls, r, k, g0, g1, xtol):
                 continue
 
             def f(sig, name=name, Ya=Ya, chord=chord, tan=tan):
-                Y = _correct(Ya + sig * chord, tan, walls, r, k, g0, g1)
-                return _tests(_orbit_at(Y, template, g0, g1))[name]
+                Y = _correct(Ya + sig * chord, tan, walls, r, k, 0.0, 0.0, pm=pm)
+                return _tests(_orbit_at(Y, template, pm))[name]
 
             adm = orbits[i].admissible or orbits[i + 1].admissible
             try:
                 sig = brentq(f, 0.0, 1.0, xtol=xtol / max(abs(chord[-1]), 1e-300), rtol=1e-15)
-                Y = _correct(Ya + sig * chord, tan, walls, r, k, g0, g1)
+                Y = _correct(Ya + sig * chord, tan, walls, r, k, 0.0, 0.0, pm=pm)
             except (ValueError, OrbitError, np.linalg.LinAlgError) as err:
                 # kept, with a linear estimate between the branch points and the reason
                 est = float(Ya[-1] + fa / (fa - fb) * (Yb[-1] - Ya[-1]))
                 found.append((name, est, bool(adm), False, f"not refined ({type(err).__name__}: {err}); "
-                              f"between d = {Ya[-1]:.10g} and {Yb[-1]:.10g}"))
+                              f"between {pm.label} = {Ya[-1]:.10g} and {Yb[-1]:.10g}"))
                 continue
-            o = _orbit_at(Y, template, g0, g1)
+            o = _orbit_at(Y, template, pm)
             val = _tests(o)[name]
             if abs(val) > 1e-7 * max(1.0, min(abs(fa), abs(fb))):
                 # a jump, not a zero: the clearance when an extremum appears, or a pole of the
@@ -254,7 +384,7 @@ def _locate(Ys, orbits, template, walls, r, k, g0, g1, xtol):
     return found
 
 
-def _branch_dataset(orbits, to_physical, vary) -> xr.Dataset:
+def _branch_dataset(orbits, lams, pm: ParameterMap) -> xr.Dataset:
     n = orbits[0].n
     d = np.array([o.params.d for o in orbits])
     ev = np.array([np.sort_complex(o.eigenvalues) for o in orbits])
@@ -280,10 +410,13 @@ def _branch_dataset(orbits, to_physical, vary) -> xr.Dataset:
         },
         coords={"point": np.arange(len(orbits)), "impact": np.arange(n), "eig": [0, 1], "d": ("point", d)},
     )
-    phys = [to_physical(x) for x in d]
-    if phys and phys[0]:
-        ds["s"] = ("point", np.array([p["s"] for p in phys]))
-        ds["F"] = ("point", np.array([p["F"] for p in phys]))
+    if pm.vary == "r":
+        ds["r"] = ("point", np.array([o.params.r for o in orbits]))
+    if not pm.line:
+        ds["value"] = ("point", np.array([pm.value(x) for x in lams]), {"long_name": f"the varied parameter, {pm.vary}"})
+    phys = [pm.physical(x) for x in lams]
+    for key in phys[0] if phys else ():
+        ds[key] = ("point", np.array([p[key] for p in phys]))
     return annotate(ds)
 
 

@@ -214,3 +214,52 @@ def fig_regime_map(maps, scans=None):
     fig.legend(handles=handles, loc="outside right upper", fontsize=6, title=MOTION_KEY.replace("; ", ";\n"),
                title_fontsize=6)
     return fig
+
+
+#: line style per kind of codimension-one point, and colour per orbit family
+_CURVE_STYLE = {"B": "--", "fold": ":", "grazing": "-", "A": "-."}
+_CURVE_NAME = {"B": "period doubling B", "fold": "fold", "grazing": "grazing", "A": "node-focus A"}
+_WORD_COLOUR = {"BT": "#000000", "BBT": "#D55E00", "BBBT": "#0072B2"}
+_WORD_NAME = {"BT": "1:1", "BBT": "2:1", "BBBT": "3:1"}
+
+
+def fig_bifurcation_set(m, curves):
+    """The regime map ``m`` (brute force, one start per point) with the bifurcation curves of
+    :func:`vibroimpact.bifurcation.curve_set` over it: line style by kind, colour by orbit family,
+    thin where the orbit on the curve is not admissible; crosses where a curve meets another set."""
+    from matplotlib.lines import Line2D
+
+    fig = fig_regime_map([m])
+    fig.set_size_inches(10.5, 6.2)
+    ax = fig.axes[0]
+    xname, yname = curves.attrs["params"].split()
+    handles = []
+    for c in range(curves.sizes["curve"]):
+        sel = curves.curve_index.values == c
+        if not sel.any():
+            continue
+        kind, word = str(curves.curve_kind.values[c]), str(curves.curve_word.values[c])
+        xs, ys, adm = curves[xname].values[sel], curves[yname].values[sel], curves.admissible.values[sel]
+        style, colour = _CURVE_STYLE.get(kind, "-"), _WORD_COLOUR.get(word, "0.3")
+        ax.plot(xs, ys, style, color="w", lw=2.6, zorder=4)
+        ax.plot(np.where(adm, xs, np.nan), np.where(adm, ys, np.nan), style, color=colour, lw=1.6, zorder=5)
+        ax.plot(np.where(adm, np.nan, xs), np.where(adm, np.nan, ys), style, color=colour, lw=0.6, zorder=5)
+        label = f"{_WORD_NAME.get(word, word)} {_CURVE_NAME.get(kind, kind)}"
+        if label not in [h.get_label() for h in handles]:
+            handles.append(Line2D([], [], ls=style, color=colour, lw=1.6, label=label))
+    if curves.sizes["event"]:
+        ax.plot(curves[f"event_{xname}"].values, curves[f"event_{yname}"].values, "x", color="k", ms=5, mew=1.2,
+                zorder=6)
+        handles.append(Line2D([], [], ls="", marker="x", color="k", label="a curve meets another set"))
+    failed = [f"{_WORD_NAME.get(str(w), w)} {k}" for w, k, st in
+              zip(curves.curve_word.values, curves.curve_kind.values, curves.curve_status.values, strict=True)
+              if st != "ok"]
+    note = "thin: the orbit on the curve is not admissible (crosses a wall)"
+    if failed:
+        note += "; not followed (see the dataset's curve_reason): " + ", ".join(failed)
+    ax.annotate(note, (0.0, -0.11), xycoords="axes fraction", fontsize=6, va="top")
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 0.42), fontsize=6, title="analytic curves",
+              title_fontsize=6, framealpha=0.9)
+    title = ax.get_title()
+    ax.set_title("Analytic bifurcation curves over the brute-force map:\n" + title[0].lower() + title[1:], fontsize=8)
+    return fig

@@ -1,0 +1,337 @@
+"""Codimension-one points followed in two parameters: curves of period doubling, folds and grazing.
+
+A point where an orbit's test function vanishes (:data:`~vibroimpact.continuation.TESTS`: ``B`` an
+eigenvalue -1, ``fold`` an eigenvalue +1, ``A`` node <-> focus, ``grazing`` zero clearance) is a
+solution of the orbit equations ``F(z; p1, p2) = 0`` augmented with ``T(z; p1, p2) = 0``: 2N+2 equations
+in 2N+3 unknowns ``(z, p1, p2)``, a curve, followed by pseudo-arclength continuation as the branches
+are.  ``F``'s Jacobian in ``z`` is exact; its parameter columns follow from the chain rule through
+``(d, gbar, r)``; ``T``'s gradient, a function of the orbit's eigenvalues or clearance, is a central
+difference.  Along the curve the other test functions are watched: where one changes sign the curve
+meets another codimension-one set (e.g. a period-doubling curve crossing the grazing curve), which is
+recorded with its location.  Why a curve stops is recorded too.
+
+Parameters (two of :data:`~vibroimpact.continuation.PARAMETERS`): non-dimensional ``d``, ``gbar``,
+``r``, or physical ``s``, ``F``, ``beta``, ``omega`` (paper section 2 scaling, the others from the
+orbit's :meth:`~vibroimpact.params.Params.from_physical`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from .continuation import PARAMETERS, TESTS, _tangent, _tests
+from .datasets import annotate
+from .orbits import Orbit, OrbitError, _residual_and_jacobian, orbit_from_vector, parse_word
+from .params import Params
+
+__all__ = ["curve_set", "follow_point"]
+
+#: test-function values beyond this are a singular impact map (an impact at zero speed), not a crossing
+REGULAR = 1e6
+#: the kinds of point that can be followed (test functions of :mod:`vibroimpact.continuation`)
+KINDS = ("B", "fold", "A", "grazing")
+_PHYSICAL = ("s", "F", "beta", "omega")
+
+
+class _TwoParameters:
+    """``(d, gbar, r)`` as functions of two parameters, the rest fixed at the orbit's values."""
+
+    def __init__(self, orbit: Orbit, names):
+        for n in names:
+            if n not in PARAMETERS:
+                raise ValueError(f"parameter {n!r}; allowed: {', '.join(PARAMETERS)}")
+        if len(set(names)) != 2:
+            raise ValueError(f"params = {tuple(names)!r}: two different parameters")
+        phys = [n for n in names if n in _PHYSICAL]
+        nondim = [n for n in names if n in ("d", "gbar")]
+        if phys and nondim:
+            raise ValueError(f"params = {tuple(names)!r}: mix {phys[0]!r} with physical parameters or 'r', "
+                             f"not with {nondim[0]!r}")
+        p = orbit.params
+        if phys and not p.physical:
+            raise ValueError(f"params = {tuple(names)!r} need physical parameters: build the orbit's Params "
+                             "with Params.from_physical")
+        self.names, self.base, self.physical = tuple(names), dict(p.physical), bool(phys)
+        self.base.update(d=p.d, gbar=p.gbar, r=p.r)
+
+    def start(self):
+        return np.array([self.base[n] for n in self.names], dtype=float)
+
+    def at(self, lam):
+        v = dict(self.base)
+        v.update(zip(self.names, (float(x) for x in lam), strict=True))
+        if self.physical:
+            return (v["s"] * v["M"] * v["omega"] ** 2 / (v["F"] * math.pi**2), v["M"] * v["g"] * math.sin(v["beta"]) / v["F"],
+                    v["r"])
+        return v["d"], v["gbar"], v["r"]
+
+    def valid(self, lam) -> bool:
+        d, gbar, r = self.at(lam)
+        v = dict(zip(self.names, lam, strict=True))
+        return bool(d > 0 and gbar >= 0 and 0 <= r < 1 and 0 <= v.get("beta", 0.5) <= math.pi / 2
+                    and v.get("F", 1.0) > 0 and v.get("omega", 1.0) > 0 and v.get("s", 1.0) > 0)
+
+    def jac(self, lam):
+        """d(d, gbar, r)/d(lam1, lam2), by central differences of the closed forms."""
+        out = np.empty((3, 2))
+        for i in range(2):
+            h = 1e-6 * max(1.0, abs(lam[i]))
+            lp, lm = np.array(lam, float), np.array(lam, float)
+            lp[i] += h
+            lm[i] -= h
+            out[:, i] = (np.array(self.at(lp)) - np.array(self.at(lm))) / (2 * h)
+        return out
+
+
+def _orbit(X, template: Orbit, pm: _TwoParameters) -> Orbit:
+    d, gbar, r = pm.at(X[-2:])
+    return orbit_from_vector(Params(d=float(d), gbar=float(gbar), r=float(r)), template.word, template.k,
+                             X[:-2].copy())
+
+
+def _system(X, walls, template, pm, kind):
+    """Residual [F; T] (2N+2) and its Jacobian (2N+2 x 2N+3) at X = (z, lam1, lam2)."""
+    n = walls.shape[0]
+    z, lam = X[:-2], X[-2:]
+    d, gbar, r = pm.at(lam)
+    F, Jz = _residual_and_jacobian(z, walls, d, gbar, r, template.k)
+    # parameter columns: dF/d(d, gbar, r) times d(d, gbar, r)/dlam
+    tau, v = z[1:n + 1], z[n + 1:]
+    dF = np.zeros((2 * n + 1, 3))
+    for j in range(n):
+        jn = (j + 1) % n
+        dF[2 * j] = (-(walls[jn] - walls[j]) * 0.5, 0.5 * tau[j] ** 2, -v[j] * tau[j])
+        dF[2 * j + 1] = (0.0, tau[j], -v[j])
+    J = np.zeros((2 * n + 2, 2 * n + 3))
+    J[:2 * n + 1, :2 * n + 1] = Jz
+    J[:2 * n + 1, 2 * n + 1:] = dF @ pm.jac(lam)
+    t0 = _tests(_orbit(X, template, pm))[kind]
+    for i in range(X.size):
+        h = 1e-7 * max(1.0, abs(X[i]))
+        xp, xm = X.copy(), X.copy()
+        xp[i] += h
+        xm[i] -= h
+        J[-1, i] = (_tests(_orbit(xp, template, pm))[kind] - _tests(_orbit(xm, template, pm))[kind]) / (2 * h)
+    return np.append(F, t0), J
+
+
+def _newton(X, walls, template, pm, kind, row=None, target=0.0, tol=1e-12, max_iter=20):
+    """Newton on [F; T] = 0 plus ``row . X = target`` (the pseudo-arclength or a fixed parameter)."""
+    for _ in range(max_iter):
+        G, J = _system(X, walls, template, pm, kind)
+        A = np.vstack([J, row])
+        step = np.linalg.solve(A, -np.append(G, row @ X - target))
+        X = X + step
+        if np.max(np.abs(step)) < tol * max(1.0, np.max(np.abs(X))):
+            G, _ = _system(X, walls, template, pm, kind)
+            if np.max(np.abs(G)) < 1e-9:
+                return X
+    raise OrbitError(f"the {kind} point's corrector did not converge")
+
+
+def follow_point(orbit: Orbit, kind: str, *, params, ranges, step: float = 2e-3, max_points: int = 2000) -> xr.Dataset:
+    """Follow the ``kind`` point of ``orbit``'s branch as a curve in the parameter pair ``params``.
+
+    Parameters
+    ----------
+    orbit : Orbit
+        An orbit near the point (e.g. from :func:`~vibroimpact.orbits.find_orbit`): the point is
+        first located in ``params[0]`` at the orbit's value of ``params[1]``, by Newton's method on the
+        augmented system from the orbit.
+    kind : {"B", "fold", "A", "grazing"}
+        The defining condition: an eigenvalue -1, +1, a double eigenvalue, zero clearance.
+    params : (str, str)
+        The two parameters (:data:`~vibroimpact.continuation.PARAMETERS`).
+    ranges : ((float, float), (float, float))
+        Box of the two parameters; the curve stops where it leaves it.
+    step : float
+        Arclength step in ``(z, p1, p2)`` (halved on a failed corrector, down to 1e-9).
+    max_points : int
+        Most points per direction.
+
+    Returns
+    -------
+    xarray.Dataset
+        Along ``point`` (by arclength): the two parameters (named by ``params``), ``d``, ``gbar``,
+        ``r``, ``admissible``, ``clearance``, ``trace``, ``det``, ``phase`` and ``v_minus`` of the
+        first impact.  Along ``event``: ``event_kind`` (another test function changing sign: the
+        curve meets that set) and the two parameters there (linear between points).  Attributes:
+        ``kind``, ``word``, ``stop_increasing``, ``stop_decreasing`` (why each end stopped).
+    """
+    if kind not in KINDS:
+        raise ValueError(f"kind = {kind!r}; allowed: {', '.join(KINDS)}")
+    pm = _TwoParameters(orbit, params)
+    box = np.array([sorted(float(x) for x in r) for r in ranges])
+    if box.shape != (2, 2):
+        raise ValueError(f"ranges = {ranges!r}: two (low, high) pairs")
+    walls = parse_word(orbit.word)
+    X = np.append(orbit.z, pm.start())
+    # locate the point in params[0] with params[1] fixed
+    row = np.zeros(X.size)
+    row[-1] = 1.0
+    try:
+        X0 = _newton(X, walls, orbit, pm, kind, row=row, target=X[-1])
+    except (ValueError, np.linalg.LinAlgError) as err:
+        raise OrbitError(f"no {kind} point found in {params[0]} from this orbit ({err})") from err
+    if abs(X0[-2] - X[-2]) > 0.05 * max(1.0, abs(X[-2])):
+        raise OrbitError(f"Newton went from {params[0]} = {X[-2]:.6g} to a {kind} point at {X0[-2]:.6g}: "
+                         "start from an orbit nearer the point")
+    if not (np.all(box[:, 0] <= X0[-2:]) and np.all(X0[-2:] <= box[:, 1])):
+        raise ValueError(f"the {kind} point found, {dict(zip(params, X0[-2:], strict=True))}, is outside ranges = {ranges!r}")
+    _, J0 = _system(X0, walls, orbit, pm, kind)
+    t0 = _tangent(J0)
+    halves, stops = [], []
+    for sign in (+1.0, -1.0):
+        Xs, t, h, X = [X0], sign * t0, step, X0
+        stop = f"max_points ({max_points}) reached"
+        while len(Xs) < max_points:
+            try:
+                Xp = X + h * t
+                if not pm.valid(Xp[-2:]):
+                    raise _Edge
+                Xn = _newton(Xp, walls, orbit, pm, kind, row=t, target=t @ Xp)
+                if not pm.valid(Xn[-2:]):
+                    raise _Edge
+            except _Edge:
+                h *= 0.5
+                if h < 1e-9:
+                    stop = f"reached the edge of the model's range (d > 0, 0 <= beta <= pi/2, ...) at {_where(params, X)}"
+                    break
+                continue
+            except (OrbitError, np.linalg.LinAlgError, ValueError) as err:
+                h *= 0.5
+                if h < 1e-9:
+                    stop = f"corrector failed down to a step of 1e-9 at {_where(params, X)} ({err})"
+                    break
+                continue
+            if np.any(Xn[1:1 + len(walls)] <= 0):
+                stop = f"a flight time reached zero at {_where(params, Xn)}: the word {orbit.word} degenerates"
+                break
+            _, J = _system(Xn, walls, orbit, pm, kind)
+            t = _tangent(J, t)
+            X = Xn
+            Xs.append(X)
+            h = min(step, 2 * h)
+            if not (np.all(box[:, 0] <= X[-2:]) and np.all(X[-2:] <= box[:, 1])):
+                stop = f"left the box at {_where(params, X)}"
+                break
+        halves.append(Xs)
+        stops.append(stop)
+    Xs = halves[1][::-1] + halves[0][1:]
+    return _curve_dataset(Xs, orbit, pm, kind, params, stops)
+
+
+class _Edge(Exception):
+    """A step would leave the model's parameter range."""
+
+
+def _where(params, X):
+    return ", ".join(f"{n} = {v:.10g}" for n, v in zip(params, X[-2:], strict=True))
+
+
+def _curve_dataset(Xs, template, pm, kind, params, stops) -> xr.Dataset:
+    orbits = [_orbit(X, template, pm) for X in Xs]
+    lam = np.array([X[-2:] for X in Xs])
+    tests = [_tests(o) for o in orbits]
+    events = []
+    for other in TESTS:
+        if other == kind or other == "NS":
+            continue
+        vals = np.array([tt[other] for tt in tests])
+        # a sign change between finite, moderate values; where an impact speed is zero on the curve the
+        # map's Jacobian is singular and its test functions flip between +-1e16 (no crossing)
+        ok = np.isfinite(vals) & (np.abs(vals) < REGULAR)
+        for i in np.flatnonzero(ok[:-1] & ok[1:] & (vals[:-1] * vals[1:] < 0)):
+            w = vals[i] / (vals[i] - vals[i + 1])
+            events.append((other, *(lam[i] + w * (lam[i + 1] - lam[i]))))
+    data = {
+        params[0]: ("point", lam[:, 0]),
+        params[1]: ("point", lam[:, 1]),
+        "d": ("point", np.array([o.params.d for o in orbits])),
+        "gbar": ("point", np.array([o.params.gbar for o in orbits])),
+        "r": ("point", np.array([o.params.r for o in orbits])),
+        "admissible": ("point", np.array([o.admissible for o in orbits])),
+        "clearance": ("point", np.array([o.clearance for o in orbits])),
+        "trace": ("point", np.array([o.trace for o in orbits])),
+        "det": ("point", np.array([o.det for o in orbits])),
+        "phase": ("point", np.array([o.phase[0] for o in orbits])),
+        "v_minus": ("point", np.array([o.v_minus[0] for o in orbits])),
+        "event_kind": ("event", np.array([e[0] for e in events], dtype=object).astype(str)),
+        f"event_{params[0]}": ("event", np.array([e[1] for e in events], dtype=float)),
+        f"event_{params[1]}": ("event", np.array([e[2] for e in events], dtype=float)),
+    }
+    ds = xr.Dataset(data, coords={"point": np.arange(len(Xs)), "event": np.arange(len(events))})
+    ds.attrs.update(kind=kind, word=template.word, k=template.k, params=" ".join(params),
+                    stop_increasing=stops[0], stop_decreasing=stops[1])
+    return annotate(ds)
+
+
+def curve_set(branches, params, ranges, *, kinds=("B", "fold", "grazing"), step=1e-2, physics=None,
+              max_points=2000) -> xr.Dataset:
+    """Every critical point of ``kinds`` on the continued ``branches`` (datasets of
+    :func:`~vibroimpact.continuation.continue_orbit` in s, admissible and refined), followed as a curve in
+    ``params`` over ``ranges``.  ``physics``: the device's values for
+    :meth:`~vibroimpact.params.Params.from_physical` (beta, M, F, omega, r, g) at the branches.
+
+    A point that cannot be followed is kept as a curve without points, with its reason.  Returns the
+    curves end to end: along ``point`` the two parameters and ``curve`` (index into the ``curve``
+    dimension: ``curve_kind``, ``curve_word``, ``curve_start_s``, ``curve_status``, ``curve_reason``,
+    ``curve_stop``); along ``event`` where a curve meets another set."""
+    physics = dict(physics or {})
+    pts, events, rows = [], [], []
+    for br in branches:
+        if br.attrs.get("status", "ok") != "ok" or "critical_kind" not in br:
+            continue
+        word, k = br.attrs["word"], int(br.attrs["k"])
+        for i, kind in enumerate(br.critical_kind.values):
+            if kind not in kinds or not bool(br.critical_admissible[i]) or not bool(br.critical_refined[i]):
+                continue
+            s0 = float(br.critical_s[i])
+            row = dict(kind=str(kind), word=word, start_s=s0, status="ok", reason="", stop="")
+            try:
+                # the branch's own orbit at its admissible point nearest the located one (its z from the
+                # dataset: no Newton, which is singular at a fold); the test function is smooth there
+                adm = np.flatnonzero(br.admissible.values)
+                j = int(adm[np.argmin(np.abs(br.d.values[adm] - float(br.critical_d[i])))])
+                z = np.concatenate([[float(br.phase[j, 0])], np.roll(br.dt.values[j], -1), br.v_minus.values[j]])
+                o = orbit_from_vector(Params.from_physical(s=float(br.s[j]), **physics), word, k, z)
+                c = follow_point(o, str(kind), params=params, ranges=ranges, step=step, max_points=max_points)
+            except (OrbitError, ValueError, np.linalg.LinAlgError) as err:
+                row.update(status="failed", reason=f"{type(err).__name__}: {err}")
+                rows.append(row)
+                continue
+            n = len(rows)
+            row["stop"] = f"{c.attrs['stop_increasing']}; {c.attrs['stop_decreasing']}"
+            pts.append((np.full(c.sizes["point"], n), c[params[0]].values, c[params[1]].values,
+                        c.admissible.values))
+            for e in range(c.sizes["event"]):
+                events.append((n, str(c.event_kind.values[e]), float(c[f"event_{params[0]}"][e]),
+                               float(c[f"event_{params[1]}"][e])))
+            rows.append(row)
+    cat = (lambda i: np.concatenate([p[i] for p in pts]) if pts else np.array([]))
+    ds = xr.Dataset(
+        {
+            "curve_index": ("point", cat(0).astype(int), {"long_name": "the curve a point belongs to"}),
+            params[0]: ("point", cat(1).astype(float)),
+            params[1]: ("point", cat(2).astype(float)),
+            "admissible": ("point", cat(3).astype(bool), {"long_name": "the orbit on the curve is admissible"}),
+            "curve_kind": ("curve", np.array([r["kind"] for r in rows], dtype=object).astype(str)),
+            "curve_word": ("curve", np.array([r["word"] for r in rows], dtype=object).astype(str)),
+            "curve_start_s": ("curve", np.array([r["start_s"] for r in rows], dtype=float),
+                              {"units": "m", "long_name": "length s where the point was located on its branch"}),
+            "curve_status": ("curve", np.array([r["status"] for r in rows], dtype=object).astype(str)),
+            "curve_reason": ("curve", np.array([r["reason"] for r in rows], dtype=object).astype(str)),
+            "curve_stop": ("curve", np.array([r["stop"] for r in rows], dtype=object).astype(str),
+                           {"long_name": "why the curve ends, each way"}),
+            "event_curve": ("event", np.array([e[0] for e in events], dtype=int)),
+            "event_kind": ("event", np.array([e[1] for e in events], dtype=object).astype(str)),
+            f"event_{params[0]}": ("event", np.array([e[2] for e in events], dtype=float)),
+            f"event_{params[1]}": ("event", np.array([e[3] for e in events], dtype=float)),
+        },
+        coords={"point": np.arange(len(cat(0))), "curve": np.arange(len(rows)), "event": np.arange(len(events))},
+    )
+    ds.attrs.update(params=" ".join(params), ranges=str(ranges), kinds=" ".join(kinds), step=step)
+    return annotate(ds)

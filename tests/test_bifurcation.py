@@ -1,0 +1,100 @@
+"""Codimension-one points followed in two parameters (vibroimpact.bifurcation)."""
+
+import math
+
+import numpy as np
+import pytest
+
+import vibroimpact as vi
+from vibroimpact.bifurcation import follow_point
+from vibroimpact.continuation import continue_orbit
+from vibroimpact.orbits import find_orbit
+
+
+def _ball_orbit(g, r):
+    """The stable period-1 orbit of the vibrated bouncing ball (top wall out of reach, d = 50)."""
+    theta = math.pi - math.asin(math.pi * g * (1 - r) / (1 + r))
+    return find_orbit(vi.Params(d=50.0, gbar=g, r=r), "B", theta, 2 * g / (1 + r), k=1)
+
+
+def _gamma_pd(r):
+    return math.hypot(math.pi * (1 - r) / (1 + r), 2 * (1 + r * r) / (1 + r) ** 2)
+
+
+@pytest.mark.parametrize("kind", ["B", "fold"])
+def test_bouncing_ball_curves_in_gbar_and_r_are_the_closed_forms(kind):
+    """Luck & Mehta (1993): the period-1 orbit is born at Gamma = pi (1 - r) / (1 + r) and doubles at
+    Gamma_2(r) (gbar = 1 / Gamma).  The fold and period-doubling curves followed in (gbar, r) from one
+    point must lie on them to 1e-10 over r in [0.05, 0.95]."""
+    r = 0.5
+    g0 = 1.02 / _gamma_pd(r) if kind == "B" else 0.98 * (1 + r) / (math.pi * (1 - r))
+    curve = follow_point(_ball_orbit(g0, r), kind, params=("gbar", "r"), ranges=((0.05, 50.0), (0.05, 0.95)),
+                         step=2e-2)
+    rr, gg = curve.r.values, curve.gbar.values
+    exact = 1 / np.array([_gamma_pd(x) for x in rr]) if kind == "B" else (1 + rr) / (np.pi * (1 - rr))
+    assert np.max(np.abs(gg - exact)) < 1e-10
+    assert rr.min() < 0.06 and rr.max() > 0.94  # the whole range, both ways from the start
+    assert "left the box" in curve.attrs["stop_increasing"] and "left the box" in curve.attrs["stop_decreasing"]
+
+
+@pytest.fixture(scope="module")
+def grazing_curve():
+    p = vi.Params.from_physical(s=0.1385 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
+    o = find_orbit(p, "BBT", 5.855, 0.4185)
+    return follow_point(o, "grazing", params=("s", "beta"), ranges=((0.19, 0.72), (0.35, 0.75)), step=5e-3)
+
+
+def test_the_2to1_grazing_curve_in_s_and_beta_meets_each_one_parameter_grazing_point(grazing_curve):
+    """G1 followed in (s, beta): at three inclines on the curve, the 2:1 branch continued in s alone
+    (Brent's method on the clearance along a pseudo-arclength branch, another algorithm) grazes at the
+    curve's s to 1e-9."""
+    c = grazing_curve
+    assert c.sizes["point"] > 10
+    for i in np.linspace(0, c.sizes["point"] - 1, 3).astype(int):
+        s, beta = float(c.s[i]), float(c.beta[i])
+        ref = vi.Params.from_physical(s=1.0, beta=beta)
+        p = vi.Params.from_physical(s=s * 1.003, beta=beta)
+        o = find_orbit(p, "BBT", float(c.phase[i]), float(c.v_minus[i]))
+        br = continue_orbit(o, vary="s", d_range=(s * 0.99 * ref.d, s * 1.01 * ref.d), step=1e-3)
+        g = br.critical_s.values[br.critical_kind.values == "grazing"]
+        assert g.size and np.min(np.abs(g - s)) < 1e-9, (s, beta, g)
+    assert np.all(np.abs(c.clearance.values) < 1e-9)
+
+
+def test_following_a_point_refuses_what_makes_no_sense():
+    o = _ball_orbit(0.7, 0.5)
+    with pytest.raises(ValueError, match="kind = 'X'"):
+        follow_point(o, "X", params=("gbar", "r"), ranges=((0, 1), (0, 1)))
+    with pytest.raises(ValueError, match="two different parameters"):
+        follow_point(o, "B", params=("r", "r"), ranges=((0, 1), (0, 1)))
+    with pytest.raises(ValueError, match="need physical parameters"):
+        follow_point(o, "B", params=("s", "beta"), ranges=((0, 1), (0, 1)))
+    with pytest.raises(ValueError, match="outside ranges"):
+        follow_point(o, "B", params=("gbar", "r"), ranges=((0.9, 1.0), (0.4, 0.6)))
+
+
+def test_curve_set_follows_each_located_point_and_records_the_ones_it_cannot(tmp_path):
+    """From a continued 2:1 branch: every admissible, refined B, fold or grazing point becomes a curve
+    (its first point the branch's own critical s, to 1e-9), and a point that cannot be followed is a
+    curve without points whose reason is kept, never dropped."""
+    from vibroimpact.bifurcation import curve_set
+
+    p = vi.Params.from_physical(s=0.1385 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
+    br = continue_orbit(find_orbit(p, "BBT", 5.855, 0.4185), vary="s", d_range=(0.13, 0.23), step=2e-3)
+    br.attrs["status"] = "ok"
+    ds = curve_set([br], ("s", "beta"), ((0.19, 0.72), (0.4, 0.6)), kinds=("fold", "grazing"), step=2e-2,
+                   physics=dict(beta=math.pi / 6))
+    want = [(k, float(s)) for k, s, a, f in zip(br.critical_kind.values, br.critical_s.values, br.critical_admissible.values,
+                                                  br.critical_refined.values, strict=True) if k in ("fold", "grazing") and a and f]
+    assert [(str(k), float(s)) for k, s in zip(ds.curve_kind.values, ds.curve_start_s.values, strict=True)] == want
+    for c in range(ds.sizes["curve"]):
+        sel = ds.curve_index.values == c
+        if ds.curve_status.values[c] == "ok":
+            at_start = np.abs(ds.beta.values[sel] - math.pi / 6) < 1e-12
+            assert at_start.any() and np.min(np.abs(ds.s.values[sel][at_start] - ds.curve_start_s.values[c])) < 1e-9
+        else:
+            assert not sel.any() and ds.curve_reason.values[c]
+    # a branch that failed upstream adds nothing, silently or not: it is the branch's own record
+    failed = br.copy()
+    failed.attrs["status"] = "failed"
+    assert curve_set([failed], ("s", "beta"), ((0.19, 0.72), (0.4, 0.6)), physics=dict(beta=math.pi / 6)).sizes["curve"] == 0

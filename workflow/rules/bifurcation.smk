@@ -1,0 +1,49 @@
+# Bifurcation set: the branches' period doublings, folds and grazing points followed as curves in the
+# regime maps' parameter planes (vibroimpact.bifurcation), drawn over the brute-force maps.
+
+if not set(config["bifurcation"]["words"]) <= set(WORDS):
+    _fail("bifurcation.words", config["bifurcation"]["words"], f"words of branches.words ({', '.join(WORDS)})")
+
+
+rule bifurcation:
+    input:
+        expand("results/figures/bifurcation_set_{map}.png", map=config["maps"]),
+
+
+rule bifurcation_set:
+    input:
+        # the analytic branches the curves start from: their located critical points
+        lambda wc: [branch_path("orbit", config["bifurcation"]["beta"], w) for w in config["bifurcation"]["words"]],
+    output:
+        "results/bifurcation/{map}.nc",
+    params:
+        map=lambda wc: config["maps"][wc.map],
+        physics=config["physics"],
+        bifurcation=config["bifurcation"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/bifurcation/{map}.log",
+    benchmark:
+        "benchmarks/bifurcation_set/{map}.tsv"
+    script:
+        "../scripts/bifurcation_set.py"
+
+
+rule fig_bifurcation_set:
+    input:
+        map=lambda wc: map_path(wc.map),
+        curves="results/bifurcation/{map}.nc",
+    output:
+        pdf="results/figures/bifurcation_set_{map}.pdf",
+        png=report("results/figures/bifurcation_set_{map}.png", caption="../report/bifurcation_set.rst",
+                   category="Beyond the paper"),
+        data="results/figures/data/bifurcation_set_{map}.nc",
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/figures/bifurcation_set_{map}.log",
+    benchmark:
+        "benchmarks/fig_bifurcation_set/{map}.tsv"
+    script:
+        "../scripts/fig_bifurcation_set.py"

@@ -98,3 +98,26 @@ def test_curve_set_follows_each_located_point_and_records_the_ones_it_cannot(tmp
     failed = br.copy()
     failed.attrs["status"] = "failed"
     assert curve_set([failed], ("s", "beta"), ((0.19, 0.72), (0.4, 0.6)), physics=dict(beta=math.pi / 6)).sizes["curve"] == 0
+
+
+def test_the_bistable_band_at_pi_6_is_g1_and_g2_of_the_branches():
+    """G1 (2:1 grazing) and G2 (3:1 fold) followed in (s, beta) from the pi/6 branches: at pi/6 the band
+    is exactly the branches' own located points (0.137600 and 0.141954 in d: the paper's 0.1378 and
+    0.1419), to 1e-9 in s, and it stays open over a range of inclines around it."""
+    from vibroimpact.bifurcation import bistable_band, curve_set
+
+    ref = vi.Params.from_physical(s=1.0, beta=math.pi / 6)
+    p = vi.Params.from_physical(s=0.1385 / ref.d, beta=math.pi / 6)
+    b21 = continue_orbit(find_orbit(p, "BBT", 5.855, 0.4185), vary="s", d_range=(0.13, 0.16), step=2e-3)
+    q = vi.Params.from_physical(s=0.14 / ref.d, beta=math.pi / 6)
+    b31 = continue_orbit(find_orbit(q, "BBBT", 5.88, 0.3967), vary="s", d_range=(0.13, 0.16), step=2e-3)
+    for b in (b21, b31):
+        b.attrs["status"] = "ok"
+    curves = curve_set([b21, b31], ("s", "beta"), ((0.19, 0.3), (0.4, 0.65)), kinds=("fold", "grazing"), step=1e-2,
+                       physics=dict(beta=math.pi / 6))
+    band = bistable_band(curves, [0.45, math.pi / 6, 0.6])
+    g1 = float(b21.critical_s.values[b21.critical_kind.values == "grazing"].min())
+    g2 = float(b31.critical_s.values[b31.critical_kind.values == "fold"].min())
+    assert abs(float(band.s_G1[1]) - g1) < 1e-9 and abs(float(band.s_G2[1]) - g2) < 1e-9
+    assert abs(g1 * ref.d - 0.137600) < 5e-7 and abs(g2 * ref.d - 0.141954) < 5e-7
+    assert np.all(band.width.values > 0)

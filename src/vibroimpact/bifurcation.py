@@ -27,7 +27,7 @@ from .datasets import annotate
 from .orbits import Orbit, OrbitError, _residual_and_jacobian, orbit_from_vector, parse_word
 from .params import Params
 
-__all__ = ["curve_set", "follow_point"]
+__all__ = ["bistable_band", "curve_set", "curve_values", "follow_point"]
 
 #: test-function values beyond this are a singular impact map (an impact at zero speed), not a crossing
 REGULAR = 1e6
@@ -334,4 +334,47 @@ def curve_set(branches, params, ranges, *, kinds=("B", "fold", "grazing"), step=
         coords={"point": np.arange(len(cat(0))), "curve": np.arange(len(rows)), "event": np.arange(len(events))},
     )
     ds.attrs.update(params=" ".join(params), ranges=str(ranges), kinds=" ".join(kinds), step=step)
+    return annotate(ds)
+
+
+def curve_values(curves: xr.Dataset, index: int, at, along: str) -> np.ndarray:
+    """The other parameter where curve ``index`` of a :func:`curve_set` passes ``along = at``: linear
+    between the curve's points, the first crossing by arclength (NaN where it does not pass)."""
+    other = [n for n in curves.attrs["params"].split() if n != along][0]
+    sel = curves.curve_index.values == index
+    xs, ys = curves[along].values[sel], curves[other].values[sel]
+    out = np.full(np.size(at), np.nan)
+    for j, a in enumerate(np.atleast_1d(at)):
+        for i in range(len(xs) - 1):
+            if (xs[i] - a) * (xs[i + 1] - a) <= 0 and xs[i] != xs[i + 1]:
+                out[j] = ys[i] + (a - xs[i]) / (xs[i + 1] - xs[i]) * (ys[i + 1] - ys[i])
+                break
+    return out
+
+
+def bistable_band(curves: xr.Dataset, at, *, along: str = "beta") -> xr.Dataset:
+    """Where the 2:1 and 3:1 motions coexist, from the curves: G1 (the 2:1 orbit grazes, the 3:1 is born)
+    and G2 (the 3:1 orbit's fold), as the length s at each value of ``along`` (the paper's
+    [G1, G2] at beta = pi/6, 0.1376 < d < 0.1419, for any incline).  Needs a :func:`curve_set` in
+    ``(s, along)`` holding the 2:1 grazing curve through the smallest s and the 3:1 fold curve."""
+    ok = curves.curve_status.values == "ok"
+
+    def pick(word, kind):
+        idx = np.flatnonzero(ok & (curves.curve_word.values == word) & (curves.curve_kind.values == kind))
+        if not idx.size:
+            raise ValueError(f"no {word} {kind} curve in the set")
+        return int(idx[np.argmin(curves.curve_start_s.values[idx])])
+
+    at = np.atleast_1d(np.asarray(at, float))
+    g1 = curve_values(curves, pick("BBT", "grazing"), at, along)
+    g2 = curve_values(curves, pick("BBBT", "fold"), at, along)
+    width = np.where(g2 > g1, g2 - g1, 0.0)
+    ds = xr.Dataset(
+        {
+            "s_G1": (along, g1, {"units": "m", "long_name": "G1: the 2:1 orbit grazes, the 3:1 is born"}),
+            "s_G2": (along, g2, {"units": "m", "long_name": "G2: the 3:1 orbit's fold"}),
+            "width": (along, width, {"units": "m", "long_name": "length of the bistable interval [G1, G2] (0: none)"}),
+        },
+        coords={along: at},
+    )
     return annotate(ds)

@@ -8,6 +8,25 @@ if not set(config["bifurcation"]["words"]) <= set(WORDS):
 rule bifurcation:
     input:
         expand("results/figures/bifurcation_set_{map}.png", map=config["maps"]),
+        ["results/tables/bistable_band.md"] if "s_beta" in config["maps"] else [],
+
+
+rule bistable_band:
+    input:
+        "results/bifurcation/s_beta.nc",
+    output:
+        nc="results/bifurcation/bistable_band.nc",
+        md="results/tables/bistable_band.md",
+    params:
+        betas=config["bifurcation"]["bistable_betas"],
+    conda:
+        "../envs/vibroimpact.yaml"
+    log:
+        "logs/bifurcation/bistable_band.log",
+    benchmark:
+        "benchmarks/bistable_band/bistable_band.tsv"
+    script:
+        "../scripts/bistable_band.py"
 
 
 rule bifurcation_set:

@@ -21,6 +21,7 @@ def test_workflow_runs_end_to_end_on_a_tiny_config(tmp_path):
     cfg["sweeps"]["scenes"] = {"figBiS": cfg["sweeps"]["scenes"]["figBiS"]}
     cfg["sweeps"]["locate"].update(xtol=1e-5, max_trials=20)
     cfg["branches"]["words"]["BBBT"] = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["branches"]["words"]["BBBT"]
+    cfg["bifurcation"]["words"] = ["BBT", "BBBT"]  # the bifurcation set starts from continued branches only
     cfg["energy"]["figures"] = {"fig5": {"panels": ["figBiS"]}}
     cfg["energy"]["design"] = {"s": ["figBiS"], "F": []}
     cfg["checks"]["known"] = {}

@@ -148,7 +148,7 @@ def test_acceleration_zero_comes_with_the_sign_of_the_sine_there():
     """events.accel_zero: the next time after tau where cos(theta + pi t) = -gbar, with no zero in
     between, and the sign of sin(theta + pi t) there (+1 at the phase alpha, -1 at 2 pi - alpha); the
     piece ends take their sine and cosine from it, without a trigonometric call."""
-    from vibroimpact.events import accel_zero
+    from vibroimpact.events import accel_zero, next_accel_zero
 
     rng = np.random.default_rng(11)
     for _ in range(400):
@@ -162,3 +162,4 @@ def test_acceleration_zero_comes_with_the_sign_of_the_sine_there():
         s = np.linspace(tau, t, 200)[1:-1]
         f = np.cos(theta + math.pi * s) + gbar
         assert np.all(f[:-1] * f[1:] > 0)
+        assert next_accel_zero(tau, theta, alpha) == t  # the time alone, as the grazing search uses it

@@ -8,8 +8,9 @@ ends.  Every crossing, including a tangential (grazing) contact at an extremum, 
 bracketed; no step size is involved.  A near miss is decided by the sign of the gap at the
 extremum, evaluated in double-double arithmetic when it is within 1e-12 of the wall.
 
-Roots are found by Halley's method safeguarded by bisection (``rtsafe``'s safeguards), started at
-the root of the cubic Hermite interpolant of the end values and slopes.  A crossing with small impact
+Roots are found by Halley's method safeguarded by bisection (``rtsafe``'s safeguards), started
+at the secant point moved by one Newton step on the cubic Hermite interpolant of the end values and
+slopes.  A crossing with small impact
 velocity is ill-conditioned in time (``dt = dZ / Zdot``), so it is polished on the double-double gap
 by steps that solve its local quadratic.
 
@@ -73,27 +74,24 @@ def next_accel_zero(tau, theta, alpha):
 
 
 @njit(cache=True, inline="always")
-def _hermite_start(lo, hi, flo, fhi, dflo, dfhi, right):
-    """Start for a root search on [lo, hi]: a root of the cubic Hermite interpolant of f (values and
-    slopes at both ends, all known there), by Newton's method on the cubic from the secant point
-    (``right``: from ``hi``, which for a convex f gives the rightmost root).  The midpoint when the
-    cubic's Newton step leaves the interval."""
+def _hermite_start(lo, hi, flo, fhi, dflo, dfhi):
+    """Start for a root search on [lo, hi]: one Newton step on the cubic Hermite interpolant of f
+    (values and slopes at both ends, all known there) from the secant point; the secant point when
+    that step leaves the interval.  One step measured fastest: 4.0 points per impact on the 2:1 scene
+    against 4.3 with four steps on the cubic, each of which costs about as much as a true evaluation."""
     h = hi - lo
     m0 = h * dflo
     m1 = h * dfhi
     dl = fhi - flo
     a2 = 3.0 * dl - 2.0 * m0 - m1
     a3 = m0 + m1 - 2.0 * dl
-    x = 1.0 if right else flo / (flo - fhi)
-    for _ in range(1):
-        hv = flo + x * (m0 + x * (a2 + x * a3))
-        dh = m0 + x * (2.0 * a2 + 3.0 * x * a3)
-        if dh == 0.0:
-            break
+    x = flo / (flo - fhi)
+    hv = flo + x * (m0 + x * (a2 + x * a3))
+    dh = m0 + x * (2.0 * a2 + 3.0 * x * a3)
+    if dh != 0.0:
         xn = x - hv / dh
-        if not (xn > 0.0 and xn < 1.0):
-            return 0.5 * (lo + hi) if right or not (x > 0.0 and x < 1.0) else lo + x * h
-        x = xn
+        if xn > 0.0 and xn < 1.0:
+            x = xn
     if not (x > 0.0 and x < 1.0):
         x = 0.5
     return lo + x * h
@@ -121,7 +119,8 @@ def _rtsafe(which, lo, hi, flo, fhi, dflo, dfhi, c, s, z0w, u, gbar):
     ``dflo``, ``dfhi`` its slopes at the ends (NaN if unknown: the search starts at the midpoint).
 
     Halley's method (third order: the second derivative comes with the same evaluation) from the
-    root of the cubic Hermite interpolant (:func:`_hermite_start`), safeguarded as rtsafe is:
+    secant point moved by one Newton step on the cubic Hermite interpolant (:func:`_hermite_start`),
+    safeguarded as rtsafe is:
     bisection where even Newton's step would not halve the bracket (a flat f) and where Halley's
     step leaves it.  It stops when Halley's last step leaves an error at rounding level
     (:func:`_done`).  After the first point, the sine and cosine at each new point come from the
@@ -141,7 +140,7 @@ def _rtsafe(which, lo, hi, flo, fhi, dflo, dfhi, c, s, z0w, u, gbar):
     else:
         xl, xh = hi, lo
     if dflo == dflo and dfhi == dfhi:
-        x = _hermite_start(lo, hi, flo, fhi, dflo, dfhi, False)
+        x = _hermite_start(lo, hi, flo, fhi, dflo, dfhi)
     else:
         x = 0.5 * (lo + hi)
     dxold = abs(hi - lo)

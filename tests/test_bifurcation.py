@@ -121,3 +121,27 @@ def test_the_bistable_band_at_pi_6_is_g1_and_g2_of_the_branches():
     assert abs(float(band.s_G1[1]) - g1) < 1e-9 and abs(float(band.s_G2[1]) - g2) < 1e-9
     assert abs(g1 * ref.d - 0.137600) < 5e-7 and abs(g2 * ref.d - 0.141954) < 5e-7
     assert np.all(band.width.values > 0)
+
+
+def test_near_g1_the_new_impact_and_the_eigenvalue_follow_nordmarks_normal_form():
+    """The 3:1 orbit born at G1 (beta = pi/6) has an impact whose speed vanishes there.  Nordmark's
+    normal form for a grazing impact: that speed grows linearly with the distance mu = d - G1, and the
+    impact map's large eigenvalue (its derivative carries 1 / speed) like 1 / mu.  Fitted over
+    mu in [1e-6, 1e-4] on the continued branch: exponents 1 and -1 to 0.02."""
+    p = vi.Params.from_physical(s=0.1385 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
+    b21 = continue_orbit(find_orbit(p, "BBT", 5.855, 0.4185), vary="d", d_range=(0.135, 0.14), step=1e-3)
+    g1 = float(b21.critical_d.values[b21.critical_kind.values == "grazing"].min())
+    # the 3:1 orbit just above G1 whose third bottom impact is slow (the other 3:1 orbit there, Fig BiS
+    # (f)'s, has no slow impact): guess from the continued 3:1 branch at d = 0.13768
+    q = vi.Params(d=g1 + 5e-5, gbar=p.gbar, r=p.r)
+    o = find_orbit(q, "BBBT", 5.8407, 0.41577)
+    assert np.min(np.abs(o.v_minus)) < 1e-3
+    br = continue_orbit(o, vary="d", d_range=(g1 + 5e-7, g1 + 2e-4), step=2e-6, locate=False)
+    mu = br.d.values - g1
+    vmin = np.min(np.abs(br.v_minus.values), axis=1)
+    lam = np.max(br.eig_abs.values, axis=1)
+    sel = (mu > 1e-6) & (mu < 1e-4)
+    assert sel.sum() > 20
+    slope_v = np.polyfit(np.log(mu[sel]), np.log(vmin[sel]), 1)[0]
+    slope_l = np.polyfit(np.log(mu[sel]), np.log(lam[sel]), 1)[0]
+    assert abs(slope_v - 1) < 0.02 and abs(slope_l + 1) < 0.02, (slope_v, slope_l)

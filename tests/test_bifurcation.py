@@ -145,3 +145,34 @@ def test_near_g1_the_new_impact_and_the_eigenvalue_follow_nordmarks_normal_form(
     slope_v = np.polyfit(np.log(mu[sel]), np.log(vmin[sel]), 1)[0]
     slope_l = np.polyfit(np.log(mu[sel]), np.log(lam[sel]), 1)[0]
     assert abs(slope_v - 1) < 0.02 and abs(slope_l + 1) < 0.02, (slope_v, slope_l)
+
+
+def test_the_bouncing_balls_period_doubling_cascade_approaches_feigenbaums_constant():
+    """The period-doubling cascade of the vibrated bouncing ball (r = 0.5), located word by word: the
+    period-1 orbit doubles at its closed form; from the attractor just past each doubling, the orbit
+    of twice as many impacts (B, BB, BBBB, ...) is continued in gbar to its own doubling.  The ratios
+    of successive intervals tend to Feigenbaum's 4.6692: each nearer than the one before, the third
+    within 0.5 %."""
+    from vibroimpact.simulate import identify_attractor, simulate
+
+    r, feigenbaum = 0.5, 4.669201609
+    points = [1 / _gamma_pd(r)]
+    theta = math.pi - math.asin(math.pi * points[0] * (1 - r) / (1 + r))
+    start, k = (theta + 1e-3, 2 * points[0] / (1 + r)), 1
+    for level in range(4):
+        k *= 2
+        g = points[-1] - 2e-3 * 0.25**level  # just past the last doubling (gbar decreasing)
+        p = vi.Params(d=50.0, gbar=g, r=r)
+        att = identify_attractor(simulate(p, *start, n_impacts=200_000, stop_when_periodic=True, tol=1e-11), tol=1e-11)
+        cyc = att.cycle
+        assert len(cyc.t) == k  # the doubled orbit: k impacts in 2k forcing half-periods
+        start = (float(cyc.phase.values[0]), float(cyc.v_minus.values[0]))
+        o = find_orbit(p, "B" * k, *start, k=k)
+        br = continue_orbit(o, vary="gbar", value_range=(g - 0.3 * 0.22**level, g + 1e-3 * 0.22**level),
+                            step=2e-4 * 0.22**level)
+        b = br.critical_value.values[(br.critical_kind.values == "B") & (br.critical_value.values < g)]
+        points.append(float(b.max()))
+    gaps = -np.diff(points)
+    delta = gaps[:-1] / gaps[1:]
+    err = np.abs(delta - feigenbaum)
+    assert np.all(np.diff(err) < 0) and err[-1] < 0.005 * feigenbaum, delta

@@ -119,10 +119,13 @@ class ParameterMap:
         if self.line:
             return 1.0, self.g_slope, 0.0
         ph = self.phys
-        return {"gbar": (0.0, 1.0, 0.0), "r": (0.0, 0.0, 1.0),
-                "beta": (0.0, ph.get("M", 0) * ph.get("g", 0) * math.cos(lam) / ph.get("F", 1), 0.0),
-                "omega": (2.0 * ph.get("s", 0) * ph.get("M", 0) * lam / (ph.get("F", 1) * math.pi**2), 0.0, 0.0),
-                }[self.vary]
+        if self.vary == "gbar":
+            return 0.0, 1.0, 0.0
+        if self.vary == "r":
+            return 0.0, 0.0, 1.0
+        if self.vary == "beta":
+            return 0.0, ph["M"] * ph["g"] * math.cos(lam) / ph["F"], 0.0
+        return 2.0 * ph["s"] * ph["M"] * lam / (ph["F"] * math.pi**2), 0.0, 0.0  # omega
 
     def physical(self, lam) -> dict:
         """The physical values at ``lam`` that the branch changes (``s``, ``F``, ``beta``, ``omega``; empty

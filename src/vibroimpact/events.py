@@ -344,15 +344,10 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
                         t, _, v = _rtsafe(1, ta, ts, z0w1 + da, z0w1 + ds_, va, vs_, c, s, z0w1, u, gbar)
                         return _slow(t, v, ta, ts, theta, c, s, z0w1, u, gbar, sg1)
             if skip:
-                if last:
-                    return math.inf, 0, math.nan
-                ta = tb
-                va = vb
-                da = db
-                aa = ab
-                continue
-            te, de, ve = _rtsafe(0, ta, tb, va, vb, aa, ab, c, s, 0.0, u, gbar)
-            n_sub = 2
+                n_sub = 0  # no piece can reach a wall: on to the next one
+            else:
+                te, de, ve = _rtsafe(0, ta, tb, va, vb, aa, ab, c, s, 0.0, u, gbar)
+                n_sub = 2
         p = ta
         vp = va
         dp = da

@@ -50,8 +50,8 @@ rule all:
     input:
         "results/orbits/captions.nc",
         "results/tables/captions.md",
-        expand("results/figures/{scene}.{ext}", scene=SCENES, ext=["pdf", "png"]),
-        expand("results/figures/{scene}.{ext}", scene=BRANCH_SCENES, ext=["pdf", "png"]),
+        expand("results/figures/{scene}.{ext}", scene=SCENES, ext=RESOLUTION["figure_formats"]),
+        expand("results/figures/{scene}.{ext}", scene=BRANCH_SCENES, ext=RESOLUTION["figure_formats"]),
         "results/tables/table1.csv",
         [branch_path("orbit", math.pi / 3, "BT")] if "BT" in WORDS else [],  # 1:1 branch of Fig 0
         [sweep_path(n) for n in SWEEPS],
@@ -59,8 +59,8 @@ rule all:
         "results/tables/transitions.md",
         [basin_path(n) for n in config["basins"]],
         [map_path(n) for n in config["maps"]],
-        expand("results/figures/{fig}.{ext}", fig=["figBiS", "basins", "regime_map"], ext=["pdf", "png"]),
-        expand("results/figures/{fig}.{ext}", fig=list(config["energy"]["figures"]) + ["design"], ext=["pdf", "png"]),
+        expand("results/figures/{fig}.{ext}", fig=["figBiS", "basins", "regime_map"], ext=RESOLUTION["figure_formats"]),
+        expand("results/figures/{fig}.{ext}", fig=list(config["energy"]["figures"]) + ["design"], ext=RESOLUTION["figure_formats"]),
         "results/tables/design.md",
         "results/checks/paper_values.csv",
         expand("results/figures/{fig}.png", fig=["work_precision", "failure_map", "analytics_accuracy"]),

@@ -41,6 +41,24 @@ def test_figure_data_is_what_is_drawn(tmp_path):
     assert ds["a1_image0_z"].shape == (2, 3) and ds.attrs["config"] == "{}"
 
 
+def test_save_writes_the_formats_asked_for_and_refuses_a_figure_without_png(tmp_path):
+    """PNG always (the report and the image check read it), other formats as the quality preset asks;
+    the Snakemake helper takes them from the rule's named outputs."""
+    from types import SimpleNamespace
+
+    paths = plots.save(_figure(), tmp_path / "a", formats=("png",))
+    assert [p.name for p in paths] == ["a.png"] and not (tmp_path / "a.pdf").exists()
+    paths = plots.save(_figure(), tmp_path / "b", formats=("png", "pdf", "svg"))
+    assert [p.suffix for p in paths] == [".png", ".pdf", ".svg"]
+    assert (tmp_path / "b.pdf").read_bytes()[:4] == b"%PDF" and b"<svg" in (tmp_path / "b.svg").read_bytes()
+    out = SimpleNamespace(png=str(tmp_path / "c.png"), pdf=str(tmp_path / "c.pdf"), data=str(tmp_path / "c.nc"))
+    assert [p.name for p in plots.save_outputs(_figure(), out, data=out.data)] == ["c.png", "c.pdf", "c.nc"]
+    for bad in (("pdf",), ("png", "eps")):
+        with pytest.raises(ValueError, match="formats.*allowed: png"):
+            plots.save(_figure(), tmp_path / "d", formats=bad)
+    assert not (tmp_path / "d.pdf").exists()
+
+
 def test_compare_passes_identical_data_and_names_every_difference():
     ref = figure_data(_figure())
     same = compare(figure_data(_figure()), ref, rtol=1e-9, atol=1e-12)
@@ -101,7 +119,7 @@ def test_image_layer_sees_a_change_the_same_figure_does_not(tmp_path):
     for k, kw in enumerate([{}, {}, {"extra": True}, {"shift": 0.3}]):
         paths = plots.save(_figure(**kw), tmp_path / f"f{k}", data=tmp_path / f"f{k}.nc")
         ds = xr.load_dataset(paths[-1], engine="netcdf4")
-        assert ds.attrs["png_phash"] == image_hash(paths[1])
+        assert ds.attrs["png_phash"] == image_hash(paths[0])
         hashes.append(ds)
     assert hash_distance(hashes[0].attrs["png_phash"], hashes[1].attrs["png_phash"]) == 0
     assert compare_image(hashes[1], hashes[0], max_distance=0)["status"] == "pass"

@@ -17,7 +17,8 @@ def test_workflow_runs_end_to_end_on_a_tiny_config(tmp_path):
     cfg["branches"]["simulated_points"] = 3
     cfg["branches"]["d_range"] = [0.13, 0.25]
     cfg["branches"]["words"] = {"BBT": cfg["branches"]["words"]["BBT"]}
-    cfg["resolution"]["draft"].update(sweep_points=12, basin_grid=[6, 4], map_grid=[5, 3])
+    cfg["resolution"]["draft"].update(sweep_points=12, basin_grid=[6, 4], map_grid=[5, 3],
+                                      figure_formats=["png", "pdf"])  # the paper preset's formats
     cfg["sweeps"]["scenes"] = {"figBiS": cfg["sweeps"]["scenes"]["figBiS"]}
     cfg["sweeps"]["locate"].update(xtol=1e-5, max_trials=20)
     cfg["branches"]["words"]["BBBT"] = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["branches"]["words"]["BBBT"]
@@ -48,6 +49,9 @@ def test_workflow_runs_end_to_end_on_a_tiny_config(tmp_path):
     assert sw.sizes["point"] == 12 and list(sw.direction.values) == ["up", "down"] and "label" in sw
     tr = xr.open_dataset(tmp_path / "results" / "sweeps" / "beta-0.5236_r-0.5000" / "figBiS-transitions.nc", engine="netcdf4")
     assert {"d", "kind", "d_lo", "d_hi"} <= set(tr.variables)
+    # the energy written beside the sweep, from the same job
+    en = xr.open_dataset(tmp_path / "results" / "energy" / "beta-0.5236_r-0.5000" / "figBiS.nc", engine="netcdf4")
+    assert en.sizes["point"] == 12 and "units" in en["U_T"].attrs
     table = xr.open_dataset(tmp_path / "results" / "orbits" / "captions.nc", engine="netcdf4")
     assert bool(table["reproduced"].all())
     # a second run has nothing to do
@@ -59,6 +63,7 @@ def test_workflow_runs_end_to_end_on_a_tiny_config(tmp_path):
     (("physics", "r"), 1.5, ["1.5", "r"]),
     (("quality",), "best", ["best", "draft", "paper"]),
     (("captions", "fig4_a", "beta"), 3.0, ["3.0", "beta"]),
+    (("resolution", "draft", "figure_formats"), ["pdf"], ["figure_formats", "pdf", "png"]),
 ])
 def test_bad_config_fails_before_any_job(tmp_path, key, value, words):
     cfg = _copy_workflow(tmp_path)
@@ -134,7 +139,7 @@ def test_a_study_adds_only_its_own_jobs(tmp_path):
                      "--config", "studies=[{beta: 0.4, r: 0.6}]")
     assert res.returncode == 0, res.stderr[-2000:]
     out = res.stdout + res.stderr
-    for rule in ("branch", "sweep", "branch_energy", "sweep_energy", "study_figure"):
+    for rule in ("branch", "sweep", "study_figure"):
         assert rule in out
     for rule in ("fig2", "caption_orbits", "regime_map", "check"):
         assert f"rule {rule}:" not in out and f"\n{rule} " not in out

@@ -116,12 +116,16 @@ def work_precision(*, n_err=20, n_cost=None, ivp_methods=("RK45", "DOP853", "LSO
     shape = (len(ladder), len(scenes))
     err_t, err_v, cost, total = (np.full(shape, np.nan) for _ in range(4))
     wrong = np.full(shape, -1, dtype=np.int64)
+    # the plain-Python runs of every scene in one interpreter (its start-up is not part of the cost)
+    python = (M.run_python_many([(_params(b, d), phi, v0, max(n_err, n_cost["python"]), math.inf)
+                                 for b, d, phi, v0 in scenes.values()])
+              if any(f == "python" for f, _, _ in ladder) else None)
     for j, (_, (beta, d, phi, v0)) in enumerate(scenes.items()):
         p = _params(beta, d)
         ref = trajectory(p.d, p.gbar, p.r, phi, v0, n_err)
         for i, (family, setting, _) in enumerate(ladder):
             n = max(n_err, n_cost[_cost_key(family)])
-            run = _run(family, setting, p, phi, v0, n)
+            run = python[j] if family == "python" else _run(family, setting, p, phi, v0, n)
             err_t[i, j], err_v[i, j], wrong[i, j] = _errors(run, ref)
             cost[i, j] = run.seconds / max(len(run.t), 1) * 1e6
             total[i, j] = run.seconds

@@ -109,7 +109,7 @@ rule bench_figure:
     input:
         "results/bench/{bench}.nc",
     output:
-        pdf="results/figures/{bench}.pdf",
+        **figure_formats("results/figures/{bench}"),
         png=report("results/figures/{bench}.png", caption="../report/bench.rst", category="Speed and accuracy"),
         data="results/figures/data/{bench}.nc",
     wildcard_constraints:

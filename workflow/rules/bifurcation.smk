@@ -54,7 +54,7 @@ rule fig_bifurcation_set:
         map=lambda wc: map_path(wc.map),
         curves="results/bifurcation/{map}.nc",
     output:
-        pdf="results/figures/bifurcation_set_{map}.pdf",
+        **figure_formats("results/figures/bifurcation_set_{map}"),
         png=report("results/figures/bifurcation_set_{map}.png", caption="../report/bifurcation_set.rst",
                    category="Beyond the paper"),
         data="results/figures/data/bifurcation_set_{map}.nc",

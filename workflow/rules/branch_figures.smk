@@ -6,7 +6,7 @@ rule fig2:
         branches=scene_branch_files("fig2"),
         sims=scene_branch_files("fig2", kind="sim"),
     output:
-        pdf="results/figures/fig2.pdf",
+        **figure_formats("results/figures/fig2"),
         png=report("results/figures/fig2.png", caption="../report/fig2.rst", category="Paper figures"),
         data="results/figures/data/fig2.nc",
     params:
@@ -27,7 +27,7 @@ rule fig3:
         branches=scene_branch_files("fig3"),
         sims=scene_branch_files("fig3", kind="sim"),
     output:
-        pdf="results/figures/fig3.pdf",
+        **figure_formats("results/figures/fig3"),
         png=report("results/figures/fig3.png", caption="../report/fig3.rst", category="Paper figures"),
         data="results/figures/data/fig3.nc",
     params:

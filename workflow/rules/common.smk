@@ -246,3 +246,9 @@ def _check_summaries():
 
 # read by workflow/report/*.rst when `snakemake --report` renders the captions; not a setting
 config["_check_results"] = _check_summaries()
+
+
+def figure_formats(stem):
+    """A figure's outputs besides its PNG: the quality preset's other ``figure_formats`` (PDF at paper
+    quality; the draft preset writes the PNG only, a quicker look)."""
+    return {f: f"{stem}.{f}" for f in RESOLUTION["figure_formats"] if f != "png"}

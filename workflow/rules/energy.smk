@@ -1,42 +1,5 @@
-# Output voltage per impact and its averages, for analytic branches and numerical sweeps; Figs 0, 5
-# and the design guidance.
-
-
-rule branch_energy:
-    input:
-        "results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
-    output:
-        "results/energy/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
-    params:
-        membrane=config["membrane"],
-        physics=config["physics"],
-    conda:
-        "../envs/vibroimpact.yaml"
-    log:
-        "logs/energy/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.log",
-    benchmark:
-        "benchmarks/branch_energy/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.tsv"
-    script:
-        "../scripts/energy.py"
-
-
-rule sweep_energy:
-    input:
-        "results/sweeps/beta-{beta}_r-{r}/{sweep}.nc",
-    output:
-        "results/energy/beta-{beta}_r-{r}/{sweep}.nc",
-    params:
-        membrane=config["membrane"],
-        physics=config["physics"],
-        window_time=config["energy"]["window_time"],
-    conda:
-        "../envs/vibroimpact.yaml"
-    log:
-        "logs/energy/beta-{beta}_r-{r}/{sweep}.log",
-    benchmark:
-        "benchmarks/sweep_energy/beta-{beta}_r-{r}/{sweep}.tsv"
-    script:
-        "../scripts/energy.py"
+# Figures and tables of the output voltage (computed beside each branch and sweep, rules branch and
+# sweep): Figs 0, 5 and the design guidance.
 
 
 rule energy_figure:
@@ -47,7 +10,7 @@ rule energy_figure:
         orbits=lambda wc: [branch_path("orbit", SWEEPS[p]["beta"], w, SWEEPS[p]["vary"])
                            for p in config["energy"]["figures"][wc.efig]["panels"] for w in ("BT", "BBT") if w in WORDS],
     output:
-        pdf="results/figures/{efig}.pdf",
+        **figure_formats("results/figures/{efig}"),
         png=report("results/figures/{efig}.png", caption="../report/energy.rst", category="Paper figures"),
         data="results/figures/data/{efig}.nc",
     params:
@@ -73,7 +36,7 @@ rule design:
     output:
         csv="results/tables/design.csv",
         md="results/tables/design.md",
-        pdf="results/figures/design.pdf",
+        **figure_formats("results/figures/design"),
         png=report("results/figures/design.png", caption="../report/design.rst", category="Beyond the paper"),
         data="results/figures/data/design.nc",
     conda:
@@ -96,7 +59,7 @@ rule study_figure:
         orbits=lambda wc: [f"results/branches/beta-{wc.beta}_r-{wc.r}/orbit-{w}_vary-s.nc" for w in ("BT", "BBT")
                            if w in WORDS],
     output:
-        pdf="results/studies/beta-{beta}_r-{r}/study.pdf",
+        **figure_formats("results/studies/beta-{beta}_r-{r}/study"),
         png="results/studies/beta-{beta}_r-{r}/study.png",
         data="results/studies/beta-{beta}_r-{r}/study-figure-data.nc",
     params:

@@ -5,7 +5,7 @@ rule scene_figure:
     input:
         lambda wc: expand("results/orbits/caption-{name}.nc", name=config["scenes"][wc.scene]["captions"]),
     output:
-        pdf="results/figures/{scene}.pdf",
+        **figure_formats("results/figures/{scene}"),
         png=report("results/figures/{scene}.png", caption="../report/scene.rst", category="Paper figures"),
         data="results/figures/data/{scene}.nc",
     conda:

@@ -3,7 +3,10 @@
 
 rule branch:
     output:
-        "results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
+        orbit="results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
+        # its output voltages and averages (vibroimpact.energy), in the same job: a second job would
+        # cost more in start-up than the computation
+        energy="results/energy/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
     params:
         beta=lambda wc: beta_value(wc.beta),
         physics=config["physics"],
@@ -14,6 +17,7 @@ rule branch:
         d_range=config["branches"]["d_range"],
         force=config["branches"]["force"],
         step=RESOLUTION["branch_step"],
+        membrane=config["membrane"],
     conda:
         "../envs/vibroimpact.yaml"
     log:

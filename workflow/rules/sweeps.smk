@@ -3,13 +3,17 @@
 
 rule sweep:
     output:
-        "results/sweeps/beta-{beta}_r-{r}/{sweep}.nc",
+        sweep="results/sweeps/beta-{beta}_r-{r}/{sweep}.nc",
+        # its output voltages and averages (vibroimpact.energy), in the same job (see rule branch)
+        energy="results/energy/beta-{beta}_r-{r}/{sweep}.nc",
     params:
         scene=sweep_scene,
         physics=config["physics"],
         r=lambda wc: r_value(wc.r),
         sweeps={k: v for k, v in config["sweeps"].items() if k != "scenes"},
         points=RESOLUTION["sweep_points"],
+        membrane=config["membrane"],
+        window_time=config["energy"]["window_time"],
     conda:
         "../envs/vibroimpact.yaml"
     log:
@@ -104,7 +108,7 @@ rule figBiS:
         branch21=branch_path("orbit", SWEEPS["figBiS"]["beta"], "BBT"),
         branch31=branch_path("orbit", SWEEPS["figBiS"]["beta"], "BBBT"),
     output:
-        pdf="results/figures/figBiS.pdf",
+        **figure_formats("results/figures/figBiS"),
         png=report("results/figures/figBiS.png", caption="../report/figBiS.rst", category="Paper figures"),
         data="results/figures/data/figBiS.nc",
     conda:
@@ -121,7 +125,7 @@ rule fig_basins:
     input:
         basin_path("figBiS"),
     output:
-        pdf="results/figures/basins.pdf",
+        **figure_formats("results/figures/basins"),
         png=report("results/figures/basins.png", caption="../report/basins.rst", category="Beyond the paper"),
         data="results/figures/data/basins.nc",
     conda:
@@ -138,7 +142,7 @@ rule fig_regime_map:
     input:
         [map_path(m) for m in config["maps"]],
     output:
-        pdf="results/figures/regime_map.pdf",
+        **figure_formats("results/figures/regime_map"),
         png=report("results/figures/regime_map.png", caption="../report/regime_map.rst", category="Beyond the paper"),
         data="results/figures/data/regime_map.nc",
     params:

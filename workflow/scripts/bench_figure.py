@@ -10,5 +10,5 @@ from vibroimpact.datasets import provenance
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 ds = xr.load_dataset(snakemake.input[0], engine="netcdf4")
 fig = getattr(plots, f"fig_{snakemake.wildcards.bench}")(ds)
-plots.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+plots.save_outputs(fig, snakemake.output, data=snakemake.output.data,
            attrs=provenance(**json.loads(ds.attrs.get("config", "{}"))))

@@ -5,6 +5,7 @@ import math
 import vibroimpact as vi
 from vibroimpact.continuation import branch_from_simulation
 from vibroimpact.datasets import provenance, write_netcdf
+from vibroimpact.energy import Membrane, branch_energy
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 ph, spec, vary = snakemake.params.physics, snakemake.params.spec, snakemake.params.vary
@@ -21,6 +22,9 @@ params = vi.Params.from_physical(s=s, beta=snakemake.params.beta, M=ph["M"], F=F
 ds = branch_from_simulation(params, snakemake.params.word, k=spec["k"], vary=vary, d_range=d_range,
                             step=snakemake.params.step, phi=spec["phi"], v0=spec["v0"])
 ds.attrs.update(beta=snakemake.params.beta, **provenance(**dict(snakemake.params)))
-write_netcdf(ds, snakemake.output[0])
+write_netcdf(ds, snakemake.output.orbit)
+en = branch_energy(ds, Membrane(**snakemake.params.membrane), M=ph["M"], omega=ph["omega"])
+en.attrs.update(provenance(**dict(snakemake.params)))
+write_netcdf(en, snakemake.output.energy)
 logging.info("%s beta=%s vary=%s: %s %s", snakemake.params.word, snakemake.params.beta, vary, ds.attrs["status"],
              ds.attrs.get("reason", ""))

@@ -19,5 +19,5 @@ if name == "fig2":
     fig = plots.fig2(branches[:n], sims[:n], d_ranges, grazing)
 else:
     fig = plots.fig3(branches[:n], d_ranges)
-plots.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+plots.save_outputs(fig, snakemake.output, data=snakemake.output.data,
            attrs=provenance(**dict(snakemake.params)))

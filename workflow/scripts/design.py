@@ -14,5 +14,5 @@ df = design_table(s_sets + F_sets)
 df.to_csv(snakemake.output.csv, index=False)
 with open(snakemake.output.md, "w") as fh:
     fh.write(design_markdown(df))
-plots.save(plots.fig_design(s_sets, F_sets, df), snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+plots.save_outputs(plots.fig_design(s_sets, F_sets, df), snakemake.output, data=snakemake.output.data,
            attrs=provenance(**dict(snakemake.params)))

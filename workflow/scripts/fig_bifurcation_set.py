@@ -9,4 +9,4 @@ from vibroimpact.datasets import provenance
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 curves = xr.load_dataset(snakemake.input.curves, engine="netcdf4")
 fig = plots.fig_bifurcation_set(xr.load_dataset(snakemake.input.map, engine="netcdf4"), curves)
-plots.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data, attrs=provenance())
+plots.save_outputs(fig, snakemake.output, data=snakemake.output.data, attrs=provenance())

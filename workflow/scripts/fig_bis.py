@@ -10,5 +10,5 @@ logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 i = snakemake.input
 load = lambda f: xr.load_dataset(f, engine="netcdf4")
 fig = plots.fig_bis(load(i.sweep), load(i.transitions), load(i.portraits), [load(i.branch21), load(i.branch31)])
-plots.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+plots.save_outputs(fig, snakemake.output, data=snakemake.output.data,
            attrs=provenance(**dict(snakemake.params)))

@@ -8,5 +8,5 @@ from vibroimpact.datasets import provenance
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 fig = plots.fig_regime_map([xr.load_dataset(f, engine="netcdf4") for f in snakemake.input], snakemake.params.scans)
-plots.save(fig, snakemake.output.pdf.removesuffix(".pdf"), data=snakemake.output.data,
+plots.save_outputs(fig, snakemake.output, data=snakemake.output.data,
            attrs=provenance(**dict(snakemake.params)))

@@ -4,6 +4,7 @@ import logging
 import numpy as np
 
 from vibroimpact.datasets import provenance, write_netcdf
+from vibroimpact.energy import Membrane, sweep_energy
 from vibroimpact.sweeps import sweep
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
@@ -13,5 +14,9 @@ fixed = {"F": sc.get("F", ph["F"])} if sc["vary"] == "s" else {"s": sc["s"]}
 ds = sweep(sc["vary"], values, beta=sc["beta"], phi=sc["phi"], v0=sc["v0"], max_periods=sw["max_periods"],
            tol=sw["tol"], window=sw["window"], M=ph["M"], omega=ph["omega"], g=ph["g"], r=snakemake.params.r, **fixed)
 ds.attrs.update(provenance(**dict(snakemake.params)))
-write_netcdf(ds, snakemake.output[0])
+write_netcdf(ds, snakemake.output.sweep)
+en = sweep_energy(ds, Membrane(**snakemake.params.membrane), M=ph["M"], omega=ph["omega"],
+                  window_time=snakemake.params.window_time)
+en.attrs.update(provenance(**dict(snakemake.params)))
+write_netcdf(en, snakemake.output.energy)
 logging.info("labels: %s", sorted(set(ds.label.values.ravel())))

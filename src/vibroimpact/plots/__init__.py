@@ -10,7 +10,7 @@ All share one style file (``vibroimpact.mplstyle``) and :func:`save`, which writ
 and the arrays the figure draws.
 """
 
-from ._common import STYLE_FILE, save, use_style
+from ._common import STYLE_FILE, save, save_outputs, use_style
 from .bench import fig_analytics_accuracy, fig_failure_map, fig_work_precision
 from .branches import critical_markers, fig2, fig3
 from .energy import fig_design, fig_energy
@@ -19,4 +19,4 @@ from .sweeps import fig_basins, fig_bifurcation_set, fig_bis, fig_regime_map
 
 __all__ = ["NEAR_GRAZING", "STYLE_FILE", "critical_markers", "fig0b", "fig2", "fig3", "fig4", "figFN2",
            "fig_analytics_accuracy", "fig_basins", "fig_bis", "fig_design", "fig_energy", "fig_failure_map",
-           "fig_bifurcation_set", "fig_regime_map", "fig_work_precision", "phase_portrait", "save", "time_series", "use_style"]
+           "fig_bifurcation_set", "fig_regime_map", "fig_work_precision", "phase_portrait", "save", "save_outputs", "time_series", "use_style"]

@@ -26,24 +26,39 @@ def use_style() -> None:
     plt.style.use(STYLE_FILE)
 
 
-def save(fig, stem, *, data=None, attrs=None) -> list[Path]:
-    """Save ``stem.pdf`` and ``stem.png`` and, with ``data``, the arrays the figure draws (netCDF,
-    :func:`vibroimpact.figdata.figure_data`, with ``attrs`` such as the config); returns the paths."""
+#: file formats a figure can be written in; PNG always (the report and the image check read it)
+FORMATS = ("png", "pdf", "svg")
+
+
+def save(fig, stem, *, data=None, attrs=None, formats=("png", "pdf")) -> list[Path]:
+    """Save ``stem.png`` and ``stem.<f>`` for the other ``formats`` and, with ``data``, the arrays the
+    figure draws (netCDF, :func:`vibroimpact.figdata.figure_data`, with ``attrs`` such as the config);
+    returns the paths."""
     from ..datasets import write_netcdf
     from ..figdata import figure_data, image_hash
 
+    bad = [f for f in formats if f not in FORMATS]
+    if bad or "png" not in formats:
+        raise ValueError(f"formats = {list(formats)!r}; allowed: png and any of {FORMATS[1:]}")
     stem = Path(stem)
     stem.parent.mkdir(parents=True, exist_ok=True)
-    paths = [stem.with_suffix(".pdf"), stem.with_suffix(".png")]
+    paths = [stem.with_suffix(".png")] + [stem.with_suffix(f".{f}") for f in formats if f != "png"]
     for p in paths:
         fig.savefig(p)
     if data is not None:
         ds = figure_data(fig, attrs)
-        ds.attrs["png_phash"] = image_hash(paths[1])  # the image layer of the regeneration check
+        ds.attrs["png_phash"] = image_hash(paths[0])  # the image layer of the regeneration check
         write_netcdf(ds, data, fmt="NETCDF3_64BIT")
         paths.append(Path(data))
     plt.close(fig)
     return paths
+
+
+def save_outputs(fig, output, *, data=None, attrs=None) -> list[Path]:
+    """:func:`save` into a Snakemake rule's named outputs: ``png`` and whichever of the other
+    :data:`FORMATS` the rule declares (the quality preset's ``figure_formats``)."""
+    formats = [f for f in FORMATS if hasattr(output, f)]
+    return save(fig, str(output.png).removesuffix(".png"), data=data, attrs=attrs, formats=formats)
 
 
 def pi_tex(x, fmt=".4g"):

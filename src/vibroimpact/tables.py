@@ -222,7 +222,7 @@ FIGURE_SOURCES = {
 #: path's first directory, which is the rule's name for the rules that draw and tabulate)
 RULE_OF_BENCHMARK = (
     (r"^orbits/caption-orbits", "caption_orbits"), (r"^branches/.*/orbit-", "branch"),
-    (r"^branches/.*/sim-", "branch_simulated"), (r"^sweeps/.*-transitions\.tsv$", "transitions"),
+    (r"^branches/.*/sim-", "branch_simulated"),
     (r"^sweeps/", "sweep"), (r"^basins/", "basins"), (r"^maps/", "regime_map"),
     (r"^bench/simulator", "bench_simulator"), (r"^bench/(\w+)\.tsv$", None),
 )

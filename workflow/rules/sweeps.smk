@@ -4,7 +4,9 @@
 rule sweep:
     output:
         sweep="results/sweeps/beta-{beta}_r-{r}/{sweep}.nc",
-        # its output voltages and averages (vibroimpact.energy), in the same job (see rule branch)
+        # its located transitions and bistable intervals, and its output voltages and averages
+        # (vibroimpact.energy), in the same job: separate jobs would cost more in start-up
+        transitions="results/sweeps/beta-{beta}_r-{r}/{sweep}-transitions.nc",
         energy="results/energy/beta-{beta}_r-{r}/{sweep}.nc",
     params:
         scene=sweep_scene,
@@ -14,6 +16,7 @@ rule sweep:
         points=RESOLUTION["sweep_points"],
         membrane=config["membrane"],
         window_time=config["energy"]["window_time"],
+        locate=config["sweeps"]["locate"],
     conda:
         "../envs/vibroimpact.yaml"
     log:
@@ -22,23 +25,6 @@ rule sweep:
         "benchmarks/sweeps/beta-{beta}_r-{r}/{sweep}.tsv"
     script:
         "../scripts/sweep.py"
-
-
-rule transitions:
-    input:
-        "results/sweeps/beta-{beta}_r-{r}/{sweep}.nc",
-    output:
-        "results/sweeps/beta-{beta}_r-{r}/{sweep}-transitions.nc",
-    params:
-        locate=config["sweeps"]["locate"],
-    conda:
-        "../envs/vibroimpact.yaml"
-    log:
-        "logs/sweeps/beta-{beta}_r-{r}/{sweep}-transitions.log",
-    benchmark:
-        "benchmarks/sweeps/beta-{beta}_r-{r}/{sweep}-transitions.tsv"
-    script:
-        "../scripts/transitions.py"
 
 
 rule basins:

@@ -1,11 +1,13 @@
-"""One numerical sweep (up and down), following the attractor."""
+"""One numerical sweep (up and down), following the attractor; its located transitions and bistable
+intervals; its output voltages and averages."""
 import logging
 
 import numpy as np
+import xarray as xr
 
 from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.energy import Membrane, sweep_energy
-from vibroimpact.sweeps import sweep
+from vibroimpact.sweeps import bistable_intervals, locate_transitions, sweep
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 sc, ph, sw = snakemake.params.scene, snakemake.params.physics, snakemake.params.sweeps
@@ -20,3 +22,9 @@ en = sweep_energy(ds, Membrane(**snakemake.params.membrane), M=ph["M"], omega=ph
 en.attrs.update(provenance(**dict(snakemake.params)))
 write_netcdf(en, snakemake.output.energy)
 logging.info("labels: %s", sorted(set(ds.label.values.ravel())))
+loc = snakemake.params.locate
+tr = locate_transitions(ds, xtol=loc["xtol"], max_periods=loc["max_periods"], max_trials=loc["max_trials"])
+trs = xr.merge([tr, bistable_intervals(ds, tr)], combine_attrs="drop_conflicts")
+trs.attrs.update(provenance(**loc), beta=ds.attrs["beta"], vary=ds.attrs["vary"])
+write_netcdf(trs, snakemake.output.transitions)
+logging.info("%d transitions, %d bistable intervals", trs.sizes["transition"], trs.sizes["interval"])

@@ -8,7 +8,7 @@ import pytest
 import vibroimpact as vi
 from vibroimpact.bifurcation import follow_point
 from vibroimpact.continuation import continue_orbit
-from vibroimpact.orbits import find_orbit
+from vibroimpact.orbits import find_orbit, orbit_from_vector
 
 
 def _ball_orbit(g, r):
@@ -37,6 +37,11 @@ def test_bouncing_ball_curves_in_gbar_and_r_are_the_closed_forms(kind):
     assert "left the box" in curve.attrs["stop_increasing"] and "left the box" in curve.attrs["stop_decreasing"]
 
 
+def _z(br, j):
+    """The unknowns of point ``j`` of a continued branch (as vibroimpact.bifurcation.curve_set reads them)."""
+    return np.concatenate([[float(br.phase[j, 0])], np.roll(br.dt.values[j], -1), br.v_minus.values[j]])
+
+
 @pytest.fixture(scope="module")
 def grazing_curve():
     p = vi.Params.from_physical(s=0.1385 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
@@ -53,8 +58,13 @@ def test_the_2to1_grazing_curve_in_s_and_beta_meets_each_one_parameter_grazing_p
     for i in np.linspace(0, c.sizes["point"] - 1, 3).astype(int):
         s, beta = float(c.s[i]), float(c.beta[i])
         ref = vi.Params.from_physical(s=1.0, beta=beta)
-        p = vi.Params.from_physical(s=s * 1.003, beta=beta)
-        o = find_orbit(p, "BBT", float(c.phase[i]), float(c.v_minus[i]))
+        # the curve's orbit, moved to s * 1.003 on its branch by one-parameter continuation (a guess
+        # simulated from an orbit that grazes can go either way at the wall: find_orbit would be
+        # decided at rounding level there)
+        o = orbit_from_vector(vi.Params.from_physical(s=s, beta=beta), "BBT", 1, c.z.values[i])
+        br = continue_orbit(o, vary="s", d_range=(s * 0.99 * ref.d, s * 1.01 * ref.d), step=1e-3, locate=False)
+        j = int(np.argmin(np.abs(br.s.values - s * 1.003)))
+        o = orbit_from_vector(vi.Params.from_physical(s=float(br.s[j]), beta=beta), "BBT", 1, _z(br, j))
         br = continue_orbit(o, vary="s", d_range=(s * 0.99 * ref.d, s * 1.01 * ref.d), step=1e-3)
         g = br.critical_s.values[br.critical_kind.values == "grazing"]
         assert g.size and np.min(np.abs(g - s)) < 1e-9, (s, beta, g)
@@ -176,3 +186,82 @@ def test_the_bouncing_balls_period_doubling_cascade_approaches_feigenbaums_const
     delta = gaps[:-1] / gaps[1:]
     err = np.abs(delta - feigenbaum)
     assert np.all(np.diff(err) < 0) and err[-1] < 0.005 * feigenbaum, delta
+
+
+def test_plane_cusps_finds_where_a_projection_turns_back():
+    """The semicubical cusp (t^2, t^3) turns back once, at t = 0; a parabola and a circle arc never."""
+    from vibroimpact.bifurcation import plane_cusps
+
+    t = np.linspace(-1, 1, 41)
+    assert list(plane_cusps(np.c_[t**2, t**3])) == [20]
+    assert plane_cusps(np.c_[t, t**2]).size == 0
+    a = np.linspace(0, 3, 50)
+    assert plane_cusps(np.c_[np.cos(a), np.sin(a)]).size == 0
+    # the scale of each axis does not change where it turns back
+    assert list(plane_cusps(np.c_[1e3 * t**2, 1e-3 * t**3], scale=(1e3, 1e-3))) == [20]
+
+
+def _synthetic_set(curves):
+    """A curve_set-like dataset in (s, beta) from polylines {(word, kind): (xs, ys)}."""
+    import xarray as xr
+
+    idx, xs, ys, kinds, words = [], [], [], [], []
+    for c, ((word, kind), (x, y)) in enumerate(curves.items()):
+        idx += [c] * len(x)
+        xs += list(x)
+        ys += list(y)
+        kinds.append(kind)
+        words.append(word)
+    ds = xr.Dataset({"curve_index": ("point", np.array(idx)), "s": ("point", np.array(xs, float)),
+                     "beta": ("point", np.array(ys, float)), "curve_kind": ("curve", kinds),
+                     "curve_word": ("curve", words)})
+    ds.attrs["params"] = "s beta"
+    return ds
+
+
+def test_curve_crossings_are_the_segment_intersections():
+    """Two lines crossing once at a known point, a third crossing neither."""
+    from vibroimpact.bifurcation import curve_crossings
+
+    x = np.linspace(0, 1, 11)
+    ds = _synthetic_set({("BBT", "grazing"): (x, x), ("BBBT", "fold"): (x, 1 - x), ("BT", "B"): (x, x + 5)})
+    cr = curve_crossings(ds)
+    assert cr.sizes["crossing"] == 1
+    assert (str(cr.name_a.values[0]), str(cr.name_b.values[0])) == ("BBT grazing", "BBBT fold")
+    assert abs(float(cr.crossing_s[0]) - 0.5) < 1e-12 and abs(float(cr.crossing_beta[0]) - 0.5) < 1e-12
+    # one set sampled twice (a wavy copy 1e-5 off the first polyline's chords "crosses" it again and
+    # again): the two curves run together, no crossing; a third curve still crosses both once
+    t = np.linspace(0, 1, 40)
+    u = np.linspace(0, 1, 57)
+    ds = _synthetic_set({("BBT", "grazing"): (t, t**2), ("BBBT", "grazing"): (u, u**2 + 1e-5 * np.sin(90 * u)),
+                         ("BT", "B"): (x, 0.3 + 0 * x)})
+    cr = curve_crossings(ds)
+    assert "BBT grazing = BBBT grazing" in cr.attrs["coincide"]
+    assert sorted(cr.name_b.values) == ["BT B", "BT B"]
+    np.testing.assert_allclose(cr.crossing_s.values, np.sqrt(0.3), atol=2e-3)
+
+
+def test_map_boundaries_are_on_a_curve_or_named_by_their_cause():
+    """A 4 x 6 map: a vertical 1:1 | 2:1 boundary between columns 1 and 2 with a curve through it; a 2:1 |
+    3:1 boundary between columns 3 and 4 on no curve (a jump); a no-period cell (aperiodic)."""
+    import xarray as xr
+
+    from vibroimpact.bifurcation import map_boundaries
+
+    s, beta = np.arange(6.0), np.arange(4.0)
+    lab = np.array([["1:1 period-2"] * 2 + ["2:1 period-2"] * 2 + ["3:1 period-2"] * 2] * 4, dtype=object)
+    lab[3, 5] = "no period found"
+    m = xr.Dataset({"label": (("beta", "s"), lab.astype(str))}, coords={"s": s, "beta": beta})
+    b = map_boundaries(m, _synthetic_set({("BT", "B"): (np.array([1.5, 1.5]), np.array([-1.0, 4.0]))}))
+    cause = dict(zip(zip(b.s.values, b.beta.values, strict=True), b.cause.values, strict=True))
+    assert all(cause[(1.5, y)] == "on a curve" for y in beta)
+    assert all(cause[(3.5, y)] == "jump" for y in beta)
+    assert cause[(5.0, 2.5)] == "aperiodic" and cause[(4.5, 3.0)] == "aperiodic"
+    assert b.sizes["boundary"] == 10
+    # a curve two cells away explains nothing; in another plane it is refused
+    far = map_boundaries(m, _synthetic_set({("BT", "B"): (np.array([-0.5, -0.5]), np.array([-1.0, 4.0]))}))
+    assert not far.on_curve.values.any()
+    other = _synthetic_set({("BT", "B"): (np.array([1.5, 1.5]), np.array([-1.0, 4.0]))})
+    other.attrs["params"] = "s F"
+    with pytest.raises(ValueError, match="plane"):
+        map_boundaries(m, other)

@@ -255,3 +255,24 @@ def test_regime_map_over_length_and_incline():
     m2 = regime_map("s", [0.3], "F", [5.0], max_periods=20)
     p = vi.Params.from_physical(s=0.3, F=5.0, beta=math.pi / 6)
     assert (float(m2.d[0, 0]), float(m2.gbar[0, 0])) == (pytest.approx(p.d, rel=1e-12), pytest.approx(p.gbar, rel=1e-12))
+
+
+def test_regime_map_on_non_dimensional_axes_runs_the_parameters_it_names():
+    """On (d, gbar) each point is the attractor of Params(d, gbar, r) itself: at the 2:1 scene
+    (d = 0.16, gbar of beta = pi/6) the 2:1 period-2 motion, as the physical map finds it there; d mixed
+    with a physical axis is refused."""
+    import math
+
+    from vibroimpact.sweeps import regime_map
+
+    g = 0.1245 * 9.8 * math.sin(math.pi / 6) / 5.0
+    m = regime_map("d", [0.16, 0.40], "gbar", [g], phi=1.015, v0=0.1924)
+    assert list(m.label.values[0]) == ["2:1 period-2", "1:1 period-2"]
+    assert m.attrs["r"] == 0.5 and "s" not in m.attrs and m.d.attrs["units"] == "1"
+    k = 0.1245 * (5 * math.pi) ** 2 / (5.0 * math.pi**2)  # d = k s at F = 5 N
+    phys = regime_map("s", [0.16 / k, 0.40 / k], "beta", [math.pi / 6], phi=1.015, v0=0.1924)
+    assert list(phys.label.values[0]) == list(m.label.values[0])
+    r_map = regime_map("d", [0.16], "r", [0.5], phi=1.015, v0=0.1924, beta=math.pi / 6)
+    assert abs(float(r_map.gbar.values[0, 0]) - g) < 1e-15
+    with pytest.raises(ValueError, match="'d' is non-dimensional"):
+        regime_map("d", [0.16], "s", [0.3])

@@ -89,6 +89,9 @@ def test_bad_config_fails_before_any_job(tmp_path, key, value, words):
     (lambda c: c["branches"]["words"]["BBT"].update(start_d=0.6), ["branches.words.BBT.start_d", "0.6", "inside branches.d_range"]),
     # the bifurcation set starts from branches the config continues
     (lambda c: c["bifurcation"].update(words=["BBT", "BBBBT"]), ["bifurcation.words", "BBBBT", "words of branches.words"]),
+    # the bifurcation set's own planes are non-dimensional, and take their fixed parameter from the physics
+    (lambda c: c["bifurcation"]["maps"]["d_gbar"].update(x="s"), ["bifurcation.maps.d_gbar.x", "'s'", "one of d, gbar, r"]),
+    (lambda c: c["bifurcation"]["maps"]["d_r"].update(beta=0.3), ["bifurcation.maps.d_r.beta", "0.3", "bifurcation.beta"]),
     # checks.known names an item the check produces
     (lambda c: c["checks"]["known"].update({"G3: no such point": "a reason long enough for the schema to accept it"}), ["checks.known", "G3: no such point", "an item of the paper-value check"]),
 ])

@@ -85,6 +85,9 @@ def report(ds: xr.Dataset) -> str:
         + (f"\nContinuation of the β = π/3 2:1 branch: {int(v['branch_points'])} points with eigenvalues, stability class, "
            f"admissibility and {int(v['branch_critical_points'])} located critical points in {v['branch_seconds']:.2f} s.\n"
            if "branch_points" in v else "")
+        + (f"\nTwo-parameter curve (G1, the 2:1 grazing point, followed in (s, β) at 5 N): {int(v['curve_points'])} points, "
+           f"its start located and its end points and events recorded, in {v['curve_seconds']:.2f} s.\n"
+           if "curve_points" in v else "")
         + (f"\nSweep of d through s at β = π/3 (Fig 0 range), {int(v['sweep_points'])} points up and {int(v['sweep_points'])} down "
            f"(≤ 200 forcing periods of transient each, {int(v['sweep_events'])} events, {int(v['sweep_no_period'])} points without a period): "
            f"{v['sweep_seconds']:.2f} s on one core.\n" if "sweep_points" in v else "")
@@ -111,6 +114,30 @@ def branch_benchmark(n_points: int = 1000) -> xr.Dataset:
             "branch_points": ((), br.sizes["point"], dict(units="1", long_name="points on the branch")),
             "branch_seconds": ((), el, dict(units="s", long_name="continuation with stability, admissibility and critical points")),
             "branch_critical_points": ((), br.sizes["critical"], dict(units="1", long_name="located critical and grazing points")),
+        }
+    )
+
+
+def curve_benchmark(n_points: int = 200) -> xr.Dataset:
+    """Time a two-parameter curve of about ``n_points`` points: G1, the 2:1 orbit's grazing point at
+    beta = pi/6, located from an orbit near it and followed in (s, beta) over the paper's s range and
+    0.35 < beta < 0.75, with the events along it and why each end stops
+    (:func:`~vibroimpact.bifurcation.follow_point`)."""
+    from .bifurcation import follow_point
+    from .orbits import find_orbit
+
+    p = Params.from_physical(s=0.1385 / Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
+    orbit = find_orbit(p, "BBT", 5.855, 0.4185)
+    box = ((0.19, 0.72), (0.35, 0.75))
+    trial = follow_point(orbit, "grazing", params=("s", "beta"), ranges=box, step=2e-2)  # also warms up
+    step = 2e-2 * trial.sizes["point"] / n_points
+    t = time.perf_counter()
+    c = follow_point(orbit, "grazing", params=("s", "beta"), ranges=box, step=step)
+    el = time.perf_counter() - t
+    return xr.Dataset(
+        {
+            "curve_points": ((), c.sizes["point"], dict(units="1", long_name="points on the two-parameter curve")),
+            "curve_seconds": ((), el, dict(units="s", long_name="two-parameter curve with its start located, events and end reasons")),
         }
     )
 

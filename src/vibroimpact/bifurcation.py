@@ -24,10 +24,11 @@ import xarray as xr
 
 from .continuation import PARAMETERS, TESTS, _tangent, _tests
 from .datasets import annotate
-from .orbits import Orbit, OrbitError, _residual_and_jacobian, orbit_from_vector, parse_word
+from .grazing import admissibility
+from .orbits import Orbit, OrbitError, _residual_and_jacobian, map_jacobian, orbit_from_vector, parse_word
 from .params import Params
 
-__all__ = ["bistable_band", "curve_set", "curve_values", "follow_point"]
+__all__ = ["bistable_band", "curve_crossings", "curve_set", "curve_values", "follow_point", "map_boundaries", "plane_cusps"]
 
 #: test-function values beyond this are a singular impact map (an impact at zero speed), not a crossing
 REGULAR = 1e6
@@ -92,6 +93,26 @@ def _orbit(X, template: Orbit, pm: _TwoParameters) -> Orbit:
                              X[:-2].copy())
 
 
+def _test(X, walls, pm, kind):
+    """The test function ``kind`` at X = (z, lam1, lam2), from only what it needs (as
+    :func:`~vibroimpact.continuation._tests` of the orbit there): the monodromy's trace and determinant
+    for B, fold and A, the clearance for grazing."""
+    z = X[:-2]
+    d, gbar, r = pm.at(X[-2:])
+    if kind == "grazing":
+        return admissibility(z, walls, d, gbar, r)[2]
+    J = map_jacobian(z, walls, gbar, r)
+    tr, det = J[0, 0] + J[1, 1], J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]
+    return {"B": 1 + tr + det, "fold": 1 - tr + det, "A": tr * tr - 4 * det}[kind]
+
+
+def _residual(X, walls, template, pm, kind):
+    """Residual [F; T] (2N+2) at X = (z, lam1, lam2)."""
+    d, gbar, r = pm.at(X[-2:])
+    F, _ = _residual_and_jacobian(X[:-2], walls, d, gbar, r, template.k)
+    return np.append(F, _test(X, walls, pm, kind))
+
+
 def _system(X, walls, template, pm, kind):
     """Residual [F; T] (2N+2) and its Jacobian (2N+2 x 2N+3) at X = (z, lam1, lam2)."""
     n = walls.shape[0]
@@ -108,27 +129,37 @@ def _system(X, walls, template, pm, kind):
     J = np.zeros((2 * n + 2, 2 * n + 3))
     J[:2 * n + 1, :2 * n + 1] = Jz
     J[:2 * n + 1, 2 * n + 1:] = dF @ pm.jac(lam)
-    t0 = _tests(_orbit(X, template, pm))[kind]
+    t0 = _test(X, walls, pm, kind)
     for i in range(X.size):
         h = 1e-7 * max(1.0, abs(X[i]))
         xp, xm = X.copy(), X.copy()
         xp[i] += h
         xm[i] -= h
-        J[-1, i] = (_tests(_orbit(xp, template, pm))[kind] - _tests(_orbit(xm, template, pm))[kind]) / (2 * h)
+        J[-1, i] = (_test(xp, walls, pm, kind) - _test(xm, walls, pm, kind)) / (2 * h)
     return np.append(F, t0), J
 
 
-def _newton(X, walls, template, pm, kind, row=None, target=0.0, tol=1e-12, max_iter=20):
-    """Newton on [F; T] = 0 plus ``row . X = target`` (the pseudo-arclength or a fixed parameter)."""
+def _newton(X, walls, template, pm, kind, row=None, target=0.0, tol=1e-12, max_iter=20, J=None):
+    """Newton on [F; T] = 0 plus ``row . X = target`` (the pseudo-arclength or a fixed parameter).
+
+    With ``J`` (the Jacobian at a nearby point, e.g. the curve's last point) the corrector is the chord
+    method: residuals only, the Jacobian kept while each step at least halves the one before, and
+    recomputed where it does not.  Converged: a step below ``tol`` (relative) and a residual below 1e-9."""
+    last = math.inf
     for _ in range(max_iter):
-        G, J = _system(X, walls, template, pm, kind)
+        if J is None:
+            G, J = _system(X, walls, template, pm, kind)
+        else:
+            G = _residual(X, walls, template, pm, kind)
         A = np.vstack([J, row])
         step = np.linalg.solve(A, -np.append(G, row @ X - target))
         X = X + step
-        if np.max(np.abs(step)) < tol * max(1.0, np.max(np.abs(X))):
-            G, _ = _system(X, walls, template, pm, kind)
-            if np.max(np.abs(G)) < 1e-9:
-                return X
+        size = np.max(np.abs(step))
+        if size < tol * max(1.0, np.max(np.abs(X))) and np.max(np.abs(_residual(X, walls, template, pm, kind))) < 1e-9:
+            return X
+        if size > 0.5 * last:
+            J = None  # the chord's Jacobian is too far off: a true Newton step next
+        last = size
     raise OrbitError(f"the {kind} point's corrector did not converge")
 
 
@@ -157,7 +188,7 @@ def follow_point(orbit: Orbit, kind: str, *, params, ranges, step: float = 2e-3,
     xarray.Dataset
         Along ``point`` (by arclength): the two parameters (named by ``params``), ``d``, ``gbar``,
         ``r``, ``admissible``, ``clearance``, ``trace``, ``det``, ``phase`` and ``v_minus`` of the
-        first impact.  Along ``event``: ``event_kind`` (another test function changing sign: the
+        first impact, and ``z``, the orbit's unknowns.  Along ``event``: ``event_kind`` (another test function changing sign: the
         curve meets that set) and the two parameters there (linear between points).  Attributes:
         ``kind``, ``word``, ``stop_increasing``, ``stop_decreasing`` (why each end stopped).
     """
@@ -185,14 +216,14 @@ def follow_point(orbit: Orbit, kind: str, *, params, ranges, step: float = 2e-3,
     t0 = _tangent(J0)
     halves, stops = [], []
     for sign in (+1.0, -1.0):
-        Xs, t, h, X = [X0], sign * t0, step, X0
+        Xs, t, h, X, J = [X0], sign * t0, step, X0, J0
         stop = f"max_points ({max_points}) reached"
         while len(Xs) < max_points:
             try:
                 Xp = X + h * t
                 if not pm.valid(Xp[-2:]):
                     raise _Edge
-                Xn = _newton(Xp, walls, orbit, pm, kind, row=t, target=t @ Xp)
+                Xn = _newton(Xp, walls, orbit, pm, kind, row=t, target=t @ Xp, J=J)
                 if not pm.valid(Xn[-2:]):
                     raise _Edge
             except _Edge:
@@ -221,7 +252,91 @@ def follow_point(orbit: Orbit, kind: str, *, params, ranges, step: float = 2e-3,
         halves.append(Xs)
         stops.append(stop)
     Xs = halves[1][::-1] + halves[0][1:]
-    return _curve_dataset(Xs, orbit, pm, kind, params, stops)
+    return _curve_dataset(Xs, orbit, pm, kind, params, stops, box[:, 1] - box[:, 0])
+
+
+def plane_cusps(lam, scale=(1.0, 1.0)) -> np.ndarray:
+    """Indices of the points where a curve's projection on the parameter plane turns back: the chords
+    to the neighbours on either side point the same way (a negative dot product of successive chords,
+    in units of ``scale`` per axis).  On a fold curve this is the cusp where two folds meet and end;
+    the curve itself, smooth in (z, p1, p2), goes on."""
+    lam = np.asarray(lam, dtype=float) / np.asarray(scale, dtype=float)
+    if len(lam) < 3:
+        return np.zeros(0, dtype=int)
+    d = np.diff(lam, axis=0)
+    return np.flatnonzero(np.sum(d[:-1] * d[1:], axis=1) < 0) + 1
+
+
+#: two curves that "cross" COINCIDE_RUN times or more in a row, each crossing within COINCIDE_GAP of the
+#: plane's extent (or three of the first curve's segments, if longer) of the next, are one set sampled
+#: twice (their polylines' chords differ by ~1e-5)
+COINCIDE_RUN = 3
+COINCIDE_GAP = 0.02
+
+
+def curve_crossings(curves: xr.Dataset) -> xr.Dataset:
+    """Where two curves of a :func:`curve_set` cross in the plane (segment intersections): e.g. where the
+    2:1 grazing curve G1 crosses the 3:1 fold curve G2, the bistable interval between them closes.
+    Returns along ``crossing``: the two curves' indices and names, and the two parameters there
+    (``crossing_<name>``); attribute ``coincide``: the pairs of curves that run together (one set sampled
+    twice, :data:`COINCIDE_RUN`), from where to where, whose meetings are not crossings."""
+    names = curves.attrs["params"].split()
+    idx = curves.curve_index.values
+    xs, ys = curves[names[0]].values, curves[names[1]].values
+    segs = {}
+    for c in np.unique(idx):
+        sel = np.flatnonzero(idx == c)
+        if sel.size >= 2:
+            segs[int(c)] = (xs[sel], ys[sel])
+    rows, coincide = [], []
+    keys = sorted(segs)
+    scale = (max(np.ptp(xs), 1e-300), max(np.ptp(ys), 1e-300)) if xs.size else (1.0, 1.0)
+    for a_i, a in enumerate(keys):
+        ax, ay = segs[a]
+        for b in keys[a_i + 1:]:
+            bx, by = segs[b]
+            # all segment pairs: p + t r = q + u w, 0 <= t, u <= 1
+            px, py, rx, ry = ax[:-1, None], ay[:-1, None], np.diff(ax)[:, None], np.diff(ay)[:, None]
+            qx, qy, wx, wy = bx[None, :-1], by[None, :-1], np.diff(bx)[None, :], np.diff(by)[None, :]
+            den = rx * wy - ry * wx
+            with np.errstate(divide="ignore", invalid="ignore"):
+                t = ((qx - px) * wy - (qy - py) * wx) / den
+                u = ((qx - px) * ry - (qy - py) * rx) / den
+            hit = (den != 0) & (t >= 0) & (t < 1) & (u >= 0) & (u < 1)
+            found = sorted((i, float(px[i, 0] + t[i, j] * rx[i, 0]), float(py[i, 0] + t[i, j] * ry[i, 0]))
+                           for i, j in zip(*np.nonzero(hit), strict=True))
+            # where two curves are one set (e.g. the 2:1 grazing curve and the 3:1 grazing curve: the 3:1
+            # orbit born at G1 is the 2:1 orbit grazing), their polylines, sampled apart, "cross" at every
+            # other point: a run of COINCIDE_RUN or more crossings, each near the next (COINCIDE_GAP), is
+            # recorded as the two curves running together, not as crossings
+            gap = max(COINCIDE_GAP, 3 * float(np.median(np.hypot(np.diff(ax) / scale[0], np.diff(ay) / scale[1]))))
+            groups = []
+            for f in found:
+                if groups and math.hypot((f[1] - groups[-1][-1][1]) / scale[0],
+                                         (f[2] - groups[-1][-1][2]) / scale[1]) < gap:
+                    groups[-1].append(f)
+                else:
+                    groups.append([f])
+            for g in groups:
+                if len(g) >= COINCIDE_RUN:
+                    coincide.append((a, b, g[0][1:], g[-1][1:]))
+                else:
+                    rows += [(a, b, x, y) for _, x, y in g]
+    name = lambda c: f"{curves.curve_word.values[c]} {curves.curve_kind.values[c]}"
+    ds = xr.Dataset(
+        {
+            "curve_a": ("crossing", np.array([r[0] for r in rows], dtype=int)),
+            "curve_b": ("crossing", np.array([r[1] for r in rows], dtype=int)),
+            "name_a": ("crossing", np.array([name(r[0]) for r in rows], dtype=object).astype(str)),
+            "name_b": ("crossing", np.array([name(r[1]) for r in rows], dtype=object).astype(str)),
+            f"crossing_{names[0]}": ("crossing", np.array([r[2] for r in rows], dtype=float)),
+            f"crossing_{names[1]}": ("crossing", np.array([r[3] for r in rows], dtype=float)),
+        },
+        coords={"crossing": np.arange(len(rows))},
+    )
+    ds.attrs["coincide"] = "; ".join(f"{name(a)} = {name(b)} from ({p[0]:.6g}, {p[1]:.6g}) to ({q[0]:.6g}, {q[1]:.6g})"
+                                     for a, b, p, q in coincide)
+    return annotate(ds)
 
 
 class _Edge(Exception):
@@ -232,7 +347,7 @@ def _where(params, X):
     return ", ".join(f"{n} = {v:.10g}" for n, v in zip(params, X[-2:], strict=True))
 
 
-def _curve_dataset(Xs, template, pm, kind, params, stops) -> xr.Dataset:
+def _curve_dataset(Xs, template, pm, kind, params, stops, scale) -> xr.Dataset:
     orbits = [_orbit(X, template, pm) for X in Xs]
     lam = np.array([X[-2:] for X in Xs])
     tests = [_tests(o) for o in orbits]
@@ -247,6 +362,8 @@ def _curve_dataset(Xs, template, pm, kind, params, stops) -> xr.Dataset:
         for i in np.flatnonzero(ok[:-1] & ok[1:] & (vals[:-1] * vals[1:] < 0)):
             w = vals[i] / (vals[i] - vals[i + 1])
             events.append((other, *(lam[i] + w * (lam[i + 1] - lam[i]))))
+    for i in plane_cusps(lam, scale):
+        events.append(("cusp", *lam[i]))
     data = {
         params[0]: ("point", lam[:, 0]),
         params[1]: ("point", lam[:, 1]),
@@ -259,6 +376,9 @@ def _curve_dataset(Xs, template, pm, kind, params, stops) -> xr.Dataset:
         "det": ("point", np.array([o.det for o in orbits])),
         "phase": ("point", np.array([o.phase[0] for o in orbits])),
         "v_minus": ("point", np.array([o.v_minus[0] for o in orbits])),
+        "z": (("point", "unknown"), np.array([X[:-2] for X in Xs]),
+              {"long_name": "the orbit's unknowns (phase, flight times, pre-impact velocities): "
+                            "orbits.orbit_from_vector rebuilds it"}),
         "event_kind": ("event", np.array([e[0] for e in events], dtype=object).astype(str)),
         f"event_{params[0]}": ("event", np.array([e[1] for e in events], dtype=float)),
         f"event_{params[1]}": ("event", np.array([e[2] for e in events], dtype=float)),
@@ -279,7 +399,9 @@ def curve_set(branches, params, ranges, *, kinds=("B", "fold", "grazing"), step=
     A point that cannot be followed is kept as a curve without points, with its reason.  Returns the
     curves end to end: along ``point`` the two parameters and ``curve`` (index into the ``curve``
     dimension: ``curve_kind``, ``curve_word``, ``curve_start_s``, ``curve_status``, ``curve_reason``,
-    ``curve_stop``); along ``event`` where a curve meets another set."""
+    ``curve_stop``); along ``event`` where a curve meets another set of its orbit (another test function
+    changes sign) or its projection turns back (``cusp``, :func:`plane_cusps`); along ``crossing`` where
+    two curves cross in the plane (:func:`curve_crossings`)."""
     physics = dict(physics or {})
     pts, events, rows = [], [], []
     for br in branches:
@@ -334,6 +456,9 @@ def curve_set(branches, params, ranges, *, kinds=("B", "fold", "grazing"), step=
         coords={"point": np.arange(len(cat(0))), "curve": np.arange(len(rows)), "event": np.arange(len(events))},
     )
     ds.attrs.update(params=" ".join(params), ranges=str(ranges), kinds=" ".join(kinds), step=step)
+    cross = curve_crossings(ds)
+    ds = xr.merge([ds, cross], combine_attrs="override")
+    ds.attrs["coincide"] = cross.attrs["coincide"]
     return annotate(ds)
 
 
@@ -377,4 +502,78 @@ def bistable_band(curves: xr.Dataset, at, *, along: str = "beta") -> xr.Dataset:
         },
         coords={along: at},
     )
+    return annotate(ds)
+
+
+#: a simulated boundary within this many grid cells of a curve counts as on the curve (a cell boundary
+#: lies half a cell from the cells' centres, and a curve crossing a cell may pass half a cell beyond)
+ON_CURVE_CELLS = 1.5
+#: the label of a map point whose motion had no period within the run's cap (chaos or a long transient)
+NO_PERIOD = "no period found"
+
+
+def _segment_distance(px, py, xs, ys):
+    """Distance from each point (px, py) to the polyline (xs, ys), NaN-separated pieces allowed."""
+    ax, ay, bx, by = xs[:-1], ys[:-1], xs[1:], ys[1:]
+    ok = np.isfinite(ax + ay + bx + by)
+    ax, ay, bx, by = ax[ok], ay[ok], bx[ok], by[ok]
+    if ax.size == 0:
+        return np.full(px.shape, np.inf)
+    dx, dy = bx - ax, by - ay
+    L2 = np.where(dx * dx + dy * dy > 0, dx * dx + dy * dy, 1.0)
+    t = np.clip(((px[:, None] - ax) * dx + (py[:, None] - ay) * dy) / L2, 0.0, 1.0)
+    return np.min(np.hypot(ax + t * dx - px[:, None], ay + t * dy - py[:, None]), axis=1)
+
+
+def map_boundaries(regime_map: xr.Dataset, curves: xr.Dataset, *, cells: float = ON_CURVE_CELLS) -> xr.Dataset:
+    """The simulated boundaries of a brute-force regime map and whether a bifurcation curve explains each.
+
+    A boundary is the edge between two neighbouring grid points (along either axis) whose attractors
+    have different labels; its position is the edge's midpoint.  It is ``on_curve`` where a curve of
+    ``curves`` (:func:`curve_set` in the map's plane) passes within ``cells`` grid cells of it (distances
+    in units of the grid spacing along each axis).  A boundary on no curve gets a ``cause``:
+    ``"aperiodic"`` where one side had no period within the run's cap (chaos or a long transient: no
+    curve of periodic orbits bounds it), ``"jump"`` where both sides are periodic motions (the single
+    start fell into another basin where two motions coexist, or an orbit not in the set bifurcates).
+    """
+    ydim, xdim = regime_map.label.dims
+    names = curves.attrs["params"].split()
+    if set(names) != {xdim, ydim}:
+        raise ValueError(f"curves in {tuple(names)} do not lie in the map's plane ({xdim}, {ydim})")
+    lab = regime_map.label.values.astype(str)
+    x, y = regime_map[xdim].values.astype(float), regime_map[ydim].values.astype(float)
+    hx = np.diff(x).mean() if x.size > 1 else 1.0
+    hy = np.diff(y).mean() if y.size > 1 else 1.0
+    pts = []
+    for i, j in zip(*np.nonzero(lab[:, :-1] != lab[:, 1:]), strict=True):
+        pts.append((0.5 * (x[j] + x[j + 1]), y[i], lab[i, j], lab[i, j + 1]))
+    for i, j in zip(*np.nonzero(lab[:-1, :] != lab[1:, :]), strict=True):
+        pts.append((x[j], 0.5 * (y[i] + y[i + 1]), lab[i, j], lab[i + 1, j]))
+    px = np.array([p[0] for p in pts], dtype=float)
+    py = np.array([p[1] for p in pts], dtype=float)
+    dist = np.full(px.size, np.inf)
+    for c in range(curves.sizes["curve"]):
+        sel = curves.curve_index.values == c
+        if sel.sum() >= 2:
+            dist = np.minimum(dist, _segment_distance(px / hx, py / hy, curves[xdim].values[sel] / hx,
+                                                      curves[ydim].values[sel] / hy))
+    on = dist <= cells
+    aperiodic = np.array([NO_PERIOD in (p[2], p[3]) for p in pts], dtype=bool)
+    cause = np.where(on, "on a curve", np.where(aperiodic, "aperiodic", "jump"))
+    ds = xr.Dataset(
+        {
+            xdim: ("boundary", px, {"units": regime_map[xdim].attrs.get("units", "1"), "long_name": f"{xdim} of the boundary"}),
+            ydim: ("boundary", py, {"units": regime_map[ydim].attrs.get("units", "1"), "long_name": f"{ydim} of the boundary"}),
+            "label_a": ("boundary", np.array([p[2] for p in pts], dtype=object).astype(str),
+                        {"long_name": "attractor on the lower side"}),
+            "label_b": ("boundary", np.array([p[3] for p in pts], dtype=object).astype(str),
+                        {"long_name": "attractor on the upper side"}),
+            "distance": ("boundary", dist, {"units": "1", "long_name": "to the nearest curve, in grid cells"}),
+            "on_curve": ("boundary", on, {"long_name": f"a curve passes within {cells:g} grid cells"}),
+            "cause": ("boundary", cause.astype(str), {"long_name": "on a curve; else aperiodic (one side has no "
+                                                                   "period) or jump (two periodic motions)"}),
+        },
+        coords={"boundary": np.arange(px.size)},
+    )
+    ds.attrs.update(cells=cells, xdim=xdim, ydim=ydim)
     return annotate(ds)

@@ -544,55 +544,69 @@ def basins(params: Params, phis, v0s, *, max_periods: float = 400, tol: float = 
 
 def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float = 0.5, max_periods: float = 200,
                tol: float = 1e-9, window: int = 65, **physical) -> xr.Dataset:
-    """Attractor class over a grid of two physical parameters, each run from the same bottom impact.
+    """Attractor class over a grid of two parameters, each run from the same bottom impact.
 
     Parameters
     ----------
-    x_name, y_name : {"s", "F", "beta"}
-        The two axes (different); ``xs``, ``ys`` their values (m, N or rad).
+    x_name, y_name : {"s", "F", "beta", "d", "gbar", "r"}
+        The two axes (different): physical (``s``, ``F``, ``beta``, with ``r``) or non-dimensional
+        (``d``, ``gbar``, with ``r``), not a mix; ``xs``, ``ys`` their values (m, N, rad or 1).
     phi, v0 : float
         Start of every run: a bottom impact at phase ``phi`` with pre-impact velocity ``v0``.
     max_periods, tol, window
         As in :func:`basins`.
     **physical
         Other physical values (``s``, ``F``, ``beta``, ``M``, ``omega``, ``g``, ``r``); paper
-        defaults otherwise.
+        defaults otherwise.  On non-dimensional axes they fix the parameter that is not an axis
+        (``gbar`` on a (d, r) map, ``r`` on a (d, gbar) map) through the paper's scaling.
 
     Returns
     -------
     xarray.Dataset
         On ``(y_name, x_name)``: ``label``, ``period``, ``d``, ``gbar`` and ``code``.
     """
-    allowed = ("s", "F", "beta")
+    allowed = ("s", "F", "beta", "d", "gbar", "r")
     for name in (x_name, y_name):
         if name not in allowed:
             raise ValueError(f"regime map axis {name!r}; allowed: {allowed}")
     if x_name == y_name:
         raise ValueError(f"regime map axes x_name = y_name = {x_name!r}; allowed: two different names of {allowed}")
+    axes = {x_name, y_name}
+    nondim = sorted(axes & {"d", "gbar"})
+    if nondim and axes & {"s", "F", "beta"}:
+        raise ValueError(f"regime map axes ({x_name!r}, {y_name!r}): {nondim[0]!r} is non-dimensional; allowed: "
+                         "two of s, F, beta, r or two of d, gbar, r")
     X, Y = np.meshgrid(np.asarray(xs, float), np.asarray(ys, float), indexing="xy")
     base = dict(s=0.85, F=5.0, beta=math.pi / 6, M=0.1245, omega=5 * math.pi, g=9.8, r=0.5)
     base.update(physical)
-    d = np.empty(X.size)
-    gbar = np.empty(X.size)
+    p0 = Params.from_physical(**base)
+    d, gbar, r = np.empty(X.size), np.empty(X.size), np.empty(X.size)
     for k, (x, y) in enumerate(zip(X.ravel(), Y.ravel(), strict=True)):
-        kw = dict(base)
-        kw[x_name], kw[y_name] = x, y
-        p = Params.from_physical(**kw)
-        d[k], gbar[k] = p.d, p.gbar
-    ds = attractor_batch(d, gbar, base["r"], phi, v0, max_periods=max_periods, tol=tol, window=window)
+        if nondim:
+            v = dict(d=p0.d, gbar=p0.gbar, r=p0.r)
+            v[x_name], v[y_name] = x, y
+            p = Params(d=v["d"], gbar=v["gbar"], r=v["r"])
+        else:
+            kw = dict(base)
+            kw[x_name], kw[y_name] = x, y
+            p = Params.from_physical(**kw)
+        d[k], gbar[k], r[k] = p.d, p.gbar, p.r
+    ds = attractor_batch(d, gbar, r, phi, v0, max_periods=max_periods, tol=tol, window=window)
     shape = X.shape
-    out = xr.Dataset(
-        {
-            "label": ((y_name, x_name), ds["label"].values.reshape(shape)),
-            "period": ((y_name, x_name), ds["period"].values.reshape(shape), ds["period"].attrs),
-            "d": ((y_name, x_name), d.reshape(shape)),
-            "gbar": ((y_name, x_name), gbar.reshape(shape)),
-        },
-        coords={x_name: np.asarray(xs, float), y_name: np.asarray(ys, float)},
-    )
-    units = {"s": ("m", "cylinder length s"), "F": ("N", "forcing amplitude ||F||"), "beta": ("rad", "incline beta")}
+    data = {
+        "label": ((y_name, x_name), ds["label"].values.reshape(shape)),
+        "period": ((y_name, x_name), ds["period"].values.reshape(shape), ds["period"].attrs),
+        "d": ((y_name, x_name), d.reshape(shape)),
+        "gbar": ((y_name, x_name), gbar.reshape(shape)),
+    }
+    out = xr.Dataset({k: v for k, v in data.items() if k not in axes},  # an axis is its own coordinate
+                     coords={x_name: np.asarray(xs, float), y_name: np.asarray(ys, float)})
+    units = {"s": ("m", "cylinder length s"), "F": ("N", "forcing amplitude ||F||"), "beta": ("rad", "incline beta"),
+             "d": ("1", "non-dimensional gap d"), "gbar": ("1", "non-dimensional gravity gbar"),
+             "r": ("1", "coefficient of restitution r")}
     for name in (x_name, y_name):
         out[name].attrs.update(units=units[name][0], long_name=units[name][1])
-    out.attrs.update(phi=phi, v0=v0, max_periods=max_periods, tol=tol,
-                     **{k: v for k, v in base.items() if k not in (x_name, y_name)})
+    fixed = ({k: float(getattr(p0, k)) for k in ("d", "gbar", "r") if k not in axes} if nondim
+             else {k: v for k, v in base.items() if k not in axes})
+    out.attrs.update(phi=phi, v0=v0, max_periods=max_periods, tol=tol, **fixed)
     return annotate(_attractor_codes(out, (y_name, x_name)))

@@ -1,5 +1,6 @@
 # Bifurcation set: the branches' period doublings, folds and grazing points followed as curves in the
-# regime maps' parameter planes (vibroimpact.bifurcation), drawn over the brute-force maps.
+# regime maps' parameter planes and in non-dimensional planes (vibroimpact.bifurcation), drawn over
+# brute-force maps of the same planes.
 
 if not set(config["bifurcation"]["words"]) <= set(WORDS):
     _fail("bifurcation.words", config["bifurcation"]["words"], f"words of branches.words ({', '.join(WORDS)})")
@@ -7,7 +8,7 @@ if not set(config["bifurcation"]["words"]) <= set(WORDS):
 
 rule bifurcation:
     input:
-        expand("results/figures/bifurcation_set_{map}.png", map=config["maps"]),
+        expand("results/figures/bifurcation_set_{map}.png", map=ALL_MAPS),
         ["results/tables/bistable_band.md"] if "s_beta" in config["maps"] else [],
 
 
@@ -36,7 +37,7 @@ rule bifurcation_set:
     output:
         "results/bifurcation/{map}.nc",
     params:
-        map=lambda wc: config["maps"][wc.map],
+        map=lambda wc: ALL_MAPS[wc.map],
         physics=config["physics"],
         bifurcation=config["bifurcation"],
     conda:
@@ -58,6 +59,8 @@ rule fig_bifurcation_set:
         png=report("results/figures/bifurcation_set_{map}.png", caption="../report/bifurcation_set.rst",
                    category="Beyond the paper"),
         data="results/figures/data/bifurcation_set_{map}.nc",
+        # the map's simulated boundaries, each on a curve or not and why (vibroimpact.bifurcation.map_boundaries)
+        boundaries="results/bifurcation/{map}-boundaries.nc",
     conda:
         "../envs/vibroimpact.yaml"
     log:

@@ -24,7 +24,7 @@ wildcard_constraints:
     vary="s|F",
     sweep="|".join(list(config["sweeps"]["scenes"]) + ["study_s"]),
     basin="|".join(config["basins"]),
-    map="|".join(config["maps"]),
+    map="|".join(list(config["maps"]) + list(config["bifurcation"].get("maps", {}))),
     beta=r"[0-9.]+",
     r=r"[0-9.]+",
     scene="|".join(SCENES),
@@ -122,14 +122,28 @@ for _name, _sc in SWEEPS.items():
         _fail(f"sweeps.scenes.{_name}.{_sc['vary']}", _sc[_sc["vary"]], f"nothing: {_sc['vary']} is the swept parameter (see range)")
     if not _sc["range"][0] < _sc["range"][1]:
         _fail(f"sweeps.scenes.{_name}.range", _sc["range"], "[low, high] with low < high")
-for _name, _m in config["maps"].items():
+# the regime maps (config maps) and the bifurcation set's own non-dimensional planes (bifurcation.maps)
+ALL_MAPS = dict(config["maps"]) | dict(config["bifurcation"].get("maps", {}))
+if set(config["maps"]) & set(config["bifurcation"].get("maps", {})):
+    _fail("bifurcation.maps", sorted(set(config["maps"]) & set(config["bifurcation"]["maps"])),
+          "names not already used by maps")
+for _name, _m in ALL_MAPS.items():
+    _key = f"maps.{_name}" if _name in config["maps"] else f"bifurcation.maps.{_name}"
+    _phys = _name in config["maps"]
+    _axes = ("s", "F", "beta") if _phys else ("d", "gbar", "r")
     if _m["x"] == _m["y"]:
-        _fail(f"maps.{_name}.y", _m["y"], f"an axis different from x = {_m['x']!r} (one of s, F, beta)")
+        _fail(f"{_key}.y", _m["y"], f"an axis different from x = {_m['x']!r} (one of {', '.join(_axes)})")
     for _axis in ("x", "y"):
+        if _m[_axis] not in _axes:
+            _fail(f"{_key}.{_axis}", _m[_axis], f"one of {', '.join(_axes)}"
+                  + ("" if _phys else " (the regime maps take the physical axes; these planes the non-dimensional ones)"))
         if _m[_axis] in _m:
-            _fail(f"maps.{_name}.{_m[_axis]}", _m[_m[_axis]], f"nothing: {_m[_axis]} is the map's {_axis} axis")
+            _fail(f"{_key}.{_m[_axis]}", _m[_m[_axis]], f"nothing: {_m[_axis]} is the map's {_axis} axis")
         if not _m[f"{_axis}_range"][0] < _m[f"{_axis}_range"][1]:
-            _fail(f"maps.{_name}.{_axis}_range", _m[f"{_axis}_range"], "[low, high] with low < high")
+            _fail(f"{_key}.{_axis}_range", _m[f"{_axis}_range"], "[low, high] with low < high")
+    if not _phys and set(_m) & {"s", "F", "beta"}:
+        _fail(f"{_key}.{sorted(set(_m) & {'s', 'F', 'beta'})[0]}", _m[sorted(set(_m) & {"s", "F", "beta"})[0]],
+              "nothing: a non-dimensional plane takes its fixed parameter from the physics at bifurcation.beta")
 
 
 def sweep_path(name, suffix=""):
@@ -230,7 +244,8 @@ for _item in config["checks"]["known"]:
 
 #: every figure whose plotted data the `check` target compares with its committed reference
 FIGURES = (list(SCENES) + list(BRANCH_SCENES) + ["figBiS", "basins", "regime_map"]
-           + list(config["energy"]["figures"]) + ["design", "work_precision", "failure_map", "analytics_accuracy"])
+           + list(config["energy"]["figures"]) + ["design", "work_precision", "failure_map", "analytics_accuracy"]
+           + [f"bifurcation_set_{m}" for m in ALL_MAPS])
 FIGURE_REFERENCES = [f"{config['figure_checks']['reference_dir']}/{fig}.nc" for fig in FIGURES]
 
 

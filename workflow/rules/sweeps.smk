@@ -51,7 +51,8 @@ rule regime_map:
     output:
         "results/maps/{map}_r-{r}.nc",
     params:
-        spec=lambda wc: config["maps"][wc.map],
+        # a non-dimensional plane's fixed parameter at the bifurcation set's incline
+        spec=lambda wc: ALL_MAPS[wc.map] if wc.map in config["maps"] else {"beta": config["bifurcation"]["beta"]} | ALL_MAPS[wc.map],
         physics=config["physics"],
         grid=RESOLUTION["map_grid"],
         max_periods=config["sweeps"]["max_periods"],

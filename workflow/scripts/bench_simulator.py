@@ -3,12 +3,13 @@ import logging
 
 import xarray as xr
 
-from vibroimpact.bench import branch_benchmark, kernel_profile, report, simulator_benchmark, sweep_benchmark
+from vibroimpact.bench import branch_benchmark, curve_benchmark, kernel_profile, report, simulator_benchmark, sweep_benchmark
 from vibroimpact.datasets import provenance, write_netcdf
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 p = dict(snakemake.params)
-ds = xr.merge([simulator_benchmark(p["n_impacts"], p["n_impacts_ivp"], p["n_flights_accuracy"]), branch_benchmark(1000), sweep_benchmark(1000)])
+ds = xr.merge([simulator_benchmark(p["n_impacts"], p["n_impacts_ivp"], p["n_flights_accuracy"]), branch_benchmark(1000), curve_benchmark(200),
+               sweep_benchmark(1000)])
 ds.attrs.update(provenance(**p))
 write_netcdf(ds, snakemake.output.nc)
 kp = kernel_profile(p["n_impacts"])

@@ -180,7 +180,8 @@ def fig_regime_map(maps, scans=None):
     legend = list(labels[np.argsort(-counts, kind="stable")])
     index = {lab: i for i, lab in enumerate(legend)}
     fig, axes = plt.subplots(1, len(maps), figsize=(5.6 * len(maps), 4.6), squeeze=False)
-    names = {"beta": r"incline $\beta$", "s": "cylinder length s", "F": r"forcing amplitude $\|\hat F\|$"}
+    names = {"beta": r"incline $\beta$", "s": "cylinder length s", "F": r"forcing amplitude $\|\hat F\|$",
+             "d": "non-dimensional gap d", "gbar": r"non-dimensional gravity $\bar g$", "r": "restitution r"}
     for ax, m in zip(axes[0], maps, strict=True):
         ydim, xdim = m.label.dims
         codes = m.label.copy(data=np.vectorize(index.__getitem__)(m.label.values))
@@ -189,9 +190,11 @@ def fig_regime_map(maps, scans=None):
         ax.set_ylabel(f"{names.get(ydim, ydim)} ({m[ydim].attrs.get('units', '')})")
         if ydim == "beta":
             _pi_ticks(ax, float(m.beta.min()), float(m.beta.max()))
-        fixed = [k for k in ("beta", "F", "s") if k in m.attrs and k not in (xdim, ydim)]
+        nondim = {xdim, ydim} & {"d", "gbar"}
+        fixed = [k for k in (("d", "gbar", "r") if nondim else ("beta", "F", "s")) if k in m.attrs and k not in (xdim, ydim)]
         text = {"beta": lambda v: r"$\beta$=" + pi_label(v), "F": lambda v: rf"$\|\hat F\|$={v:g} N",
-                "s": lambda v: f"s={v:g} m"}
+                "s": lambda v: f"s={v:g} m", "d": lambda v: f"d={v:.4g}", "gbar": lambda v: rf"$\bar g$={v:.4g}",
+                "r": lambda v: f"r={v:g}"}
         ax.set_title("Attractor from one start " + rf"($\varphi$={m.attrs['phi']:g}, $\dot Z(t_0)$={m.attrs['v0']:g}); "
                      + ", ".join(text[k](float(m.attrs[k])) for k in fixed))
         x0, x1, y0, y1 = (float(m[xdim].min()), float(m[xdim].max()), float(m[ydim].min()), float(m[ydim].max()))
@@ -223,10 +226,12 @@ _WORD_COLOUR = {"BT": "#000000", "BBT": "#D55E00", "BBBT": "#0072B2"}
 _WORD_NAME = {"BT": "1:1", "BBT": "2:1", "BBBT": "3:1"}
 
 
-def fig_bifurcation_set(m, curves):
+def fig_bifurcation_set(m, curves, boundaries=None):
     """The regime map ``m`` (brute force, one start per point) with the bifurcation curves of
     :func:`vibroimpact.bifurcation.curve_set` over it: line style by kind, colour by orbit family,
-    thin where the orbit on the curve is not admissible; crosses where a curve meets another set."""
+    thin where the orbit on the curve is not admissible; crosses where a curve meets another set.
+    With ``boundaries`` (:func:`vibroimpact.bifurcation.map_boundaries`), the simulated boundaries on no
+    curve are marked by their cause, and the footnote counts them."""
     from matplotlib.lines import Line2D
 
     fig = fig_regime_map([m])
@@ -248,18 +253,50 @@ def fig_bifurcation_set(m, curves):
         if label not in [h.get_label() for h in handles]:
             handles.append(Line2D([], [], ls=style, color=colour, lw=1.6, label=label))
     if curves.sizes["event"]:
-        ax.plot(curves[f"event_{xname}"].values, curves[f"event_{yname}"].values, "x", color="k", ms=5, mew=1.2,
-                zorder=6)
-        handles.append(Line2D([], [], ls="", marker="x", color="k", label="a curve meets another set"))
+        cusp = curves.event_kind.values == "cusp"
+        for sel, marker, label in ((~cusp, "x", "a curve meets another set of its orbit"),
+                                   (cusp, "^", "cusp: the curve turns back in the plane")):
+            if sel.any():
+                ax.plot(curves[f"event_{xname}"].values[sel], curves[f"event_{yname}"].values[sel], marker, color="k",
+                        ms=5, mew=1.2, mfc="none", zorder=6)
+                handles.append(Line2D([], [], ls="", marker=marker, color="k", mfc="none", label=label))
+    if curves.sizes.get("crossing", 0):
+        ax.plot(curves[f"crossing_{xname}"].values, curves[f"crossing_{yname}"].values, "o", color="k", ms=6,
+                mfc="none", mew=1.2, zorder=6)
+        handles.append(Line2D([], [], ls="", marker="o", color="k", mfc="none",
+                              label="two curves cross (where 2:1 grazing\nmeets 3:1 fold, [G1, G2] closes)"))
+    counts = ""
+    if boundaries is not None:
+        bx, by = boundaries[xname].values, boundaries[yname].values
+        for cause, marker, ms, colour, text in (
+                ("aperiodic", ".", 2.5, "0.1", "boundary on no curve:\nbeside no period found"),
+                ("jump", "+", 4.0, "#CC0066", "boundary on no curve:\nbetween periodic motions")):
+            sel = boundaries.cause.values == cause
+            ax.plot(bx[sel], by[sel], marker, ls="", color=colour, ms=ms, mew=0.8, zorder=3.5)
+            handles.append(Line2D([], [], ls="", marker=marker, color=colour, ms=ms + 1, label=text))
+        n = {c: int((boundaries.cause.values == c).sum()) for c in ("on a curve", "aperiodic", "jump")}
+        counts = (f"simulated boundaries (label changes between neighbouring grid points): {n['on a curve']} within "
+                  f"{boundaries.attrs['cells']:g} cells of a curve; on no curve, {n['aperiodic']} beside motion with no "
+                  f"period (chaos or a long transient: no curve of periodic orbits bounds it) and {n['jump']} between "
+                  "two periodic motions (the one start falls into another basin where motions coexist, or an orbit not "
+                  "in the set bifurcates).\n")
     failed = [f"{_WORD_NAME.get(str(w), w)} {k}" for w, k, st in
               zip(curves.curve_word.values, curves.curve_kind.values, curves.curve_status.values, strict=True)
               if st != "ok"]
     note = "thin: the orbit on the curve is not admissible (crosses a wall)"
+    if curves.attrs.get("coincide"):
+        note += "; one set, drawn twice: " + ", ".join(
+            part.split(" from ")[0].replace("BBBT", "3:1").replace("BBT", "2:1").replace("BT", "1:1")
+            for part in curves.attrs["coincide"].split("; "))
     if failed:
         note += "; not followed (see the dataset's curve_reason): " + ", ".join(failed)
-    ax.annotate(note, (0.0, -0.11), xycoords="axes fraction", fontsize=6, va="top")
-    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 0.42), fontsize=6, title="analytic curves",
-              title_fontsize=6, framealpha=0.9)
+    import textwrap
+
+    # wrapped: a footnote wider than the map would make the layout shrink the map to fit it
+    foot = "\n".join(textwrap.fill(line, 140) for line in (counts + note).splitlines())
+    ax.annotate(foot, (0.0, -0.11), xycoords="axes fraction", fontsize=6, va="top")
+    # in the right-hand column under the motions' legend, so the map keeps the figure's width
+    fig.legend(handles=handles, loc="outside right lower", fontsize=6, title="analytic curves", title_fontsize=6)
     title = ax.get_title()
     ax.set_title("Analytic bifurcation curves over the brute-force map:\n" + title[0].lower() + title[1:], fontsize=8)
     return fig

@@ -3,7 +3,14 @@ import logging
 
 import xarray as xr
 
-from vibroimpact.bench import branch_benchmark, curve_benchmark, kernel_profile, report, simulator_benchmark, sweep_benchmark
+from vibroimpact.bench import (
+    branch_benchmark,
+    curve_benchmark,
+    kernel_profile,
+    report,
+    simulator_benchmark,
+    sweep_benchmark,
+)
 from vibroimpact.datasets import provenance, write_netcdf
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)

@@ -111,14 +111,15 @@ def test_run_stops_at_t_end_and_reports_its_status():
 def test_stepping_cost_times_the_same_equations_as_the_event_loop():
     """The timed propagation (no events, no Python loop) solves the flight's equations: its end state
     after the whole span of the event run matches the closed form in 40 digits to 1e-9 relative, and
-    the event loop's steps per impact are those of a run that took at least one step per impact."""
+    the event loop's steps per impact are those of a run that took at least one step per impact (the
+    last of three timed repeats: each starts again from the impact)."""
     import mpmath as mp
 
     from vibroimpact.reference import gap, velocity
 
     beta, d, phi, v0 = SCENES["2:1"]
     p = _params(beta, d)
-    out = H.stepping_cost(p, phi, v0, 200, tol=EPS)
+    out = H.stepping_cost(p, phi, v0, 200, tol=EPS, repeats=3)  # each repeat from the same start
     z, v = out["free_end"]
     u = -p.r * v0
     zref = gap(mp.mpf(phi), mp.mpf(p.d) / 2, mp.mpf(u), mp.mpf(p.gbar), 0)(mp.mpf(out["span"]))
@@ -126,4 +127,5 @@ def test_stepping_cost_times_the_same_equations_as_the_event_loop():
     assert abs(z - float(zref)) <= 1e-9 * abs(float(zref))
     assert abs(v - float(vref)) <= 1e-9 * max(1.0, abs(float(vref)))
     assert out["steps_per_impact"] >= 1.0
+    assert out["timed_steps"] >= 200  # the last repeat, too, stepped over the whole span
     assert out["us_per_impact"] == pytest.approx(out["us_per_step"] * out["steps_per_impact"])

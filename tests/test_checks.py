@@ -128,3 +128,30 @@ def test_check_summaries_per_figure():
     assert "0 of 0 arrays pass (1 timing arrays excluded)" in s["work_precision"]
     assert s["fig4"].endswith("published values shown here: 1 pass.")
     assert "1 known discrepancy" in s["fig3"]
+
+
+def test_the_model_document_states_the_papers_values_the_code_compares_with():
+    """docs/model.md carries the paper's reference values itself: every stable interval, G1, G2 and d_B
+    of vibroimpact.paper and every caption orbit of the config the document lists appear in it as
+    printed; and nothing in the repository's documents points outside it."""
+    import re
+
+    import yaml
+
+    from conftest import ROOT
+    from vibroimpact import paper
+
+    doc = (ROOT / "docs" / "model.md").read_text()
+    for lo, hi in paper.STABLE_2TO1.values():
+        assert f"{lo:g} < d < {hi:g}" in doc
+    for x in (paper.PI6_G1, paper.PI6_G2, paper.PI6_D_B):
+        assert f"{x:g}" in doc
+    caps = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["captions"]
+    for name in ("fig0b_a", "fig0b_b", "fig0b_c", "fig4_a", "fig4_d", "fig4_g", "figBiS_e", "figBiS_f"):
+        for key in ("d", "v0", "phi"):
+            assert f"{caps[name][key]:g}" in doc, (name, key)
+    for f in [ROOT / "README.md", ROOT / "config" / "config.yaml", *(ROOT / "docs").glob("*.md"),
+              *(ROOT / "src").rglob("*.py"), *(ROOT / "workflow").rglob("*.smk")]:
+        text = f.read_text()
+        assert "MODEL.md" not in text and "shared/" not in text, f
+        assert not re.search(r"\b[Ii]ssue #?\d+", text), f

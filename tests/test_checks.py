@@ -137,8 +137,8 @@ def test_the_model_document_states_the_papers_values_the_code_compares_with():
     import re
 
     import yaml
-
     from conftest import ROOT
+
     from vibroimpact import paper
 
     doc = (ROOT / "docs" / "model.md").read_text()

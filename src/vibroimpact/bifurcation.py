@@ -22,6 +22,7 @@ import math
 import numpy as np
 import xarray as xr
 
+from ._progress import Progress
 from .continuation import PARAMETERS, TESTS, _tangent, _tests
 from .datasets import annotate
 from .grazing import admissibility
@@ -390,7 +391,7 @@ def _curve_dataset(Xs, template, pm, kind, params, stops, scale) -> xr.Dataset:
 
 
 def curve_set(branches, params, ranges, *, kinds=("B", "fold", "grazing"), step=1e-2, physics=None,
-              max_points=2000) -> xr.Dataset:
+              max_points=2000, progress: bool | None = None) -> xr.Dataset:
     """Every critical point of ``kinds`` on the continued ``branches`` (datasets of
     :func:`~vibroimpact.continuation.continue_orbit` in s, admissible and refined), followed as a curve in
     ``params`` over ``ranges``.  ``physics``: the device's values for
@@ -401,16 +402,20 @@ def curve_set(branches, params, ranges, *, kinds=("B", "fold", "grazing"), step=
     dimension: ``curve_kind``, ``curve_word``, ``curve_start_s``, ``curve_status``, ``curve_reason``,
     ``curve_stop``); along ``event`` where a curve meets another set of its orbit (another test function
     changes sign) or its projection turns back (``cusp``, :func:`plane_cusps`); along ``crossing`` where
-    two curves cross in the plane (:func:`curve_crossings`)."""
+    two curves cross in the plane (:func:`curve_crossings`).  ``progress``: a bar over the points
+    followed (default: only when run interactively)."""
     physics = dict(physics or {})
     pts, events, rows = [], [], []
-    for br in branches:
-        if br.attrs.get("status", "ok") != "ok" or "critical_kind" not in br:
-            continue
+    usable = [br for br in branches if br.attrs.get("status", "ok") == "ok" and "critical_kind" in br]
+    todo = sum(1 for br in usable for i, kind in enumerate(br.critical_kind.values)
+               if kind in kinds and bool(br.critical_admissible[i]) and bool(br.critical_refined[i]))
+    bar = Progress(todo, f"bifurcation curves in ({params[0]}, {params[1]})", progress, unit="curve")
+    for br in usable:
         word, k = br.attrs["word"], int(br.attrs["k"])
         for i, kind in enumerate(br.critical_kind.values):
             if kind not in kinds or not bool(br.critical_admissible[i]) or not bool(br.critical_refined[i]):
                 continue
+            bar.update()
             s0 = float(br.critical_s[i])
             row = dict(kind=str(kind), word=word, start_s=s0, status="ok", reason="", stop="")
             try:
@@ -433,6 +438,7 @@ def curve_set(branches, params, ranges, *, kinds=("B", "fold", "grazing"), step=
                 events.append((n, str(c.event_kind.values[e]), float(c[f"event_{params[0]}"][e]),
                                float(c[f"event_{params[1]}"][e])))
             rows.append(row)
+    bar.close()
     cat = (lambda i: np.concatenate([p[i] for p in pts]) if pts else np.array([]))
     ds = xr.Dataset(
         {

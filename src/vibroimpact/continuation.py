@@ -26,6 +26,7 @@ import numpy as np
 import xarray as xr
 from scipy.optimize import brentq
 
+from ._progress import Progress
 from .datasets import annotate
 from .orbits import Orbit, OrbitError, _residual_and_jacobian, find_orbit, orbit_from_vector, parse_word
 from .params import Params
@@ -224,6 +225,7 @@ def continue_orbit(
     max_points: int = 100_000,
     locate: bool = True,
     xtol: float = 1e-13,
+    progress: bool | None = None,
 ) -> xr.Dataset:
     """Follow ``orbit`` in both directions along its branch in one parameter.
 
@@ -247,6 +249,9 @@ def continue_orbit(
         continuation variable.
     max_points : int
         Most branch points per direction.
+    progress : bool, optional
+        A progress bar over the share of the interval covered (default: only when run interactively,
+        :mod:`vibroimpact._progress`).
 
     Returns
     -------
@@ -268,6 +273,8 @@ def continue_orbit(
     _, J0 = _augmented(Y0, walls, r, k, 0.0, 0.0, pm)
     t0 = _tangent(J0)
     halves, stops = [], []
+    bar = Progress(1000, f"continue {orbit.word} in {vary}", progress, unit="‰ of the interval")
+    seen = [float(Y0[-1]), float(Y0[-1])]
     for sign in (+1.0, -1.0):
         Ys = [Y0]
         t = sign * t0
@@ -292,12 +299,15 @@ def continue_orbit(
             t = _tangent(J, t)
             Y = Yn
             Ys.append(Y)
+            seen = [min(seen[0], max(float(Y[-1]), lo)), max(seen[1], min(float(Y[-1]), hi))]
+            bar.update(max(0, int(1000 * (seen[1] - seen[0]) / (hi - lo)) - bar.n))
             h = min(step, 2 * h)
             if not lo <= Y[-1] <= hi:
                 stop = f"left {'d_range' if pm.line else 'value_range'} at {pm.label} = {Y[-1]:.10g}"
                 break
         halves.append(Ys)
         stops.append(stop)
+    bar.close()
     Ys = halves[1][::-1] + halves[0][1:]
     orbits = [_orbit_at(Y, orbit, pm) for Y in Ys]
     lams = np.array([float(Y[-1]) for Y in Ys])

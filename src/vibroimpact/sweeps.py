@@ -16,6 +16,7 @@ import numpy as np
 import xarray as xr
 
 from . import kernels as K
+from ._progress import Progress, _interactive
 from .datasets import annotate
 from .params import Params
 from .simulate import cycle_class
@@ -64,12 +65,15 @@ def _check_window(window, pmax):
 
 
 def attractor_batch(d, gbar, r, phi, v0, *, max_periods: float = 200, max_events: int = 200_000,
-                    tol: float = 1e-9, window: int = 65, pmax: int = 64) -> xr.Dataset:
+                    tol: float = 1e-9, window: int = 65, pmax: int = 64, progress: bool | None = None,
+                    desc: str = "attractors") -> xr.Dataset:
     """Attractors of many runs in parallel: the last ``window`` events and the motion's class.
 
     Inputs broadcast to one dimension ``run``.  Returns variables ``t, wall, v_minus, phase, kind``
     on ``(run, event)`` (NaN-padded), and per run ``label``, ``period`` (forcing periods, 0 when
     aperiodic), ``period_events``, ``n_bottom``, ``n_top``, ``n_events`` (simulated) and ``status``.
+    ``progress``: a bar (see :mod:`vibroimpact._progress`; the runs then go in tenths, each in
+    parallel, with the same results).
     """
     _check_window(window, pmax)
     arrs = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=float)) for a in (d, gbar, r, phi, v0)))
@@ -81,8 +85,16 @@ def attractor_batch(d, gbar, r, phi, v0, *, max_periods: float = 200, max_events
     lag = np.zeros(m, np.int64)
     tot = np.zeros(m, np.int64)
     nw = np.zeros(m, np.int64)
-    K.window_batch(d, gbar, r, phi % (2 * np.pi), v0, int(max_events), 2.0 * float(max_periods), 1e-9, float(tol),
-                   int(pmax), max(4096, 4 * (3 * pmax + 1)), *win, st, lag, tot, nw)
+    phi = phi % (2 * np.pi)
+    shown = _interactive() if progress is None else bool(progress)
+    # in one parallel call unless a bar is shown: then in tenths (each run is independent of the others)
+    cuts = np.linspace(0, m, 11 if shown and m >= 20 else 2).astype(int)
+    with Progress(m, desc, shown, unit="run") as bar:
+        for a, b in zip(cuts[:-1], cuts[1:], strict=True):
+            K.window_batch(d[a:b], gbar[a:b], r[a:b], phi[a:b], v0[a:b], int(max_events), 2.0 * float(max_periods),
+                           1e-9, float(tol), int(pmax), max(4096, 4 * (3 * pmax + 1)), *(w[a:b] for w in win),
+                           st[a:b], lag[a:b], tot[a:b], nw[a:b])
+            bar.update(int(b - a))
     return _window_dataset(win, st, lag, tot, nw, dims=("run",))
 
 
@@ -136,7 +148,8 @@ def _run_one(d, gbar, r, phi, v0, max_periods, max_events, tol, window, pmax):
 
 
 def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, max_periods: float = 200,
-          max_events: int = 200_000, tol: float = 1e-9, window: int = 65, pmax: int = 64, **physical) -> xr.Dataset:
+          max_events: int = 200_000, tol: float = 1e-9, window: int = 65, pmax: int = 64,
+          progress: bool | None = None, **physical) -> xr.Dataset:
     """Sweep ``s`` (fixed force) or ``F`` (fixed length) up and down, following the attractor.
 
     Parameters
@@ -152,6 +165,8 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
     max_events, tol, window, pmax : int, float, int, int
         Cap on events per point, periodicity tolerance, events kept per point, longest period
         (in events) looked for; ``window >= pmax + 1``.
+    progress : bool, optional
+        A progress bar (default: only when run interactively, :mod:`vibroimpact._progress`).
 
     Returns
     -------
@@ -174,9 +189,11 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
     tot = np.zeros((2, m), np.int64)
     nw = np.zeros((2, m), np.int64)
     starts = np.zeros((2, m, 2))
+    bar = Progress(2 * m, f"sweep of {vary} (up and down)", progress, unit="point")
     for k_dir, idx in enumerate((range(m), range(m - 1, -1, -1))):
         start = (phi, v0)
         for i in idx:
+            bar.update()
             w1, st[k_dir, i], lag[k_dir, i], tot[k_dir, i], nw[k_dir, i] = _run_one(
                 d[i], gbar[i], r, start[0], start[1], max_periods, max_events, tol, window, pmax)
             starts[k_dir, i] = start
@@ -185,6 +202,7 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
             nxt = _last_bottom(*w1, int(nw[k_dir, i]))
             if nxt is not None:
                 start = nxt
+    bar.close()
     ds = _window_dataset(win, st, lag, tot, nw, dims=("direction", "point"))
     ds = ds.assign_coords(direction=["up", "down"], point=np.arange(m), d=("point", d), gbar=("point", gbar),
                           s=("point", s_arr), F=("point", F_arr))
@@ -241,7 +259,8 @@ def transition_kind(before: str, after: str) -> str:
 
 
 def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float = 20_000,
-                       max_events: int = 2_000_000, max_trials: int = 200) -> xr.Dataset:
+                       max_events: int = 2_000_000, max_trials: int = 200,
+                       progress: bool | None = None) -> xr.Dataset:
     """Locate where each direction's followed attractor changes, between neighbouring points whose
     motions differ, to ``xtol`` in d.
 
@@ -263,6 +282,8 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
         Longest transient per run (forcing periods) and cap on its events.
     max_trials : int
         Runs allowed per transition.
+    progress : bool, optional
+        A progress bar over the sweep's points (default: only when run interactively).
 
     Returns
     -------
@@ -278,12 +299,14 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
     tol = float(sw.attrs["tol"])
     d_min, d_max = float(dvals.min()), float(dvals.max())
     rows = []
+    bar = Progress(len(sw.direction) * (len(dvals) - 1), "locate transitions", progress, unit="point")
     for k_dir, name in enumerate(sw.direction.values):
         labels = sw["label"].values[k_dir]
         sign = 1.0 if name == "up" else -1.0
         order = range(len(dvals) - 1) if name == "up" else range(len(dvals) - 1, 0, -1)
         last_end = None
         for i in order:
+            bar.update()
             j = i + 1 if name == "up" else i - 1
             if labels[i] == labels[j] or labels[i] == APERIODIC:
                 continue
@@ -332,6 +355,7 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
             last_end = y
             status = "refined" if refined else f"not refined: {max_trials} runs (max_trials) left a bracket of {abs(y - x):.1e}"
             rows.append((name, 0.5 * (x + y), abs(y - x), before, after, transition_kind(before, after), status))
+    bar.close()
     ds = xr.Dataset(
         {
             "direction": ("transition", np.array([r_[0] for r_ in rows], dtype=object).astype(str)),
@@ -503,7 +527,8 @@ def json_list(items):
     return json.dumps([str(x) for x in items])
 
 
-def basins(params: Params, phis, v0s, *, max_periods: float = 400, tol: float = 1e-9, window: int = 65) -> xr.Dataset:
+def basins(params: Params, phis, v0s, *, max_periods: float = 400, tol: float = 1e-9, window: int = 65,
+           progress: bool | None = None) -> xr.Dataset:
     """Attractor reached from each bottom impact ``(phase, v0)`` of a grid, at one parameter point.
 
     Parameters
@@ -518,6 +543,8 @@ def basins(params: Params, phis, v0s, *, max_periods: float = 400, tol: float = 
         Tolerance of the periodicity test.
     window : int
         Events kept per run.
+    progress : bool, optional
+        A progress bar (default: only when run interactively).
 
     Returns
     -------
@@ -527,7 +554,7 @@ def basins(params: Params, phis, v0s, *, max_periods: float = 400, tol: float = 
     """
     P, V = np.meshgrid(np.asarray(phis, float), np.asarray(v0s, float), indexing="ij")
     ds = attractor_batch(params.d, params.gbar, params.r, P.ravel(), V.ravel(), max_periods=max_periods,
-                         tol=tol, window=window)
+                         tol=tol, window=window, progress=progress, desc="basins")
     shape = P.shape
     out = xr.Dataset(
         {
@@ -543,7 +570,7 @@ def basins(params: Params, phis, v0s, *, max_periods: float = 400, tol: float = 
 
 
 def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float = 0.5, max_periods: float = 200,
-               tol: float = 1e-9, window: int = 65, **physical) -> xr.Dataset:
+               tol: float = 1e-9, window: int = 65, progress: bool | None = None, **physical) -> xr.Dataset:
     """Attractor class over a grid of two parameters, each run from the same bottom impact.
 
     Parameters
@@ -553,7 +580,7 @@ def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float 
         (``d``, ``gbar``, with ``r``), not a mix; ``xs``, ``ys`` their values (m, N, rad or 1).
     phi, v0 : float
         Start of every run: a bottom impact at phase ``phi`` with pre-impact velocity ``v0``.
-    max_periods, tol, window
+    max_periods, tol, window, progress
         As in :func:`basins`.
     **physical
         Other physical values (``s``, ``F``, ``beta``, ``M``, ``omega``, ``g``, ``r``); paper
@@ -591,7 +618,8 @@ def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float 
             kw[x_name], kw[y_name] = x, y
             p = Params.from_physical(**kw)
         d[k], gbar[k], r[k] = p.d, p.gbar, p.r
-    ds = attractor_batch(d, gbar, r, phi, v0, max_periods=max_periods, tol=tol, window=window)
+    ds = attractor_batch(d, gbar, r, phi, v0, max_periods=max_periods, tol=tol, window=window, progress=progress,
+                         desc=f"regime map over ({x_name}, {y_name})")
     shape = X.shape
     data = {
         "label": ((y_name, x_name), ds["label"].values.reshape(shape)),

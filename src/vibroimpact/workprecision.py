@@ -12,6 +12,7 @@ import math
 import numpy as np
 import xarray as xr
 
+from ._progress import Progress
 from . import methods as M
 from .datasets import annotate
 from .events import next_impact
@@ -105,10 +106,12 @@ def _errors(run, ref):
 
 def work_precision(*, n_err=20, n_cost=None, ivp_methods=("RK45", "DOP853", "LSODA", "Radau"),
                    ivp_tols=(1e-3, 1e-5, 1e-7, 1e-9, 1e-11), rk4_steps=(1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4),
-                   heyoka_tols=(), siconos_tols=(), siconos_steps=(), scenes=None) -> xr.Dataset:
+                   heyoka_tols=(), siconos_tols=(), siconos_steps=(), scenes=None,
+                   progress: bool | None = None) -> xr.Dataset:
     """Errors against the reference over the first ``n_err`` impacts, and cost per impact over
     ``n_cost[family]`` impacts, for every method configuration and scene.  Compilation (numba, heyoka's
-    LLVM) happens before each timed run and is reported apart (``compile_seconds``, heyoka)."""
+    LLVM) happens before each timed run and is reported apart (``compile_seconds``, heyoka).
+    ``progress``: a bar over the runs (default: only when run interactively)."""
     scenes = scenes or SCENES
     n_cost = ({"exact": 20_000, "python": 400, "ivp": 60, "rk4": 2_000, "heyoka": 2_000, "siconos-ed": 60,
                "siconos-mj": 20} | (n_cost or {}))
@@ -120,15 +123,18 @@ def work_precision(*, n_err=20, n_cost=None, ivp_methods=("RK45", "DOP853", "LSO
     python = (M.run_python_many([(_params(b, d), phi, v0, max(n_err, n_cost["python"]), math.inf)
                                  for b, d, phi, v0 in scenes.values()])
               if any(f == "python" for f, _, _ in ladder) else None)
+    bar = Progress(len(scenes) * len(ladder), "work-precision", progress, unit="run")
     for j, (_, (beta, d, phi, v0)) in enumerate(scenes.items()):
         p = _params(beta, d)
         ref = trajectory(p.d, p.gbar, p.r, phi, v0, n_err)
         for i, (family, setting, _) in enumerate(ladder):
+            bar.update()
             n = max(n_err, n_cost[_cost_key(family)])
             run = python[j] if family == "python" else _run(family, setting, p, phi, v0, n)
             err_t[i, j], err_v[i, j], wrong[i, j] = _errors(run, ref)
             cost[i, j] = run.seconds / max(len(run.t), 1) * 1e6
             total[i, j] = run.seconds
+    bar.close()
     ds = xr.Dataset(
         {
             "err_t": (("solver", "scene"), err_t, {"units": "1", "long_name": "largest impact-time error over the first impacts (inf: wrong walls)"}),
@@ -247,14 +253,15 @@ def failure_thresholds() -> dict:
 def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=("RK45", "DOP853", "LSODA", "Radau"),
                 ivp_tols=(1e-6, 1e-10), rk4_steps=(1e-2, 1e-3), heyoka_tols=(), siconos_tols=(), siconos_steps=(),
                 chaos_impacts=100, chatter_t_end=20.0, max_seconds=2.0, chatter_max_evals=20_000,
-                chaos_max_evals=50_000) -> xr.Dataset:
+                chaos_max_evals=50_000, progress: bool | None = None) -> xr.Dataset:
     """Outcome of every method on hard cases: near-grazing flights whose extremum passes eps inside
     a wall (no impact) or crosses it by eps (an impact) at both walls; chattering into sticking;
     a long chaotic run followed against the reference.
 
     A run that cannot finish is cut by a budget: ``solve_ivp`` by its right-hand-side evaluations
     (``chatter_max_evals``, ``chaos_max_evals``), so that where it stops, and so its outcome, is the
-    same on every machine; the peers by ``max_seconds`` (Siconos runs in its own process)."""
+    same on every machine; the peers by ``max_seconds`` (Siconos runs in its own process).
+    ``progress``: a bar over the methods (default: only when run interactively)."""
     ladder = [m for m in method_ladder(ivp_methods, ivp_tols, rk4_steps, heyoka_tols, siconos_tols, siconos_steps)
               if m[0] != "python"]
     d, gbar = 0.3, 0.2
@@ -282,7 +289,9 @@ def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=
             if e[0] == "impact" and abs(float(e[3])) > CHATTER_V and float(e[1]) <= chatter_t_end]
     chat_t = np.array([float(e[1]) for e in chat])
     chat_w = np.array([e[2] for e in chat], dtype=int)
+    bar = Progress(2 * len(ladder), "failure map", progress, unit="method x case family")
     for i, (family, setting, _) in enumerate(ladder):
+        bar.update()
         found = _flights(family, setting, [g[1] for g in grazing], d, gbar)
         for j, (_, _state, ref_tau, ref_wall, side, wall) in enumerate(grazing):
             tau, w = found[j]
@@ -325,6 +334,7 @@ def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=
     rt = np.array([float(x[0]) for x in ref])
     rw = np.array([x[1] for x in ref])
     for i, (family, setting, _) in enumerate(ladder):
+        bar.update()
         run = _run(family, setting, pc, phi, v0, chaos_impacts, max_seconds=max_seconds, max_evals=chaos_max_evals)
         n = min(len(run.t), len(rt))
         bad = np.flatnonzero((run.wall[:n] != rw[:n]) | (np.abs(run.t[:n] - rt[:n]) > CHAOS_ATOL))
@@ -339,6 +349,7 @@ def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=
         else:
             outcome[i, j] = "wrong sequence"
         detail[i, j] = f"follows the reference for {followed} of {len(rt)} impacts ({run.status}, {run.seconds:.3g} s)"
+    bar.close()
     ds = xr.Dataset(
         {
             "outcome": (("solver", "case"), outcome.astype(str), {"long_name": "outcome", "flag_meanings": " / ".join(OUTCOMES)}),

@@ -1,0 +1,34 @@
+"""Numba's on-disk cache, keyed by the package's source.
+
+Numba invalidates a cached function only when its own file changes, not when a function it inlines
+from another module does (every kernel here inlines the flight's closed forms): after such a change
+a stale compilation would run silently, and results would differ at rounding level from a fresh
+one.  So the cache lives in a directory named after a hash of all the package's sources, unless the
+user set ``NUMBA_CACHE_DIR``.  Imported first by :mod:`vibroimpact`, before any decorated function; it does not import numba
+(which is slow to import) but sets ``NUMBA_CACHE_DIR``, read when numba is first imported.
+"""
+
+import hashlib
+import os
+import sys
+from pathlib import Path
+
+
+def cache_dir() -> str:
+    """``$XDG_CACHE_HOME/vibroimpact/numba/<hash>`` (``~/.cache`` by default), the hash over the package's
+    modules that use numba."""
+    h = hashlib.sha1()
+    for f in sorted(Path(__file__).resolve().parent.rglob("*.py")):
+        src = f.read_bytes()
+        if b"numba" in src and f.name != "_numba_cache.py":  # the modules with compiled code
+            h.update(f.name.encode())
+            h.update(src)
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return str(base / "vibroimpact" / "numba" / h.hexdigest()[:16])
+
+
+if not os.environ.get("NUMBA_CACHE_DIR"):
+    if "numba" in sys.modules:  # numba has read its environment already
+        sys.modules["numba"].config.CACHE_DIR = cache_dir()
+    else:  # numba reads it when first imported (and so do subprocesses: the same cache)
+        os.environ["NUMBA_CACHE_DIR"] = cache_dir()

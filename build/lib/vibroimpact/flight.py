@@ -1,0 +1,249 @@
+"""Closed-form flight between impacts (docs/model.md, paper eqs. ``zdot_t``, ``z_t``).
+
+A flight starts at local time ``tau = 0`` with forcing phase ``theta = pi t_j + phi``, position
+``z0`` and velocity ``u``.  With ``x = pi tau``
+
+    Zdot(tau) - u  = gbar tau + (cos(theta) sin(x) - sin(theta) (1 - cos x)) / pi
+    Z(tau) - z0    = u tau + gbar tau^2 / 2 + (cos(theta) (1 - cos x) + sin(theta) (sin x - x)) / pi^2
+
+This is ``z_t`` with ``F2(t) - F2(t_j) - F1(t_j)(t - t_j)`` rewritten so that no two large terms
+cancel: ``1 - cos x`` and ``sin x - x`` are evaluated without cancellation, so the displacement is
+relatively accurate however short the flight (chattering).  The phase is carried from impact to
+impact instead of absolute time, which keeps ``pi t + phi`` exact to rounding on long runs.
+
+``*_dd`` functions evaluate the gap to a wall in double-double arithmetic (about 32 digits); they
+polish impact times where a near-grazing impact makes the time ill-conditioned (|Zdot-| small).
+"""
+
+import math
+
+from numba import njit
+
+PI = math.pi
+INV_PI = 1.0 / math.pi
+INV_PI2 = 1.0 / (math.pi * math.pi)
+TWO_PI = 2.0 * math.pi
+
+
+@njit(cache=True, inline="always")
+def one_minus_cos(x):
+    """1 - cos x without cancellation."""
+    s = math.sin(0.5 * x)
+    return 2.0 * s * s
+
+
+@njit(cache=True, inline="always")
+def sin_minus_x(x):
+    """sin x - x without cancellation (Taylor series for |x| < 0.25)."""
+    if abs(x) < 0.25:
+        x2 = x * x
+        return -x * x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0 * (1.0 - x2 / 110.0))))
+    return math.sin(x) - x
+
+
+@njit(cache=True, inline="always")
+def displacement(tau, c, s, u, gbar):
+    """Z(tau) - Z(0) for a flight with cos/sin of the start phase ``c``, ``s``."""
+    x = PI * tau
+    return u * tau + 0.5 * gbar * tau * tau + (c * one_minus_cos(x) + s * sin_minus_x(x)) * INV_PI2
+
+
+@njit(cache=True, inline="always")
+def velocity(tau, c, s, u, gbar):
+    """Zdot(tau)."""
+    x = PI * tau
+    return u + gbar * tau + (c * math.sin(x) - s * one_minus_cos(x)) * INV_PI
+
+
+@njit(cache=True, inline="always")
+def acceleration(tau, c, s, gbar):
+    """Z''(tau) = cos(theta + pi tau) + gbar."""
+    x = PI * tau
+    return c * math.cos(x) - s * math.sin(x) + gbar
+
+
+@njit(cache=True, inline="always")
+def state_from_sc(tau, sx, omc, c, s, u, gbar):
+    """Displacement ``Z(tau) - Z(0)``, velocity, acceleration and jerk of a flight from ``sin x`` and
+    ``1 - cos x`` of the forcing angle travelled, ``x = pi tau``."""
+    x = PI * tau
+    if abs(x) < 0.25:
+        x2 = x * x
+        smx = -x * x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0 * (1.0 - x2 / 110.0))))
+    else:
+        smx = sx - x
+    cx = 1.0 - omc
+    disp = u * tau + 0.5 * gbar * tau * tau + (c * omc + s * smx) * INV_PI2
+    vel = u + gbar * tau + (c * sx - s * omc) * INV_PI
+    acc = c * cx - s * sx + gbar
+    jerk = -PI * (s * cx + c * sx)
+    return disp, vel, acc, jerk
+
+
+@njit(cache=True, inline="always")
+def state_from_half(tau, sh, ch, c, s, u, gbar):
+    """:func:`state_from_sc` from the sine ``sh`` and cosine ``ch`` of half the angle travelled
+    (``sin x = 2 sh ch``, ``1 - cos x = 2 sh^2``: no cancellation however short the flight)."""
+    return state_from_sc(tau, 2.0 * sh * ch, 2.0 * sh * sh, c, s, u, gbar)
+
+
+@njit(cache=True, inline="always")
+def state3(tau, c, s, u, gbar):
+    """Displacement, velocity, acceleration and jerk at ``tau`` (:func:`state_from_half`) for one
+    sine and one cosine, where separate formulas would take four to six trigonometric calls."""
+    half = 0.5 * PI * tau
+    return state_from_half(tau, math.sin(half), math.cos(half), c, s, u, gbar)
+
+
+#: below this half-angle step, :func:`half_angle_near` uses a Taylor polynomial instead of sin/cos
+NEAR_STEP = 0.05
+
+
+@njit(cache=True, inline="always")
+def half_angle_near(tau, tau_b, sh_b, ch_b):
+    """``sin`` and ``cos`` of ``pi tau / 2`` from their values ``sh_b``, ``ch_b`` at ``tau_b`` by angle
+    addition, with the small step's sine and cosine from their Taylor series (truncation below 1e-20
+    for a step under ``NEAR_STEP``); sin and cos themselves for a larger step."""
+    dl = 0.5 * PI * (tau - tau_b)
+    if abs(dl) >= NEAR_STEP:
+        half = 0.5 * PI * tau
+        return math.sin(half), math.cos(half)
+    d2 = dl * dl
+    sd = dl * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))))
+    cd = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0 * (1.0 - d2 / 90.0))))
+    return sh_b * cd + ch_b * sd, ch_b * cd - sh_b * sd
+
+
+# --------------------------------------------------------------------------------------------
+# Double-double arithmetic (Dekker / Knuth error-free transformations), for the gap only.
+# --------------------------------------------------------------------------------------------
+
+_SPLIT = 134217729.0  # 2^27 + 1
+
+
+@njit(cache=True, inline="always")
+def _two_sum(a, b):
+    s = a + b
+    bb = s - a
+    return s, (a - (s - bb)) + (b - bb)
+
+
+@njit(cache=True, inline="always")
+def _quick_two_sum(a, b):
+    s = a + b
+    return s, b - (s - a)
+
+
+@njit(cache=True, inline="always")
+def _two_prod(a, b):
+    p = a * b
+    t = _SPLIT * a
+    ah = t - (t - a)
+    al = a - ah
+    t = _SPLIT * b
+    bh = t - (t - b)
+    bl = b - bh
+    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
+
+
+@njit(cache=True, inline="always")
+def dd_add(ah, al, bh, bl):
+    s, e = _two_sum(ah, bh)
+    t, f = _two_sum(al, bl)
+    e += t
+    s, e = _quick_two_sum(s, e)
+    e += f
+    return _quick_two_sum(s, e)
+
+
+@njit(cache=True, inline="always")
+def dd_mul(ah, al, bh, bl):
+    p, e = _two_prod(ah, bh)
+    e += ah * bl + al * bh
+    return _quick_two_sum(p, e)
+
+
+# pi and pi/2 to double-double precision
+PI_HI = 3.141592653589793
+PI_LO = 1.2246467991473532e-16
+PI2_HI = 9.869604401089358  # pi^2
+PI2_LO = 6.265295508739711e-16
+HALF_PI_HI = 1.5707963267948966
+HALF_PI_LO = 6.123233995736766e-17
+
+
+@njit(cache=True, inline="always")
+def dd_div_int(ah, al, n):
+    """Double-double divided by an integer-valued double."""
+    q = ah / n
+    p, e = _two_prod(q, n)
+    r = ((ah - p) - e + al) / n
+    return _quick_two_sum(q, r)
+
+
+@njit(cache=True)
+def _dd_sincos_reduced(rh, rl):
+    """sin and cos of a double-double |r| <= pi/4 by Taylor series (27 terms)."""
+    r2h, r2l = dd_mul(rh, rl, rh, rl)
+    # sin: r - r^3/3! + ...   cos: 1 - r^2/2! + ...
+    sh, sl = rh, rl
+    th, tl = rh, rl
+    ch, cl = 1.0, 0.0
+    uh, ul = 1.0, 0.0
+    for k in range(1, 15):
+        # term_cos_k = term_cos_{k-1} * (-r^2) / ((2k-1)(2k))
+        uh, ul = dd_mul(uh, ul, -r2h, -r2l)
+        uh, ul = dd_div_int(uh, ul, float((2 * k - 1) * (2 * k)))
+        ch, cl = dd_add(ch, cl, uh, ul)
+        th, tl = dd_mul(th, tl, -r2h, -r2l)
+        th, tl = dd_div_int(th, tl, float((2 * k) * (2 * k + 1)))
+        sh, sl = dd_add(sh, sl, th, tl)
+    return sh, sl, ch, cl
+
+
+@njit(cache=True)
+def dd_sincos(xh, xl):
+    """sin and cos of a double-double argument (|x| up to ~1e6) to ~1e-30 absolute."""
+    k = math.floor(xh / HALF_PI_HI + 0.5)
+    ph, pl = dd_mul(HALF_PI_HI, HALF_PI_LO, -k, 0.0)
+    rh, rl = dd_add(xh, xl, ph, pl)
+    sh, sl, ch, cl = _dd_sincos_reduced(rh, rl)
+    q = int(k) % 4
+    if q == 0:
+        return sh, sl, ch, cl
+    if q == 1:
+        return ch, cl, -sh, -sl
+    if q == 2:
+        return -sh, -sl, -ch, -cl
+    return -ch, -cl, sh, sl
+
+
+@njit(cache=True)
+def gap_dd(tau, theta, z0_minus_wall, u, gbar):
+    """(Z(tau) - wall) in double-double, rounded to double: accurate to ~1e-30 absolute.
+
+    Exact for the double inputs ``tau, theta, z0_minus_wall, u, gbar``.
+    """
+    xh, xl = dd_mul(PI_HI, PI_LO, tau, 0.0)
+    s_t, s_tl, c_t, c_tl = dd_sincos(theta, 0.0)
+    # 1 - cos x = 2 sin^2(x/2)
+    s2h, s2l, _, _ = dd_sincos(0.5 * xh, 0.5 * xl)
+    omc_h, omc_l = dd_mul(s2h, s2l, s2h, s2l)
+    omc_h, omc_l = 2.0 * omc_h, 2.0 * omc_l
+    sxh, sxl, _, _ = dd_sincos(xh, xl)
+    smx_h, smx_l = dd_add(sxh, sxl, -xh, -xl)
+    a_h, a_l = dd_mul(c_t, c_tl, omc_h, omc_l)
+    b_h, b_l = dd_mul(s_t, s_tl, smx_h, smx_l)
+    f_h, f_l = dd_add(a_h, a_l, b_h, b_l)
+    # divide by pi^2: one Newton correction of the double quotient
+    q = f_h / PI2_HI
+    ph, pl = dd_mul(q, 0.0, PI2_HI, PI2_LO)
+    rh, rl = dd_add(f_h, f_l, -ph, -pl)
+    qh, ql = _quick_two_sum(q, (rh + rl) / PI2_HI)
+    ut_h, ut_l = _two_prod(u, tau)
+    g_h, g_l = _two_prod(gbar, tau)
+    g_h, g_l = dd_mul(g_h, g_l, 0.5 * tau, 0.0)
+    acc_h, acc_l = dd_add(z0_minus_wall, 0.0, ut_h, ut_l)
+    acc_h, acc_l = dd_add(acc_h, acc_l, g_h, g_l)
+    acc_h, acc_l = dd_add(acc_h, acc_l, qh, ql)
+    return acc_h + acc_l

@@ -1,0 +1,193 @@
+"""Analytic branches: paper Figs 2 and 3."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from ..checks import transition_name
+from ._common import BOTTOM, TOP, beta_label, branch_line, use_style
+
+
+def _scene_mask(br, d_lo, d_hi):
+    return (br.admissible & (br.d >= d_lo) & (br.d <= d_hi)).values
+
+
+CRITICAL_TEST = {  # quantity that changes sign at each kind of critical point (picks the branch stretch)
+    "A": lambda br: br.discriminant.values,
+    "B": lambda br: br.eig_real.values.min(axis=1) + 1.0,
+    "fold": lambda br: br.eig_real.values.max(axis=1) - 1.0,
+    "grazing": lambda br: br.clearance.values,
+}
+
+
+def critical_markers(br, d_lo, d_hi, admissible_only=True):
+    """Admissible critical points of a branch inside [d_lo, d_hi] as (name, d, k, t): the point lies
+    between branch points k and k + 1 at fraction t.  Names as in the paper: A1, A2, ... (node <->
+    focus, by increasing d), B (period doubling), F (fold), G (grazing)."""
+
+    d = br.d.values
+    out = []
+    if "critical_d" not in br:
+        return out
+    for kind, c, adm in zip(br.critical_kind.values.astype(str), br.critical_d.values, br.critical_admissible.values,
+                            strict=True):
+        if not ((adm or not admissible_only) and d_lo <= c <= d_hi):
+            continue
+        seg = np.flatnonzero((d[:-1] - c) * (d[1:] - c) <= 0)
+        if not seg.size:  # a fold lies just beyond the branch points: mark the turning point
+            k = int(np.argmin(np.abs(d - c)))
+            out.append([kind, float(c), min(k, len(d) - 2), 0.0 if k < len(d) - 1 else 1.0])
+            continue
+        q = CRITICAL_TEST.get(kind, lambda b: np.full(len(d), np.nan))(br)
+        change = [k for k in seg if np.isfinite(q[k]) and np.isfinite(q[k + 1]) and q[k] * q[k + 1] <= 0]
+        k = int(change[0] if change else seg[0])
+        t = 0.0 if d[k + 1] == d[k] else float((c - d[k]) / (d[k + 1] - d[k]))
+        out.append([kind, float(c), k, t])
+    a_count = 0
+    for m in sorted(out, key=lambda m: m[1]):
+        if m[0] == "A":
+            a_count += 1
+            m[0] = f"A{a_count}"
+        else:
+            m[0] = {"fold": "F", "grazing": "G"}.get(m[0], m[0])
+    return [tuple(m) for m in out]
+
+
+def _branch_legend(ax, with_sim=True, with_critical=True):
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color=BOTTOM, label="bottom impacts"), Line2D([], [], color=TOP, label="top impacts"),
+               Line2D([], [], color="0.3", ls="-", label="stable"), Line2D([], [], color="0.3", ls="--", label="unstable")]
+    if with_sim:
+        handles.append(Line2D([], [], color="k", marker="o", mfc="none", ls="", ms=4, label="simulated attractor"))
+    if with_critical:
+        handles.append(Line2D([], [], color="k", marker="D", ls="", ms=4, label="critical point"))
+    ax.legend(handles=handles, loc="best", fontsize=6, framealpha=0.8)
+
+
+def fig2(branches, sims, d_ranges, grazing=None):
+    """2:1 branches: Zdot_k, Delta t_j / 2, phi_k vs d for each incline (rows)."""
+
+    use_style()
+    n = len(branches)
+    fig, axes = plt.subplots(n, 3, figsize=(10, 2.3 * n), squeeze=False, sharex="row")
+    labels = iter("abcdefghijklmnopqrstuvwxyz")
+    for r_i, (row, br, sim, (lo, hi)) in enumerate(zip(axes, branches, sims, d_ranges, strict=True)):
+        if br.attrs.get("status") == "failed":
+            row[0].set_title(f"failed: {br.attrs['reason']}")
+            continue
+        m = _scene_mask(br, lo, hi)
+        d = br.d.values[m]
+        st = br.stable.values[m]
+        walls = br.wall.values
+        for col, (var, scale, ylabel) in enumerate(
+            [("v_minus", 1.0, r"$\dot Z_k$"), ("dt", 0.5, r"$\Delta t_j/2$"), ("phase", 1.0, r"$\varphi_k$")]
+        ):
+            ax = row[col]
+            for j in range(br.sizes["impact"]):
+                color = BOTTOM if walls[j] == 1 else TOP
+                y = br[var].values[m, j] * scale
+                if var == "v_minus":
+                    y = np.abs(y)
+                if var == "phase":  # do not draw the jump where the phase wraps at 2 pi
+                    y = np.where(np.abs(np.diff(y, prepend=y[0])) > np.pi, np.nan, y)
+                branch_line(ax, d, y, st, color)
+                # the transition this curve belongs to (paper's P1, P2, P3), on its stable sheet a quarter
+                # of the way along (the ends carry the critical points' names)
+                ok = np.flatnonzero(np.isfinite(y) & st)
+                ok = ok if ok.size else np.flatnonzero(np.isfinite(y))
+                if ok.size:
+                    target = d[ok].min() + 0.25 * np.ptp(d[ok])
+                    k = ok[np.argmin(np.abs(d[ok] - target))]
+                    ax.annotate(transition_name(walls, j, into=var != "phase"), (d[k], y[k]), xytext=(0, 4),
+                                textcoords="offset points", ha="center", fontsize=6, color=color,
+                                fontweight="bold")
+                if sim is not None and "v_minus" in sim and sim.sizes.get("sim", 0):
+                    ys = sim[var].values[:, j] * scale
+                    ax.plot(sim.d, np.abs(ys) if var == "v_minus" else ys, "o", mfc="none", color="k", ms=4)
+                # critical points on every impact's curve, named once per panel (at the bottom impact)
+                yall = br[var].values[:, j] * scale
+                yall = np.abs(yall) if var == "v_minus" else yall
+                for name, dc, k, t in critical_markers(br, lo, hi):
+                    if var == "phase" and abs(yall[k + 1] - yall[k]) > np.pi:
+                        continue  # the phase wraps between these points
+                    yc = yall[k] + t * (yall[k + 1] - yall[k])
+                    ax.plot([dc], [yc], "D", color="k", ms=3.5, zorder=5)
+                    if j == 0:
+                        ax.annotate(name, (dc, yc), xytext=(3, 4), textcoords="offset points", fontsize=7)
+            if grazing is not None and abs(br.attrs["beta"] - grazing["beta"]) < 1e-9:
+                for key, color, dx in (("G1", "k", -13), ("G2", "tab:red", 2)):
+                    ax.axvline(grazing[key], color=color, ls="-.", lw=0.8)
+                    ax.annotate(key, (grazing[key], 0.0), xycoords=("data", "axes fraction"), xytext=(dx, 3),
+                                textcoords="offset points", fontsize=7, color=color)
+            if col == 0 and r_i == 0:
+                _branch_legend(ax)
+            ax.set_ylabel(ylabel + (" (magnitude)" if var == "v_minus" else ""))
+            ax.set_xlabel("d")
+            ax.set_title(f"({next(labels)}) {beta_label(br.attrs['beta'])}")
+            ax.set_xlim(lo, hi)
+    return fig
+
+
+def fig3(branches, d_ranges):
+    """Delta = Tr^2 - 4 Det (left) and eigenvalues (right) along the 2:1 branches.  Stable stretches
+    solid, unstable dashed, stretches that cross a wall (not admissible) grey; A (node <-> focus,
+    Delta = 0) and B (lambda = -1) marked and named."""
+    from matplotlib.lines import Line2D
+
+    use_style()
+    n = len(branches)
+    fig, axes = plt.subplots(n, 2, figsize=(8, 2.3 * n), squeeze=False)
+    labels = iter("abcdefghijklmnop")
+    for row, br, (lo, hi) in zip(axes, branches, d_ranges, strict=True):
+        if br.attrs.get("status") == "failed":
+            row[0].set_title(f"failed: {br.attrs['reason']}")
+            continue
+        d = br.d.values
+        inside = (d >= lo) & (d <= hi)
+        adm, st = br.admissible.values & inside, br.stable.values
+        disc = br.discriminant.values
+        real = disc >= 0
+
+        def draw(ax, y, color, lw=1.0, d=d, adm=adm, st=st, inside=inside):
+            # NaN outside each stretch, so no line joins separate stretches
+            for sel, style, c in ((adm & st, "-", color), (adm & ~st, "--", color), (inside & ~adm, "-", "0.75")):
+                ax.plot(d, np.where(sel, y, np.nan), style, color=c, lw=lw)
+
+        draw(row[0], disc, "tab:blue")
+        row[0].axhline(0, color="tab:red", ls="-.", lw=0.8)
+        row[0].set_ylabel(r"$\Delta=\mathrm{Tr}^2-4\,\mathrm{Det}$")
+        for e, col in ((0, "tab:blue"), (1, "tab:green")):
+            draw(row[1], np.where(real, br.eig_real.values[:, e], np.nan), col, lw=0.8)
+        draw(row[1], np.where(~real, br.eig_real.values[:, 0], np.nan), "tab:purple", lw=2.0)
+        row[1].axhline(-1, color="tab:red", ls="-.", lw=0.8)
+        row[1].set_ylabel(r"$\lambda_{1,2}$")
+        # scale to the physical stretch: beyond the fold the unstable branch diverges where an impact
+        # velocity tends to zero
+        phys = adm & st
+        if phys.any():
+            span = np.ptp(disc[phys]) or 1.0
+            row[0].set_ylim(disc[phys].min() - 0.3 * span, disc[phys].max() + 0.3 * span)
+        row[1].set_ylim(-2.5, 1.5)
+        for ax in row:
+            ax.set_xlabel("d")
+            ax.set_xlim(lo, hi)
+            ax.set_title(f"({next(labels)}) {beta_label(br.attrs['beta'])}")
+        for name, dc, _k, _t in critical_markers(br, lo, hi, admissible_only=False):
+            if name.startswith("A"):
+                row[0].plot([dc], [0.0], "s", mfc="none", color="tab:red", ms=6)
+                row[0].annotate(name, (dc, 0.0), xytext=(3, 5), textcoords="offset points", fontsize=7)
+            elif name == "B":
+                row[1].plot([dc], [-1.0], "o", mfc="none", color="tab:red", ms=7)
+                row[1].annotate("B", (dc, -1.0), xytext=(4, -11), textcoords="offset points", fontsize=7)
+    handles = [Line2D([], [], color="tab:blue", label=r"real $\lambda_1$ (stable: solid, unstable: dashed)"),
+               Line2D([], [], color="tab:green", lw=0.8, label=r"real $\lambda_2$"),
+               Line2D([], [], color="tab:purple", lw=2.0, label=r"Re $\lambda$ (complex pair)"),
+               Line2D([], [], color="0.75", label="not admissible (crosses a wall)"),
+               Line2D([], [], color="tab:red", marker="o", mfc="none", ls="", label=r"B: $\lambda=-1$"),
+               Line2D([], [], color="tab:red", marker="s", mfc="none", ls="", label=r"A: $\Delta=0$ (node $\leftrightarrow$ focus)")]
+    axes[0, 1].legend(handles=handles, loc="lower right", fontsize=6, framealpha=0.85)
+    return fig
+
+

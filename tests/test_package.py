@@ -1,0 +1,72 @@
+"""The package as users get it: a wheel that works outside the repository, its version, and the
+command that says where the workflow is and what it needs."""
+
+import os
+import subprocess
+import sys
+import zipfile
+
+import pytest
+from conftest import ROOT
+
+import vibroimpact
+
+
+def test_python_m_vibroimpact_names_the_version_the_workflow_and_the_optional_parts():
+    out = subprocess.run([sys.executable, "-m", "vibroimpact"], cwd=ROOT, capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert f"vibroimpact {vibroimpact.__version__}" in out.stdout
+    assert str(ROOT / "Snakefile") in out.stdout
+    for part in ("heyoka", "Siconos", "SLURM executor plugin"):
+        assert part in out.stdout
+
+
+@pytest.fixture(scope="module")
+def wheel(tmp_path_factory):
+    """``pip wheel .`` (as ``pip install .`` builds it: setuptools from the package index in an isolated
+    build environment), then unpacked into a directory of its own."""
+    tmp = tmp_path_factory.mktemp("wheel")
+    res = subprocess.run([sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps",
+                          "-w", str(tmp / "dist"), "-q"], capture_output=True, text=True, timeout=600)
+    assert res.returncode == 0, res.stderr[-2000:]
+    (whl,) = (tmp / "dist").glob("vibroimpact-*.whl")
+    site = tmp / "site"
+    zipfile.ZipFile(whl).extractall(site)
+    return whl, site
+
+
+def test_the_wheel_holds_the_package_and_its_data_not_the_workflow(wheel):
+    whl, _ = wheel
+    names = zipfile.ZipFile(whl).namelist()
+    assert "vibroimpact/__init__.py" in names and "vibroimpact/plots/vibroimpact.mplstyle" in names
+    assert any(n.startswith("vibroimpact/_siconos/") for n in names)
+    assert not any(n.startswith(("workflow/", "config/", "tests/")) or n == "Snakefile" for n in names)
+    assert f"vibroimpact-{vibroimpact.__version__}.dist-info/entry_points.txt" in names
+
+
+def test_the_wheel_runs_the_api_outside_the_repository(wheel, tmp_path):
+    """From a directory outside the repository with the wheel's copy first on the path: the package
+    imported is the wheel's, it simulates the 2:1 orbit of Fig 4 (a), draws a figure with its style
+    file, and its command says there is no workflow here."""
+    _, site = wheel
+    code = (
+        "import math, vibroimpact as vi\n"
+        "from vibroimpact import plots\n"
+        "import matplotlib.pyplot as plt\n"
+        "print(vi.__file__)\n"
+        "p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)\n"
+        "a = vi.identify_attractor(vi.simulate(p, 1.015, 0.1924, n_impacts=3000))\n"
+        "print(a.label)\n"
+        "plots.use_style(); fig = plt.figure(); plt.plot([0, 1]); plots.save(fig, 'f', formats=('png',))\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(site), NUMBA_CACHE_DIR=str(tmp_path / "numba"))
+    out = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env, capture_output=True, text=True,
+                         timeout=600)
+    assert out.returncode == 0, out.stderr[-2000:]
+    lines = out.stdout.split("\n")
+    assert lines[0].startswith(str(site)) and lines[1] == "2:1 period-2"
+    assert (tmp_path / "f.png").stat().st_size > 1000
+    cmd = subprocess.run([sys.executable, "-m", "vibroimpact"], cwd=tmp_path, env=env, capture_output=True,
+                         text=True, timeout=120)
+    assert cmd.returncode == 0 and "workflow: none here" in cmd.stdout, cmd.stdout + cmd.stderr

@@ -12,8 +12,8 @@ import math
 import numpy as np
 import xarray as xr
 
-from ._progress import Progress
 from . import methods as M
+from ._progress import Progress
 from .datasets import annotate
 from .events import next_impact
 from .params import Params

@@ -17,13 +17,21 @@ configfile: "config/config.yaml"
 # with YAML's BaseLoader): turn numeric strings into numbers; anything else is left for the schema.
 _NUMERIC = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
 config["studies"] = [
-    {
-        k: [float(x) if isinstance(x, str) and _NUMERIC.fullmatch(x) else x for x in v] if isinstance(v, list)
-        else (float(v) if isinstance(v, str) and _NUMERIC.fullmatch(v) else v)
-        for k, v in st.items()
-    }
-    if isinstance(st, dict)
-    else st
+    (
+        {
+            k: (
+                [
+                    float(x) if isinstance(x, str) and _NUMERIC.fullmatch(x) else x
+                    for x in v
+                ]
+                if isinstance(v, list)
+                else (float(v) if isinstance(v, str) and _NUMERIC.fullmatch(v) else v)
+            )
+            for k, v in st.items()
+        }
+        if isinstance(st, dict)
+        else st
+    )
     for st in config.get("studies") or []
 ]
 
@@ -47,11 +55,20 @@ include: "workflow/rules/bifurcation.smk"
 
 
 rule all:
+    default_target: True
     input:
         "results/orbits/captions.nc",
         "results/tables/captions.md",
-        expand("results/figures/{scene}.{ext}", scene=SCENES, ext=RESOLUTION["figure_formats"]),
-        expand("results/figures/{scene}.{ext}", scene=BRANCH_SCENES, ext=RESOLUTION["figure_formats"]),
+        expand(
+            "results/figures/{scene}.{ext}",
+            scene=SCENES,
+            ext=RESOLUTION["figure_formats"],
+        ),
+        expand(
+            "results/figures/{scene}.{ext}",
+            scene=BRANCH_SCENES,
+            ext=RESOLUTION["figure_formats"],
+        ),
         "results/tables/table1.csv",
         [branch_path("orbit", math.pi / 3, "BT")] if "BT" in WORDS else [],  # 1:1 branch of Fig 0
         [sweep_path(n) for n in SWEEPS],
@@ -59,12 +76,22 @@ rule all:
         "results/tables/transitions.md",
         [basin_path(n) for n in config["basins"]],
         [map_path(n) for n in config["maps"]],
-        expand("results/figures/{fig}.{ext}", fig=["figBiS", "basins", "regime_map"], ext=RESOLUTION["figure_formats"]),
-        expand("results/figures/{fig}.{ext}", fig=list(config["energy"]["figures"]) + ["design"], ext=RESOLUTION["figure_formats"]),
+        expand(
+            "results/figures/{fig}.{ext}",
+            fig=["figBiS", "basins", "regime_map"],
+            ext=RESOLUTION["figure_formats"],
+        ),
+        expand(
+            "results/figures/{fig}.{ext}",
+            fig=list(config["energy"]["figures"]) + ["design"],
+            ext=RESOLUTION["figure_formats"],
+        ),
         "results/tables/design.md",
         "results/checks/paper_values.csv",
-        expand("results/figures/{fig}.png", fig=["work_precision", "failure_map", "analytics_accuracy"]),
+        expand(
+            "results/figures/{fig}.png",
+            fig=["work_precision", "failure_map", "analytics_accuracy"],
+        ),
         "results/tables/workflow_cost.md",
         [study_figure(st) for st in STUDIES],
         "results/tables/table1.md",
-    default_target: True

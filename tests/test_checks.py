@@ -155,3 +155,19 @@ def test_the_model_document_states_the_papers_values_the_code_compares_with():
         text = f.read_text()
         assert "MODEL.md" not in text and "shared/" not in text, f
         assert not re.search(r"\b[Ii]ssue #?\d+", text), f
+
+
+def test_config_readme_names_every_key_of_the_config():
+    """config/README.md describes every top-level key of config/config.yaml and every key one level
+    down (a key added to the config without a word there fails)."""
+    import yaml
+
+    from conftest import ROOT
+
+    doc = (ROOT / "config" / "README.md").read_text()
+    cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    missing = [k for k in cfg if f"`{k}`" not in doc]
+    for k, v in cfg.items():
+        if isinstance(v, dict) and k not in ("captions", "scenes", "basins", "maps", "branch_scenes"):
+            missing += [f"{k}.{sub}" for sub in v if f"`{sub}`" not in doc and k not in ("checks",)]
+    assert not missing, missing

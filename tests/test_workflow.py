@@ -179,3 +179,49 @@ def test_the_bifurcation_target_plans_its_rules_from_the_branches(tmp_path):
     for rule in ("bifurcation_set", "fig_bifurcation_set", "branch", "regime_map"):
         assert f"rule {rule}:" in out or f"\n{rule} " in out or f" {rule} " in out, rule
     assert "results/bifurcation/s_beta.nc" in out and "results/figures/bifurcation_set_s_F.png" in out
+
+
+@pytest.mark.slow
+def test_every_dataset_the_workflow_writes_has_units_and_long_names(default_run):
+    """CF style: every variable and coordinate of every netCDF file under results/ (datasets and the
+    figures' own data) has a long_name, and every numeric one (not a flag or a label) has units."""
+    tmp_path, res = default_run
+    assert res.returncode == 0, res.stderr[-2000:]
+    files = sorted((tmp_path / "results").rglob("*.nc"))
+    assert len(files) > 60
+    missing = []
+    for f in files:
+        ds = xr.open_dataset(f, engine="netcdf4")
+        for name in [*ds.data_vars, *ds.coords]:
+            attrs = ds[name].attrs
+            if "long_name" not in attrs:
+                missing.append(f"{f.relative_to(tmp_path)}:{name}: long_name")
+            if ds[name].dtype.kind in "fiu" and "units" not in attrs:
+                missing.append(f"{f.relative_to(tmp_path)}:{name}: units")
+        ds.close()
+    assert not missing, missing[:20]
+
+
+def test_the_workflow_follows_snakemake_s_conventions():
+    """`snakemake --lint` and `snakefmt --check` are clean, and every rule that runs something uses the
+    one conda environment (or none does)."""
+    import re
+    import shutil
+    import subprocess
+    import sys
+
+    lint = subprocess.run([sys.executable, "-m", "snakemake", "--lint"], cwd=ROOT, capture_output=True, text=True,
+                          timeout=300)
+    assert lint.returncode == 0 and "good condition" in lint.stdout + lint.stderr, (lint.stdout + lint.stderr)[-2000:]
+    fmt = shutil.which("snakefmt") or str(ROOT / ".venv" / "bin" / "snakefmt")
+    files = ["Snakefile", *sorted(str(p.relative_to(ROOT)) for p in (ROOT / "workflow" / "rules").glob("*.smk"))]
+    res = subprocess.run([fmt, "--check", *files], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stdout + res.stderr
+    envs = set()
+    for smk in [ROOT / "Snakefile", *(ROOT / "workflow" / "rules").glob("*.smk")]:
+        for m in re.finditer(r"^rule (\w+):\n(.*?)(?=^rule |\Z)", smk.read_text(), re.S | re.M):
+            body = m.group(2)
+            if re.search(r"^\s+(script|shell|run):", body, re.M):
+                env = re.search(r'conda:\n\s+"([^"]+)"', body)
+                envs.add(env.group(1) if env else None)
+    assert envs == {"../envs/vibroimpact.yaml"}, envs

@@ -27,7 +27,7 @@ import xarray as xr
 from scipy.optimize import brentq
 
 from ._progress import Progress
-from .datasets import annotate
+from .datasets import VARIABLES, annotate
 from .orbits import Orbit, OrbitError, _residual_and_jacobian, find_orbit, orbit_from_vector, parse_word
 from .params import Params
 
@@ -321,7 +321,7 @@ def continue_orbit(
     ds["critical_kind"] = ("critical", np.array([c[0] for c in crit], dtype=object).astype(str))
     ds["critical_d"] = ("critical", np.array([pm.at(c[1])[0] for c in crit], dtype=float))
     ds["critical_value"] = ("critical", np.array([pm.value(c[1]) for c in crit], dtype=float),
-                            {"long_name": f"{vary} at the critical point"})
+                            {"long_name": f"{vary} at the critical point", "units": VARIABLES[vary][0]})
     ds["critical_admissible"] = ("critical", np.array([c[2] for c in crit], dtype=bool))
     ds["critical_refined"] = ("critical", np.array([c[3] for c in crit], dtype=bool),
                               {"long_name": "located to xtol (else: linear estimate between branch points)"})
@@ -426,7 +426,8 @@ def _branch_dataset(orbits, lams, pm: ParameterMap) -> xr.Dataset:
     if pm.vary == "r":
         ds["r"] = ("point", np.array([o.params.r for o in orbits]))
     if not pm.line:
-        ds["value"] = ("point", np.array([pm.value(x) for x in lams]), {"long_name": f"the varied parameter, {pm.vary}"})
+        ds["value"] = ("point", np.array([pm.value(x) for x in lams]), {"long_name": f"the varied parameter, {pm.vary}",
+                                                                          "units": VARIABLES[pm.vary][0]})
     phys = [pm.physical(x) for x in lams]
     for key in phys[0] if phys else ():
         ds[key] = ("point", np.array([p[key] for p in phys]))

@@ -49,17 +49,115 @@ VARIABLES: dict[str, tuple[str, str, str]] = {
     "dv": ("1", "v_attractor minus the caption's Zdot(t0)", ""),
     "dphase": ("rad", "phase_attractor minus the caption's phi (wrapped)", ""),
     "reproduced": ("1", "the stated n:m motion is the attractor", ""),
+    "caption": ("", "caption orbit (config name)", ""),
+    "orbit_status": ("", "the caption's analytic orbit: found, or why not", ""),
+    "orbit_deviation": ("1", "largest distance of the attractor's impacts from the analytic orbit's", ""),
+    "v_orbit": ("1", "analytic orbit's bottom impact velocity Zdot- nearest the caption's", ""),
+    "phase_orbit": ("rad", "analytic orbit's bottom impact phase nearest the caption's", ""),
+    "v_orbit_at_d_rounding": ("1", "the same at the caption's d moved by its rounding", ""),
+    # physical parameters
+    "s": ("m", "cylinder length s", ""),
+    "F": ("N", "forcing amplitude ||F||", ""),
+    "beta": ("rad", "incline beta", ""),
+    "omega": ("rad/s", "forcing angular frequency omega", ""),
+    # branches and their stability (docs/model.md)
+    "eig_real": ("1", "real part of an eigenvalue of the monodromy matrix DP", ""),
+    "eig_imag": ("1", "imaginary part of an eigenvalue of DP", ""),
+    "eig_abs": ("1", "modulus of an eigenvalue of DP", ""),
+    "trace": ("1", "trace Tr(DP) of the monodromy matrix (eq. Tr)", ""),
+    "det": ("1", "determinant Det(DP) of the monodromy matrix", ""),
+    "discriminant": ("1", "Delta = Tr^2 - 4 Det (eq. Lambda)", ""),
+    "stable": ("1", "the orbit is linearly stable (every |eigenvalue| < 1)", ""),
+    "stability": ("", "stability class (paper Table 1)", ""),
+    "admissible": ("1", "every flight of the orbit stays between the walls", ""),
+    "clearance": ("1", "smallest distance of a flight's interior extremum to a wall (negative: through it)", ""),
+    "reason": ("", "why the orbit is not admissible (empty when it is)", ""),
+    "motion": ("", "motion n:m of the word", ""),
+    "critical_kind": ("", "critical point: B (eigenvalue -1), fold (+1), A (Delta = 0), NS, grazing", ""),
+    "critical_admissible": ("1", "the orbit at the critical point is admissible", ""),
+    "critical_refined": ("1", "located to xtol (else: linear estimate between branch points)", ""),
+    "critical_note": ("", "why a critical point could not be refined (empty when it was)", ""),
+    # sweeps, transitions, bistability
+    "direction": ("", "sweep direction (up: d increasing, down: d decreasing)", ""),
+    "label": ("", "motion of the attractor (n:m, period)", ""),
+    "label_up": ("", "motion followed by the up sweep", ""),
+    "label_down": ("", "motion followed by the down sweep", ""),
+    "before": ("", "motion before the transition", ""),
+    "after": ("", "motion after the transition", ""),
+    "found_by": ("", "how the interval was found", ""),
+    "lo_source": ("", "what bounds the interval below", ""),
+    "hi_source": ("", "what bounds the interval above", ""),
+    "panel": ("", "panel of the figure", ""),
+    "word": ("", "orbit word (walls met over one period)", ""),
+    # bifurcation set
+    "curve_index": ("1", "the curve a point belongs to (index along curve)", ""),
+    "curve_kind": ("", "kind of the point the curve follows (B, fold, A, grazing)", ""),
+    "curve_word": ("", "word of the orbit the curve belongs to", ""),
+    "curve_status": ("", "ok, or failed (see curve_reason)", ""),
+    "curve_reason": ("", "why the point could not be followed (empty when it was)", ""),
+    "curve_stop": ("", "why the curve ends, each way", ""),
+    "event_kind": ("", "what the curve meets: another test function's zero, or a cusp", ""),
+    "event_curve": ("1", "the curve of the event (index along curve)", ""),
+    "curve_a": ("1", "first curve of the crossing (index along curve)", ""),
+    "curve_b": ("1", "second curve of the crossing (index along curve)", ""),
+    "name_a": ("", "first curve of the crossing (word and kind)", ""),
+    "name_b": ("", "second curve of the crossing (word and kind)", ""),
+    "label_a": ("", "attractor on the lower side of the boundary", ""),
+    "label_b": ("", "attractor on the upper side of the boundary", ""),
+    "on_curve": ("1", "a bifurcation curve passes within the tolerance of the boundary", ""),
+    "cause": ("", "on a curve; else aperiodic (one side has no period) or jump (two periodic motions)", ""),
+    "distance": ("1", "distance to the nearest curve, in grid cells", ""),
+    # benchmarks
+    "solver": ("", "method and its setting", ""),
+    "family": ("", "method family", ""),
+    "setting": ("1", "tolerance (solve_ivp, heyoka, Siconos event-driven) or step h (RK4, Moreau-Jean)", ""),
+    "scene": ("", "benchmark scene", ""),
+    "case": ("", "hard case of the failure map", ""),
+    "outcome": ("", "outcome of the method on the case", ""),
+    "detail": ("", "what the method did on the case", ""),
+    "reached": ("1", "the method reaches the matched accuracy", ""),
+    "stage": ("", "stage timed", ""),
+    "step": ("1", "continuation arclength step", ""),
+    "points": ("1", "sweep points per direction", ""),
+    "point_kind": ("", "kind of located point", ""),
+    "grazing": ("", "grazing point (G1, G2)", ""),
 }
+
+#: index dimensions: name -> what one index is
+INDEX = {
+    "point": "point (of the branch or curve, by arclength; of the sweep, by d)", "impact": "impact of one period",
+    "event": "event", "critical": "critical or grazing point", "curve": "curve of the set",
+    "crossing": "crossing of two curves", "boundary": "simulated boundary of the map", "transition": "located transition",
+    "interval": "bistable interval", "eig": "eigenvalue of DP", "sim": "simulated point", "run": "run",
+}
+#: prefixes whose variable is another variable at a located place: prefix -> where
+AT = {"critical_": "at the critical point", "event_": "where the curve meets another set",
+      "crossing_": "where the two curves cross"}
 
 
 def annotate(ds: xr.Dataset) -> xr.Dataset:
-    """Attach units, long_name and description to every known variable and coordinate."""
+    """Attach units (where numeric), long_name and description to every known variable and coordinate
+    (CF style: strings and labels get a long_name only), to the index dimensions, and to a variable
+    named ``<prefix><known name>`` (:data:`AT`) from the known one; what a builder set stays."""
     for name in list(ds.variables):
-        if name in VARIABLES:
-            units, long_name, description = VARIABLES[name]
-            ds[name].attrs.update(units=units, long_name=long_name)
-            if description:
-                ds[name].attrs["description"] = description
+        attrs = ds[name].attrs
+        entry = VARIABLES.get(name)
+        if entry is None and name in INDEX:
+            entry = ("1", f"index of the {INDEX[name]}", "")
+        if entry is None:
+            for prefix, where in AT.items():
+                base = VARIABLES.get(name[len(prefix):]) if name.startswith(prefix) else None
+                if base is not None:
+                    entry = (base[0], f"{base[1]} {where}", "")
+                    break
+        if entry is None:
+            continue
+        units, long_name, description = entry
+        if units and ds[name].dtype.kind in "fiub":
+            attrs.setdefault("units", units)
+        attrs.setdefault("long_name", long_name)
+        if description:
+            attrs.setdefault("description", description)
     return ds
 
 
@@ -81,7 +179,8 @@ def _jsonable(x):
 
 
 def write_netcdf(ds: xr.Dataset, path, *, fmt: str = "NETCDF4") -> None:
-    """Write atomically (temporary file then rename) with the netCDF4 engine: never a partial file.
+    """Write atomically (temporary file then rename) with the netCDF4 engine: never a partial file;
+    annotated first (:func:`annotate`).
     ``fmt="NETCDF3_64BIT"`` suits many small float variables (a figure's data: a third of the size)."""
     import os
     import tempfile
@@ -89,6 +188,7 @@ def write_netcdf(ds: xr.Dataset, path, *, fmt: str = "NETCDF4") -> None:
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
+    annotate(ds)  # every dataset written carries units and long names (CF style)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".part")
     os.close(fd)
     try:

@@ -45,8 +45,10 @@ def figure_data(fig, attrs: dict | None = None) -> xr.Dataset:
         def put(name, values, axis_label, label, title=title, **extra):
             arr = _float_array(values)
             dims = tuple(f"{name}_dim{k}" for k in range(arr.ndim))
+            long_name = " / ".join(x for x in (title, label, axis_label) if x) or name
             data[name] = xr.Variable(dims, arr, {"axes_title": title, "axis_label": axis_label,
-                                                 "units": _units(axis_label), "label": label or "", **extra})
+                                                 "units": _units(axis_label), "label": label or "",
+                                                 "long_name": long_name, **extra})
 
         for j, line in enumerate(ax.get_lines()):
             label = line.get_label()

@@ -13,17 +13,17 @@ rule bench_simulator:
         nc="results/bench/simulator.nc",
         kernel="results/bench/kernel.nc",
         md="results/tables/bench_simulator.md",
-    params:
-        **config["bench"],
-        n_impacts=RESOLUTION["bench_size"]["n_impacts"],
-        n_impacts_ivp=RESOLUTION["bench_size"]["n_impacts_ivp"],
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/bench/simulator.log",
     benchmark:
         "benchmarks/bench/simulator.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
     threads: workflow.cores  # timed: run alone
+    params:
+        **config["bench"],
+        n_impacts=RESOLUTION["bench_size"]["n_impacts"],
+        n_impacts_ivp=RESOLUTION["bench_size"]["n_impacts_ivp"],
     script:
         "../scripts/bench_simulator.py"
 
@@ -34,16 +34,16 @@ rule work_precision:
         md="results/tables/work_precision.md",
         matched="results/bench/matched_accuracy.nc",
         matched_md="results/tables/matched_accuracy.md",
-    params:
-        **config["work_precision"],
-        n_err=RESOLUTION["bench_size"]["n_err"],
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/bench/work_precision.log",
     benchmark:
         "benchmarks/bench/work_precision.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
     threads: workflow.cores  # timed: run alone
+    params:
+        **config["work_precision"],
+        n_err=RESOLUTION["bench_size"]["n_err"],
     script:
         "../scripts/work_precision.py"
 
@@ -52,16 +52,16 @@ rule failure_map:
     output:
         nc="results/bench/failure_map.nc",
         md="results/tables/failure_map.md",
-    params:
-        **config["failure_map"],
-        max_seconds=RESOLUTION["bench_size"]["max_seconds"],
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/bench/failure_map.log",
     benchmark:
         "benchmarks/bench/failure_map.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
     threads: 1  # outcomes, not timings: runs beside other jobs (max_seconds only bounds a stalled method)
+    params:
+        **config["failure_map"],
+        max_seconds=RESOLUTION["bench_size"]["max_seconds"],
     script:
         "../scripts/failure_map.py"
 
@@ -73,12 +73,12 @@ rule analytics_accuracy:
         branch31=branch_path("orbit", SWEEPS["figBiS"]["beta"], "BBBT"),
     output:
         nc="results/bench/analytics_accuracy.nc",
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/bench/analytics_accuracy.log",
     benchmark:
         "benchmarks/bench/analytics_accuracy.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
     threads: workflow.cores  # timed: run alone
     script:
         "../scripts/analytics_accuracy.py"
@@ -86,20 +86,29 @@ rule analytics_accuracy:
 
 rule workflow_cost:
     input:
-        # everything else first, so that its benchmark files exist
+        # everything else of the default target first, so that its benchmark files exist
         "results/checks/paper_values.csv",
         "results/figures/work_precision.png",
         "results/figures/failure_map.png",
         "results/figures/analytics_accuracy.png",
+        "results/figures/basins.png",
+        "results/figures/regime_map.png",
+        "results/figures/figBiS.png",
+        "results/tables/design.md",
+        "results/tables/transitions.md",
+        expand(
+            "results/figures/{fig}.png",
+            fig=list(config["energy"]["figures"]) + list(SCENES) + list(BRANCH_SCENES),
+        ),
     output:
         csv="results/tables/workflow_cost.csv",
         md="results/tables/workflow_cost.md",
-    params:
-        bench_dir="benchmarks",
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/tables/workflow_cost.log",
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        bench_dir="benchmarks",
     script:
         "../scripts/workflow_cost.py"
 
@@ -110,15 +119,19 @@ rule bench_figure:
         "results/bench/{bench}.nc",
     output:
         **figure_formats("results/figures/{bench}"),
-        png=report("results/figures/{bench}.png", caption="../report/bench.rst", category="Speed and accuracy"),
+        png=report(
+            "results/figures/{bench}.png",
+            caption="../report/bench.rst",
+            category="Speed and accuracy",
+        ),
         data="results/figures/data/{bench}.nc",
-    wildcard_constraints:
-        bench="work_precision|failure_map|analytics_accuracy",
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/figures/{bench}.log",
     benchmark:
         "benchmarks/bench_figure/{bench}.tsv"
+    wildcard_constraints:
+        bench="work_precision|failure_map|analytics_accuracy",
+    conda:
+        "../envs/vibroimpact.yaml"
     script:
         "../scripts/bench_figure.py"

@@ -3,7 +3,11 @@
 # brute-force maps of the same planes.
 
 if not set(config["bifurcation"]["words"]) <= set(WORDS):
-    _fail("bifurcation.words", config["bifurcation"]["words"], f"words of branches.words ({', '.join(WORDS)})")
+    _fail(
+        "bifurcation.words",
+        config["bifurcation"]["words"],
+        f"words of branches.words ({', '.join(WORDS)})",
+    )
 
 
 rule bifurcation:
@@ -18,14 +22,14 @@ rule bistable_band:
     output:
         nc="results/bifurcation/bistable_band.nc",
         md="results/tables/bistable_band.md",
-    params:
-        betas=config["bifurcation"]["bistable_betas"],
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/bifurcation/bistable_band.log",
     benchmark:
         "benchmarks/bistable_band/bistable_band.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        betas=config["bifurcation"]["bistable_betas"],
     script:
         "../scripts/bistable_band.py"
 
@@ -33,19 +37,22 @@ rule bistable_band:
 rule bifurcation_set:
     input:
         # the analytic branches the curves start from: their located critical points
-        lambda wc: [branch_path("orbit", config["bifurcation"]["beta"], w) for w in config["bifurcation"]["words"]],
+        lambda wc: [
+            branch_path("orbit", config["bifurcation"]["beta"], w)
+            for w in config["bifurcation"]["words"]
+        ],
     output:
         "results/bifurcation/{map}.nc",
-    params:
-        map=lambda wc: ALL_MAPS[wc.map],
-        physics=config["physics"],
-        bifurcation=config["bifurcation"],
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/bifurcation/{map}.log",
     benchmark:
         "benchmarks/bifurcation_set/{map}.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        map=lambda wc: ALL_MAPS[wc.map],
+        physics=config["physics"],
+        bifurcation=config["bifurcation"],
     script:
         "../scripts/bifurcation_set.py"
 
@@ -56,16 +63,19 @@ rule fig_bifurcation_set:
         curves="results/bifurcation/{map}.nc",
     output:
         **figure_formats("results/figures/bifurcation_set_{map}"),
-        png=report("results/figures/bifurcation_set_{map}.png", caption="../report/bifurcation_set.rst",
-                   category="Beyond the paper"),
+        png=report(
+            "results/figures/bifurcation_set_{map}.png",
+            caption="../report/bifurcation_set.rst",
+            category="Beyond the paper",
+        ),
         data="results/figures/data/bifurcation_set_{map}.nc",
         # the map's simulated boundaries, each on a curve or not and why (vibroimpact.bifurcation.map_boundaries)
         boundaries="results/bifurcation/{map}-boundaries.nc",
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/figures/bifurcation_set_{map}.log",
     benchmark:
         "benchmarks/fig_bifurcation_set/{map}.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
     script:
         "../scripts/fig_bifurcation_set.py"

@@ -7,17 +7,23 @@ rule fig2:
         sims=scene_branch_files("fig2", kind="sim"),
     output:
         **figure_formats("results/figures/fig2"),
-        png=report("results/figures/fig2.png", caption="../report/fig2.rst", category="Paper figures"),
+        png=report(
+            "results/figures/fig2.png",
+            caption="../report/fig2.rst",
+            category="Paper figures",
+        ),
         data="results/figures/data/fig2.nc",
-    params:
-        scene=BRANCH_SCENES["fig2"],
-        k_s=config["physics"]["M"] * config["physics"]["omega"] ** 2 / (config["physics"]["F"] * math.pi**2),
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/figures/fig2.log",
     benchmark:
         "benchmarks/fig2/fig2.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        scene=BRANCH_SCENES["fig2"],
+        k_s=config["physics"]["M"]
+        * config["physics"]["omega"] ** 2
+        / (config["physics"]["F"] * math.pi**2),
     script:
         "../scripts/branch_figure.py"
 
@@ -28,16 +34,22 @@ rule fig3:
         sims=scene_branch_files("fig3", kind="sim"),
     output:
         **figure_formats("results/figures/fig3"),
-        png=report("results/figures/fig3.png", caption="../report/fig3.rst", category="Paper figures"),
+        png=report(
+            "results/figures/fig3.png",
+            caption="../report/fig3.rst",
+            category="Paper figures",
+        ),
         data="results/figures/data/fig3.nc",
-    params:
-        scene=BRANCH_SCENES["fig3"],
-        k_s=config["physics"]["M"] * config["physics"]["omega"] ** 2 / (config["physics"]["F"] * math.pi**2),
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/figures/fig3.log",
     benchmark:
         "benchmarks/fig3/fig3.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        scene=BRANCH_SCENES["fig3"],
+        k_s=config["physics"]["M"]
+        * config["physics"]["omega"] ** 2
+        / (config["physics"]["F"] * math.pi**2),
     script:
         "../scripts/branch_figure.py"

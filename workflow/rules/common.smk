@@ -15,7 +15,11 @@ RESOLUTION = config["resolution"][QUALITY]
 for _scene, _spec in config["scenes"].items():
     for _name in _spec["captions"]:
         if _name not in CAPTIONS:
-            _fail(f"scenes.{_scene}.captions", _name, f"a caption defined under 'captions': {sorted(CAPTIONS)}")
+            _fail(
+                f"scenes.{_scene}.captions",
+                _name,
+                f"a caption defined under 'captions': {sorted(CAPTIONS)}",
+            )
 
 
 wildcard_constraints:
@@ -51,9 +55,11 @@ def caption_params(name):
         tol=config["attractor"]["tol"],
         max_events=config["attractor"]["max_events"],
         samples_per_unit=RESOLUTION["samples_per_unit"],
-        t_show=max(s["t_show"] for s in config["scenes"].values() if name in s["captions"])
-        if any(name in s["captions"] for s in config["scenes"].values())
-        else 4.0,
+        t_show=(
+            max(s["t_show"] for s in config["scenes"].values() if name in s["captions"])
+            if any(name in s["captions"] for s in config["scenes"].values())
+            else 4.0
+        ),
     )
 
 
@@ -72,13 +78,17 @@ def beta_value(key):
     betas = [b for s in BRANCH_SCENES.values() for b in s["betas"]]
     betas += [s["grazing"]["beta"] for s in BRANCH_SCENES.values() if "grazing" in s]
     betas += [s["beta"] for s in config["sweeps"]["scenes"].values()]
-    betas += [s["beta"] for s in config["basins"].values()] + [c["beta"] for c in CAPTIONS.values()]
+    betas += [s["beta"] for s in config["basins"].values()] + [
+        c["beta"] for c in CAPTIONS.values()
+    ]
     betas += [st["beta"] for st in config.get("studies", [])]
     betas.append(math.pi / 3)  # Fig 0's 1:1 branch
     for b in betas:
         if fmt(b) == key:
             return b
-    raise ValueError(f"beta {key} is not among the configured betas {sorted({fmt(b) for b in betas})}")
+    raise ValueError(
+        f"beta {key} is not among the configured betas {sorted({fmt(b) for b in betas})}"
+    )
 
 
 def branch_path(kind, beta, word, vary="s"):
@@ -96,10 +106,20 @@ def scene_branch_files(scene, kind="orbit"):
 
 for _scene, _spec in BRANCH_SCENES.items():
     if len(_spec["betas"]) != len(_spec["s_ranges"]):
-        _fail(f"branch_scenes.{_scene}.s_ranges", _spec["s_ranges"], "one [s_min, s_max] per beta")
-    for _w in [_spec["word"]] + ([_spec["grazing"]["word"]] if "grazing" in _spec else []):
+        _fail(
+            f"branch_scenes.{_scene}.s_ranges",
+            _spec["s_ranges"],
+            "one [s_min, s_max] per beta",
+        )
+    for _w in [_spec["word"]] + (
+        [_spec["grazing"]["word"]] if "grazing" in _spec else []
+    ):
         if _w not in WORDS:
-            _fail(f"branch_scenes.{_scene}.word", _w, f"a word defined under branches.words: {sorted(WORDS)}")
+            _fail(
+                f"branch_scenes.{_scene}.word",
+                _w,
+                f"a word defined under branches.words: {sorted(WORDS)}",
+            )
 
 
 _lo, _hi = config["branches"]["d_range"]
@@ -107,7 +127,11 @@ if not _lo < _hi:
     _fail("branches.d_range", [_lo, _hi], "[d_min, d_max] with d_min < d_max")
 for _w, _spec in WORDS.items():
     if not _lo < _spec["start_d"] < _hi:
-        _fail(f"branches.words.{_w}.start_d", _spec["start_d"], f"inside branches.d_range = {[_lo, _hi]}")
+        _fail(
+            f"branches.words.{_w}.start_d",
+            _spec["start_d"],
+            f"inside branches.d_range = {[_lo, _hi]}",
+        )
 
 
 # ---- sweeps ------------------------------------------------------------------------------------
@@ -116,34 +140,69 @@ SWEEPS = config["sweeps"]["scenes"]
 for _name, _sc in SWEEPS.items():
     _fixed = "s" if _sc["vary"] == "F" else "F"
     if _fixed not in _sc:
-        _fail(f"sweeps.scenes.{_name}.{_fixed}", None,
-              f"a value: a sweep of {_sc['vary']} needs the fixed {'length s (m)' if _fixed == 's' else 'force F (N)'}")
+        _fail(
+            f"sweeps.scenes.{_name}.{_fixed}",
+            None,
+            f"a value: a sweep of {_sc['vary']} needs the fixed {'length s (m)' if _fixed == 's' else 'force F (N)'}",
+        )
     if _sc["vary"] in _sc:
-        _fail(f"sweeps.scenes.{_name}.{_sc['vary']}", _sc[_sc["vary"]], f"nothing: {_sc['vary']} is the swept parameter (see range)")
+        _fail(
+            f"sweeps.scenes.{_name}.{_sc['vary']}",
+            _sc[_sc["vary"]],
+            f"nothing: {_sc['vary']} is the swept parameter (see range)",
+        )
     if not _sc["range"][0] < _sc["range"][1]:
-        _fail(f"sweeps.scenes.{_name}.range", _sc["range"], "[low, high] with low < high")
+        _fail(
+            f"sweeps.scenes.{_name}.range", _sc["range"], "[low, high] with low < high"
+        )
 # the regime maps (config maps) and the bifurcation set's own non-dimensional planes (bifurcation.maps)
 ALL_MAPS = dict(config["maps"]) | dict(config["bifurcation"].get("maps", {}))
 if set(config["maps"]) & set(config["bifurcation"].get("maps", {})):
-    _fail("bifurcation.maps", sorted(set(config["maps"]) & set(config["bifurcation"]["maps"])),
-          "names not already used by maps")
+    _fail(
+        "bifurcation.maps",
+        sorted(set(config["maps"]) & set(config["bifurcation"]["maps"])),
+        "names not already used by maps",
+    )
 for _name, _m in ALL_MAPS.items():
     _key = f"maps.{_name}" if _name in config["maps"] else f"bifurcation.maps.{_name}"
     _phys = _name in config["maps"]
     _axes = ("s", "F", "beta") if _phys else ("d", "gbar", "r")
     if _m["x"] == _m["y"]:
-        _fail(f"{_key}.y", _m["y"], f"an axis different from x = {_m['x']!r} (one of {', '.join(_axes)})")
+        _fail(
+            f"{_key}.y",
+            _m["y"],
+            f"an axis different from x = {_m['x']!r} (one of {', '.join(_axes)})",
+        )
     for _axis in ("x", "y"):
         if _m[_axis] not in _axes:
-            _fail(f"{_key}.{_axis}", _m[_axis], f"one of {', '.join(_axes)}"
-                  + ("" if _phys else " (the regime maps take the physical axes; these planes the non-dimensional ones)"))
+            _fail(
+                f"{_key}.{_axis}",
+                _m[_axis],
+                f"one of {', '.join(_axes)}"
+                + (
+                    ""
+                    if _phys
+                    else " (the regime maps take the physical axes; these planes the non-dimensional ones)"
+                ),
+            )
         if _m[_axis] in _m:
-            _fail(f"{_key}.{_m[_axis]}", _m[_m[_axis]], f"nothing: {_m[_axis]} is the map's {_axis} axis")
+            _fail(
+                f"{_key}.{_m[_axis]}",
+                _m[_m[_axis]],
+                f"nothing: {_m[_axis]} is the map's {_axis} axis",
+            )
         if not _m[f"{_axis}_range"][0] < _m[f"{_axis}_range"][1]:
-            _fail(f"{_key}.{_axis}_range", _m[f"{_axis}_range"], "[low, high] with low < high")
+            _fail(
+                f"{_key}.{_axis}_range",
+                _m[f"{_axis}_range"],
+                "[low, high] with low < high",
+            )
     if not _phys and set(_m) & {"s", "F", "beta"}:
-        _fail(f"{_key}.{sorted(set(_m) & {'s', 'F', 'beta'})[0]}", _m[sorted(set(_m) & {"s", "F", "beta"})[0]],
-              "nothing: a non-dimensional plane takes its fixed parameter from the physics at bifurcation.beta")
+        _fail(
+            f"{_key}.{sorted(set(_m) & {'s', 'F', 'beta'})[0]}",
+            _m[sorted(set(_m) & {"s", "F", "beta"})[0]],
+            "nothing: a non-dimensional plane takes its fixed parameter from the physics at bifurcation.beta",
+        )
 
 
 def sweep_path(name, suffix=""):
@@ -160,7 +219,11 @@ def map_path(name):
 
 
 if "figBiS" in SWEEPS and "figBiS" not in config["basins"]:
-    _fail("basins.figBiS", None, "an entry with the bistable point d where Fig BiS draws both motions")
+    _fail(
+        "basins.figBiS",
+        None,
+        "an entry with the bistable point d where Fig BiS draws both motions",
+    )
 if "figBiS" in SWEEPS and not {"BBT", "BBBT"} <= set(WORDS):
     _fail("branches.words", sorted(WORDS), "BBT and BBBT, which Fig BiS draws")
 
@@ -176,18 +239,28 @@ def energy_panel_inputs(sweep_name):
     """A sweep's energy and the energies of the 1:1 and 2:1 branches at its incline and parameterisation."""
     sc = SWEEPS[sweep_name]
     return [energy_path("sweep", sc["beta"], sweep_name)] + [
-        energy_path("branch", sc["beta"], w, sc["vary"]) for w in ("BT", "BBT") if w in WORDS
+        energy_path("branch", sc["beta"], w, sc["vary"])
+        for w in ("BT", "BBT")
+        if w in WORDS
     ]
 
 
 for _fig, _spec in config["energy"]["figures"].items():
     for _p in _spec["panels"]:
         if _p not in SWEEPS:
-            _fail(f"energy.figures.{_fig}.panels", _p, f"a sweep under sweeps.scenes: {sorted(SWEEPS)}")
+            _fail(
+                f"energy.figures.{_fig}.panels",
+                _p,
+                f"a sweep under sweeps.scenes: {sorted(SWEEPS)}",
+            )
 for _v in ("s", "F"):
     for _p in config["energy"]["design"][_v]:
         if _p not in SWEEPS or SWEEPS[_p]["vary"] != _v:
-            _fail(f"energy.design.{_v}", _p, f"a sweep under sweeps.scenes with vary: {_v}")
+            _fail(
+                f"energy.design.{_v}",
+                _p,
+                f"a sweep under sweeps.scenes with vary: {_v}",
+            )
 
 
 # ---- studies: new beta or r beside the defaults ------------------------------------------------
@@ -218,14 +291,24 @@ def study_for(beta_key, r_key):
 
 
 def sweep_scene(wc):
-    if wc.sweep == "study_s":  # a study's length sweep: its beta and r come from the path
+    if (
+        wc.sweep == "study_s"
+    ):  # a study's length sweep: its beta and r come from the path
         st = study_for(wc.beta, wc.r)
         start = config["study_defaults"]
-        return dict(beta=st["beta"], vary="s", range=st.get("s_range", start["s_range"]), F=config["physics"]["F"],
-                    phi=st.get("phi", start["phi"]), v0=st.get("v0", start["v0"]))
+        return dict(
+            beta=st["beta"],
+            vary="s",
+            range=st.get("s_range", start["s_range"]),
+            F=config["physics"]["F"],
+            phi=st.get("phi", start["phi"]),
+            v0=st.get("v0", start["v0"]),
+        )
     sc = SWEEPS[wc.sweep]
     if wc.beta != fmt(sc["beta"]) or wc.r != fmt(config["physics"]["r"]):
-        raise ValueError(f"sweep {wc.sweep}: the path's beta-{wc.beta}_r-{wc.r} does not match the config")
+        raise ValueError(
+            f"sweep {wc.sweep}: the path's beta-{wc.beta}_r-{wc.r} does not match the config"
+        )
     return sc
 
 
@@ -239,14 +322,23 @@ def _check_items():
 
 for _item in config["checks"]["known"]:
     if _item not in _check_items():
-        _fail("checks.known", _item, f"an item of the paper-value check: {_check_items()}")
+        _fail(
+            "checks.known", _item, f"an item of the paper-value check: {_check_items()}"
+        )
 
 
 #: every figure whose plotted data the `check` target compares with its committed reference
-FIGURES = (list(SCENES) + list(BRANCH_SCENES) + ["figBiS", "basins", "regime_map"]
-           + list(config["energy"]["figures"]) + ["design", "work_precision", "failure_map", "analytics_accuracy"]
-           + [f"bifurcation_set_{m}" for m in ALL_MAPS])
-FIGURE_REFERENCES = [f"{config['figure_checks']['reference_dir']}/{fig}.nc" for fig in FIGURES]
+FIGURES = (
+    list(SCENES)
+    + list(BRANCH_SCENES)
+    + ["figBiS", "basins", "regime_map"]
+    + list(config["energy"]["figures"])
+    + ["design", "work_precision", "failure_map", "analytics_accuracy"]
+    + [f"bifurcation_set_{m}" for m in ALL_MAPS]
+)
+FIGURE_REFERENCES = [
+    f"{config['figure_checks']['reference_dir']}/{fig}.nc" for fig in FIGURES
+]
 
 
 # ---- the report's captions: each figure's check result, from the last `check` run -------------------
@@ -256,7 +348,9 @@ def _check_summaries():
     from vibroimpact.checks import check_summaries
 
     read = lambda f: pd.read_csv(f) if os.path.exists(f) else None
-    return check_summaries(read("results/checks/paper_values.csv"), read("results/checks/figures.csv"))
+    return check_summaries(
+        read("results/checks/paper_values.csv"), read("results/checks/figures.csv")
+    )
 
 
 # read by workflow/report/*.rst when `snakemake --report` renders the captions; not a setting

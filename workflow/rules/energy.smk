@@ -4,47 +4,73 @@
 
 rule energy_figure:
     input:
-        energies=lambda wc: [f for p in config["energy"]["figures"][wc.efig]["panels"] for f in energy_panel_inputs(p)],
-        sweeps=lambda wc: [sweep_path(p) for p in config["energy"]["figures"][wc.efig]["panels"]],
+        energies=lambda wc: [
+            f
+            for p in config["energy"]["figures"][wc.efig]["panels"]
+            for f in energy_panel_inputs(p)
+        ],
+        sweeps=lambda wc: [
+            sweep_path(p) for p in config["energy"]["figures"][wc.efig]["panels"]
+        ],
         # the continued branches, for the grazing points d_graz and G1 each panel marks
-        orbits=lambda wc: [branch_path("orbit", SWEEPS[p]["beta"], w, SWEEPS[p]["vary"])
-                           for p in config["energy"]["figures"][wc.efig]["panels"] for w in ("BT", "BBT") if w in WORDS],
+        orbits=lambda wc: [
+            branch_path("orbit", SWEEPS[p]["beta"], w, SWEEPS[p]["vary"])
+            for p in config["energy"]["figures"][wc.efig]["panels"]
+            for w in ("BT", "BBT")
+            if w in WORDS
+        ],
     output:
         **figure_formats("results/figures/{efig}"),
-        png=report("results/figures/{efig}.png", caption="../report/energy.rst", category="Paper figures"),
+        png=report(
+            "results/figures/{efig}.png",
+            caption="../report/energy.rst",
+            category="Paper figures",
+        ),
         data="results/figures/data/{efig}.nc",
-    params:
-        panels=lambda wc: config["energy"]["figures"][wc.efig]["panels"],
-        velocities=lambda wc: config["energy"]["figures"][wc.efig].get("velocities", False),
-        words=[w for w in ("BT", "BBT") if w in WORDS],
-    wildcard_constraints:
-        efig="|".join(config["energy"]["figures"]),
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/figures/{efig}.log",
     benchmark:
         "benchmarks/energy_figure/{efig}.tsv"
+    wildcard_constraints:
+        efig="|".join(config["energy"]["figures"]),
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        panels=lambda wc: config["energy"]["figures"][wc.efig]["panels"],
+        velocities=lambda wc: config["energy"]["figures"][wc.efig].get(
+            "velocities", False
+        ),
+        words=[w for w in ("BT", "BBT") if w in WORDS],
     script:
         "../scripts/energy_figure.py"
 
 
 rule design:
     input:
-        s=[energy_path("sweep", SWEEPS[p]["beta"], p) for p in config["energy"]["design"]["s"]],
-        F=[energy_path("sweep", SWEEPS[p]["beta"], p) for p in config["energy"]["design"]["F"]],
+        s=[
+            energy_path("sweep", SWEEPS[p]["beta"], p)
+            for p in config["energy"]["design"]["s"]
+        ],
+        F=[
+            energy_path("sweep", SWEEPS[p]["beta"], p)
+            for p in config["energy"]["design"]["F"]
+        ],
     output:
+        **figure_formats("results/figures/design"),
         csv="results/tables/design.csv",
         md="results/tables/design.md",
-        **figure_formats("results/figures/design"),
-        png=report("results/figures/design.png", caption="../report/design.rst", category="Beyond the paper"),
+        png=report(
+            "results/figures/design.png",
+            caption="../report/design.rst",
+            category="Beyond the paper",
+        ),
         data="results/figures/data/design.nc",
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/tables/design.log",
     benchmark:
         "benchmarks/design/design.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
     script:
         "../scripts/design.py"
 
@@ -53,24 +79,31 @@ rule study_figure:
     input:
         energies=lambda wc: [
             f"results/energy/beta-{wc.beta}_r-{wc.r}/study_s.nc",
-            *[f"results/energy/beta-{wc.beta}_r-{wc.r}/orbit-{w}_vary-s.nc" for w in ("BT", "BBT") if w in WORDS],
+            *[
+                f"results/energy/beta-{wc.beta}_r-{wc.r}/orbit-{w}_vary-s.nc"
+                for w in ("BT", "BBT")
+                if w in WORDS
+            ],
         ],
         sweeps="results/sweeps/beta-{beta}_r-{r}/study_s.nc",
-        orbits=lambda wc: [f"results/branches/beta-{wc.beta}_r-{wc.r}/orbit-{w}_vary-s.nc" for w in ("BT", "BBT")
-                           if w in WORDS],
+        orbits=lambda wc: [
+            f"results/branches/beta-{wc.beta}_r-{wc.r}/orbit-{w}_vary-s.nc"
+            for w in ("BT", "BBT")
+            if w in WORDS
+        ],
     output:
         **figure_formats("results/studies/beta-{beta}_r-{r}/study"),
         png="results/studies/beta-{beta}_r-{r}/study.png",
         data="results/studies/beta-{beta}_r-{r}/study-figure-data.nc",
-    params:
-        panels=["study_s"],
-        velocities=True,
-        words=[w for w in ("BT", "BBT") if w in WORDS],
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/studies/beta-{beta}_r-{r}.log",
     benchmark:
         "benchmarks/study_figure/beta-{beta}_r-{r}.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        panels=["study_s"],
+        velocities=True,
+        words=[w for w in ("BT", "BBT") if w in WORDS],
     script:
         "../scripts/energy_figure.py"

@@ -5,14 +5,14 @@ rule caption_orbits:
     # one job for all captions: each takes a fraction of a second, less than starting a job
     output:
         expand("results/orbits/caption-{name}.nc", name=CAPTIONS),
-    params:
-        p=[caption_params(n) for n in CAPTIONS],
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/orbits/caption-orbits.log",
     benchmark:
         "benchmarks/orbits/caption-orbits.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        p=[caption_params(n) for n in CAPTIONS],
     script:
         "../scripts/caption_orbit.py"
 
@@ -23,14 +23,17 @@ rule caption_summary:
     output:
         nc="results/orbits/captions.nc",
         md="results/tables/captions.md",
-    params:
-        names=list(CAPTIONS),
-        stated={n: c["motion"] + (f" period-{c['period']}" if "period" in c else "") for n, c in CAPTIONS.items()},
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/orbits/captions.log",
     benchmark:
         "benchmarks/caption_summary/captions.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        names=list(CAPTIONS),
+        stated={
+            n: c["motion"] + (f" period-{c['period']}" if "period" in c else "")
+            for n, c in CAPTIONS.items()
+        },
     script:
         "../scripts/caption_summary.py"

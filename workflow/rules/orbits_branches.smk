@@ -7,6 +7,12 @@ rule branch:
         # its output voltages and averages (vibroimpact.energy), in the same job: a second job would
         # cost more in start-up than the computation
         energy="results/energy/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
+    log:
+        "logs/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.log",
+    benchmark:
+        "benchmarks/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
     params:
         beta=lambda wc: beta_value(wc.beta),
         physics=config["physics"],
@@ -18,12 +24,6 @@ rule branch:
         force=config["branches"]["force"],
         step=RESOLUTION["branch_step"],
         membrane=config["membrane"],
-    conda:
-        "../envs/vibroimpact.yaml"
-    log:
-        "logs/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.log",
-    benchmark:
-        "benchmarks/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.tsv"
     script:
         "../scripts/branch.py"
 
@@ -33,15 +33,15 @@ rule branch_simulated:
         "results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
     output:
         "results/branches/beta-{beta}_r-{r}/sim-{word}_vary-{vary}.nc",
-    params:
-        n=config["branches"]["simulated_points"],
-        tol=config["attractor"]["tol"],
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/branches/beta-{beta}_r-{r}/sim-{word}_vary-{vary}.log",
     benchmark:
         "benchmarks/branches/beta-{beta}_r-{r}/sim-{word}_vary-{vary}.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        n=config["branches"]["simulated_points"],
+        tol=config["attractor"]["tol"],
     script:
         "../scripts/branch_simulated.py"
 
@@ -52,13 +52,13 @@ rule table1:
     output:
         csv="results/tables/table1.csv",
         md="results/tables/table1.md",
-    params:
-        betas=BRANCH_SCENES["fig3"]["betas"],
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/tables/table1.log",
     benchmark:
         "benchmarks/table1/table1.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        betas=BRANCH_SCENES["fig3"]["betas"],
     script:
         "../scripts/table1.py"

@@ -8,6 +8,12 @@ rule sweep:
         # (vibroimpact.energy), in the same job: separate jobs would cost more in start-up
         transitions="results/sweeps/beta-{beta}_r-{r}/{sweep}-transitions.nc",
         energy="results/energy/beta-{beta}_r-{r}/{sweep}.nc",
+    log:
+        "logs/sweeps/beta-{beta}_r-{r}/{sweep}.log",
+    benchmark:
+        "benchmarks/sweeps/beta-{beta}_r-{r}/{sweep}.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
     params:
         scene=sweep_scene,
         physics=config["physics"],
@@ -17,52 +23,50 @@ rule sweep:
         membrane=config["membrane"],
         window_time=config["energy"]["window_time"],
         locate=config["sweeps"]["locate"],
-    conda:
-        "../envs/vibroimpact.yaml"
-    log:
-        "logs/sweeps/beta-{beta}_r-{r}/{sweep}.log",
-    benchmark:
-        "benchmarks/sweeps/beta-{beta}_r-{r}/{sweep}.tsv"
     script:
         "../scripts/sweep.py"
 
 
 rule basins:
-    threads: 2
     output:
         "results/basins/beta-{beta}_r-{r}/{basin}.nc",
+    log:
+        "logs/basins/beta-{beta}_r-{r}/{basin}.log",
+    benchmark:
+        "benchmarks/basins/beta-{beta}_r-{r}/{basin}.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    threads: 2
     params:
         spec=lambda wc: config["basins"][wc.basin],
         physics=config["physics"],
         grid=RESOLUTION["basin_grid"],
         tol=config["sweeps"]["tol"],
-    conda:
-        "../envs/vibroimpact.yaml"
-    log:
-        "logs/basins/beta-{beta}_r-{r}/{basin}.log",
-    benchmark:
-        "benchmarks/basins/beta-{beta}_r-{r}/{basin}.tsv"
     script:
         "../scripts/basins.py"
 
 
 rule regime_map:
-    threads: 2
     output:
         "results/maps/{map}_r-{r}.nc",
-    params:
-        # a non-dimensional plane's fixed parameter at the bifurcation set's incline
-        spec=lambda wc: ALL_MAPS[wc.map] if wc.map in config["maps"] else {"beta": config["bifurcation"]["beta"]} | ALL_MAPS[wc.map],
-        physics=config["physics"],
-        grid=RESOLUTION["map_grid"],
-        max_periods=config["sweeps"]["max_periods"],
-        tol=config["sweeps"]["tol"],
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/maps/{map}_r-{r}.log",
     benchmark:
         "benchmarks/maps/{map}_r-{r}.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    threads: 2
+    params:
+        # a non-dimensional plane's fixed parameter at the bifurcation set's incline
+        spec=lambda wc: (
+            ALL_MAPS[wc.map]
+            if wc.map in config["maps"]
+            else {"beta": config["bifurcation"]["beta"]} | ALL_MAPS[wc.map]
+        ),
+        physics=config["physics"],
+        grid=RESOLUTION["map_grid"],
+        max_periods=config["sweeps"]["max_periods"],
+        tol=config["sweeps"]["tol"],
     script:
         "../scripts/regime_map.py"
 
@@ -74,15 +78,15 @@ rule bistability_portraits:
         transitions=sweep_path("figBiS", "-transitions"),
     output:
         sweep_path("figBiS", "-portraits"),
-    params:
-        samples_per_unit=RESOLUTION["samples_per_unit"],
-        d_mid=config["basins"]["figBiS"]["d"],  # Fig BiS (e), (f): both motions at the configured bistable point
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/sweeps/figBiS-portraits.log",
     benchmark:
         "benchmarks/bistability_portraits/portraits.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        samples_per_unit=RESOLUTION["samples_per_unit"],
+        d_mid=config["basins"]["figBiS"]["d"],  # Fig BiS (e), (f): both motions at the configured bistable point
     script:
         "../scripts/bistability_portraits.py"
 
@@ -96,14 +100,18 @@ rule figBiS:
         branch31=branch_path("orbit", SWEEPS["figBiS"]["beta"], "BBBT"),
     output:
         **figure_formats("results/figures/figBiS"),
-        png=report("results/figures/figBiS.png", caption="../report/figBiS.rst", category="Paper figures"),
+        png=report(
+            "results/figures/figBiS.png",
+            caption="../report/figBiS.rst",
+            category="Paper figures",
+        ),
         data="results/figures/data/figBiS.nc",
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/figures/figBiS.log",
     benchmark:
         "benchmarks/figBiS/figBiS.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
     script:
         "../scripts/fig_bis.py"
 
@@ -113,14 +121,18 @@ rule fig_basins:
         basin_path("figBiS"),
     output:
         **figure_formats("results/figures/basins"),
-        png=report("results/figures/basins.png", caption="../report/basins.rst", category="Beyond the paper"),
+        png=report(
+            "results/figures/basins.png",
+            caption="../report/basins.rst",
+            category="Beyond the paper",
+        ),
         data="results/figures/data/basins.nc",
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/figures/basins.log",
     benchmark:
         "benchmarks/fig_basins/basins.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
     script:
         "../scripts/fig_basins.py"
 
@@ -130,16 +142,20 @@ rule fig_regime_map:
         [map_path(m) for m in config["maps"]],
     output:
         **figure_formats("results/figures/regime_map"),
-        png=report("results/figures/regime_map.png", caption="../report/regime_map.rst", category="Beyond the paper"),
+        png=report(
+            "results/figures/regime_map.png",
+            caption="../report/regime_map.rst",
+            category="Beyond the paper",
+        ),
         data="results/figures/data/regime_map.nc",
-    params:
-        scans=SWEEPS,  # the paper's sweeps, drawn over the maps whose plane they lie in
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/figures/regime_map.log",
     benchmark:
         "benchmarks/fig_regime_map/regime_map.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        scans=SWEEPS,  # the paper's sweeps, drawn over the maps whose plane they lie in
     script:
         "../scripts/fig_regime_map.py"
 
@@ -149,13 +165,13 @@ rule transitions_table:
         [sweep_path(n, "-transitions") for n in SWEEPS],
     output:
         "results/tables/transitions.md",
-    params:
-        names=list(SWEEPS),
-    conda:
-        "../envs/vibroimpact.yaml"
     log:
         "logs/tables/transitions.log",
     benchmark:
         "benchmarks/transitions_table/transitions.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        names=list(SWEEPS),
     script:
         "../scripts/transitions_table.py"

@@ -161,7 +161,6 @@ def test_config_readme_names_every_key_of_the_config():
     """config/README.md describes every top-level key of config/config.yaml and every key one level
     down (a key added to the config without a word there fails)."""
     import yaml
-
     from conftest import ROOT
 
     doc = (ROOT / "config" / "README.md").read_text()

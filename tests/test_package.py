@@ -2,6 +2,7 @@
 command that says where the workflow is and what it needs."""
 
 import os
+import shutil
 import subprocess
 import sys
 import zipfile
@@ -27,7 +28,14 @@ def wheel(tmp_path_factory):
     """``pip wheel .`` (as ``pip install .`` builds it: setuptools from the package index in an isolated
     build environment), then unpacked into a directory of its own."""
     tmp = tmp_path_factory.mktemp("wheel")
-    res = subprocess.run([sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps",
+    src = tmp / "src-tree"  # a copy: setuptools leaves a build/ directory where it builds
+    src.mkdir()
+    for item in ("pyproject.toml", "README.md", "src"):
+        if (ROOT / item).is_dir():
+            shutil.copytree(ROOT / item, src / item, ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
+        else:
+            shutil.copy(ROOT / item, src / item)
+    res = subprocess.run([sys.executable, "-m", "pip", "wheel", str(src), "--no-deps",
                           "-w", str(tmp / "dist"), "-q"], capture_output=True, text=True, timeout=600)
     assert res.returncode == 0, res.stderr[-2000:]
     (whl,) = (tmp / "dist").glob("vibroimpact-*.whl")

@@ -13,6 +13,7 @@ import time
 
 import pytest
 import xarray as xr
+import yaml
 from conftest import _copy_workflow
 
 pytestmark = pytest.mark.slurm
@@ -53,8 +54,6 @@ def _small_config(tmp_path):
     cfg = _copy_workflow(tmp_path)
     cfg["resolution"]["draft"].update(branch_step=4e-3, sweep_points=12)
     cfg["sweeps"]["locate"].update(xtol=1e-5, max_trials=20)
-    import yaml
-
     (tmp_path / "config" / "config.yaml").write_text(yaml.safe_dump(cfg))
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import time
+from functools import partial
 
 import numpy as np
 import xarray as xr
@@ -220,6 +221,16 @@ def _count_worker(args: str) -> None:
 REPEATS = 5
 
 
+def _fastest(run, repeats: int) -> float:
+    """Seconds of the fastest of ``repeats`` calls of ``run()``."""
+    best = math.inf
+    for _ in range(max(int(repeats), 1)):
+        t = time.perf_counter()
+        run()
+        best = min(best, time.perf_counter() - t)
+    return best
+
+
 def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: int = 20_000,
                    repeats: int = REPEATS) -> xr.Dataset:
     """Cost of the exact kernel on the two target scenes: microseconds per impact on one thread
@@ -256,22 +267,14 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: i
             hy_us.append(math.nan)
             hy_steps.append(math.nan)
         simulate(p, phi, v0, n_impacts=100)
-        best = math.inf
-        for _ in range(repeats):
-            t = time.perf_counter()
-            simulate(p, phi, v0, n_impacts=n_impacts)
-            best = min(best, time.perf_counter() - t)
-        us.append(best / n_impacts * 1e6)
+        us.append(_fastest(partial(simulate, p, phi, v0, n_impacts=n_impacts), repeats) / n_impacts * 1e6)
         m = 64 * cores
         phis = np.linspace(0, 2 * np.pi, m, endpoint=False)
         for threads, rates in ((1, rate1), (cores, rateall)):
             numba.set_num_threads(threads)
             simulate_batch([p.d] * m, p.gbar, 0.5, phis, v0, n_impacts=10)
-            best = math.inf
-            for _ in range(repeats):
-                t = time.perf_counter()
-                simulate_batch([p.d] * m, p.gbar, 0.5, phis, v0, n_impacts=n_impacts // m)
-                best = min(best, time.perf_counter() - t)
+            best = _fastest(partial(simulate_batch, [p.d] * m, p.gbar, 0.5, phis, v0, n_impacts=n_impacts // m),
+                             repeats)
             rates.append(m * (n_impacts // m) / best)
         numba.set_num_threads(cores)
     per = lambda key: ("scene", [counts[n][key] for n in names])

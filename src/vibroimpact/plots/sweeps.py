@@ -286,7 +286,7 @@ def fig_bifurcation_set(m, curves, boundaries=None):
     note = "thin: the orbit on the curve is not admissible (crosses a wall)"
     if curves.attrs.get("coincide"):
         note += "; one set, drawn twice: " + ", ".join(
-            part.split(" from ")[0].replace("BBBT", "3:1").replace("BBT", "2:1").replace("BT", "1:1")
+            " ".join(_WORD_NAME.get(w, w) for w in part.split(" from ")[0].split())
             for part in curves.attrs["coincide"].split("; "))
     if failed:
         note += "; not followed (see the dataset's curve_reason): " + ", ".join(failed)

@@ -52,6 +52,7 @@ include: "workflow/rules/energy.smk"
 include: "workflow/rules/checks.smk"
 include: "workflow/rules/bench.smk"
 include: "workflow/rules/bifurcation.smk"
+include: "workflow/rules/design.smk"
 
 
 rule all:

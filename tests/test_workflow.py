@@ -64,6 +64,11 @@ def test_workflow_runs_end_to_end_on_a_tiny_config(tmp_path):
     (("quality",), "best", ["best", "draft", "paper"]),
     (("captions", "fig4_a", "beta"), 3.0, ["3.0", "beta"]),
     (("resolution", "draft", "figure_formats"), ["pdf"], ["figure_formats", "pdf", "png"]),
+    # design maps: fewer than 8 starts, a negative tolerance, an empty box of start states
+    (("resolution", "draft", "design", "starts"), 4, ["resolution.draft.design.starts", "4", ">= 8"]),
+    (("design", "tolerance", "s"), -0.01, ["design.tolerance.s", "-0.01", ">= 0"]),
+    (("design", "starts"), {"distribution": "box", "seed": 1, "phi_range": [0.0, 6.0], "v0_range": [0.5, 0.5]},
+     ["v0_range", "0.5", "lo < hi"]),
 ])
 def test_bad_config_fails_before_any_job(tmp_path, key, value, words):
     cfg = _copy_workflow(tmp_path)

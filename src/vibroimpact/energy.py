@@ -27,7 +27,7 @@ import xarray as xr
 from . import kernels as K
 from .datasets import annotate
 
-__all__ = ["Membrane", "voltage_gain", "speed_si", "averages", "orbit_energy", "branch_energy", "sweep_energy"]
+__all__ = ["Membrane", "voltage_gain", "speed_si", "averages", "window_averages", "orbit_energy", "branch_energy", "sweep_energy"]
 
 
 @dataclass(frozen=True)
@@ -200,6 +200,71 @@ def branch_energy(branch: xr.Dataset, membrane: Membrane, *, M: float, omega: fl
     return annotate(ds)
 
 
+def window_averages(t, v_minus, kind, status, period_events, F, membrane: Membrane, *, M: float, omega: float,
+                    window_time: float = 30.0):
+    """Gains and averages of runs from their saved windows of events (the last events of each run).
+
+    A periodic run (``period_events > 0``) is averaged over one whole period, as the simulation
+    measured it: from an event to the same event one period earlier (exact to rounding).  Any other
+    run is averaged over the impacts of its last ``window_time`` time units.  A run resting on the
+    bottom for good (status ``stuck_forever``) or without impacts in its window has ``U_T = 0`` and
+    ``U_I`` NaN (no impact to average).
+
+    Parameters
+    ----------
+    t, v_minus, kind : numpy.ndarray
+        Events on ``(..., event)``, NaN-padded after the last real event.
+    status, period_events, F : numpy.ndarray
+        Per run (shape ``...``): the run status, events per period (0: none found) and the force (N).
+    membrane, M, omega, window_time
+        As in :func:`sweep_energy`.
+
+    Returns
+    -------
+    speed, gain : numpy.ndarray
+        Per event (m/s and V; NaN where not an impact).
+    U_I, U_T, span, count : numpy.ndarray
+        Per run: the averages, the time span averaged over and the impacts in it.
+    """
+    t, vm, kind = (np.asarray(a) for a in (t, v_minus, kind))
+    shape = t.shape[:-1]
+    speed = speed_si(vm, np.asarray(F, dtype=float)[..., None], M, omega)
+    hit = np.isfinite(t) & ((kind == 0) | (kind == 1))
+    gain_all = np.where(hit, voltage_gain(np.where(hit, speed, 0.0), membrane), np.nan)
+    u_i, u_t, span = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
+    count = np.zeros(shape, np.int64)
+    status, lags = np.asarray(status), np.asarray(period_events)
+    for idx in np.ndindex(shape):
+        ti = t[idx]
+        if status[idx] == K.STUCK_FOREVER:
+            # resting on the bottom for good: no impact in the long run
+            u_t[idx], span[idx] = 0.0, math.inf
+            continue
+        m = int(np.isfinite(ti).sum())
+        lag = int(lags[idx])
+        if lag:
+            # one whole period, as the simulation measured it: from an event to the same event one
+            # period earlier (a period is identified after two cycles, so the window holds lag + 1)
+            sl = slice(m - lag, m)
+            duration = ti[m - 1] - ti[m - 1 - lag]
+        else:
+            # the last window_time time units: the impacts after t_end - window_time, over the time
+            # from the event before the first of them (the window's span is at least window_time,
+            # unless the saved events do not reach that far back)
+            t_end = ti[m - 1]
+            first = max(int(np.searchsorted(ti[:m], t_end - window_time, side="right")), 1)
+            sl = slice(first, m)
+            duration = t_end - ti[first - 1]
+        h = hit[idx][sl]
+        n = int(h.sum())
+        span[idx], count[idx] = duration, n
+        if n:
+            u_i[idx], u_t[idx] = averages(gain_all[idx][sl][h], duration)
+        else:
+            u_t[idx] = 0.0  # stuck or resting over the whole window: no impact, no output
+    return np.where(hit, speed, np.nan), gain_all, u_i, u_t, span, count
+
+
 def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, window_time: float = 30.0) -> xr.Dataset:
     """Gains and averages at every point of a sweep.
 
@@ -227,47 +292,11 @@ def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, 
         impacts in its window has ``U_T = 0`` and ``U_I`` NaN (no impact to average).
     """
     F = sw["F"].values
-    vm = sw["v_minus"].values  # (direction, point, event)
-    t = sw["t"].values
-    kind = sw["kind"].values
-    speed = speed_si(vm, F[None, :, None], M, omega)
-    hit = np.isfinite(t) & ((kind == 0) | (kind == 1))
-    gain_all = np.where(hit, voltage_gain(np.where(hit, speed, 0.0), membrane), np.nan)
-    n_dir, n_pt, _ = vm.shape
-    u_i = np.full((n_dir, n_pt), np.nan)
-    u_t = np.full((n_dir, n_pt), np.nan)
-    span = np.full((n_dir, n_pt), np.nan)
-    count = np.zeros((n_dir, n_pt), np.int64)
-    status, lags = sw["status"].values, sw["period_events"].values
-    for a in range(n_dir):
-        for i in range(n_pt):
-            if status[a, i] == K.STUCK_FOREVER:
-                # resting on the bottom for good: no impact in the long run
-                u_t[a, i], span[a, i] = 0.0, math.inf
-                continue
-            m = int(np.isfinite(t[a, i]).sum())
-            lag = int(lags[a, i])
-            if lag:
-                # one whole period, as the simulation measured it: from an event to the same event one
-                # period earlier (a period is identified after two cycles, so the window holds lag + 1)
-                sl = slice(m - lag, m)
-                duration = t[a, i, m - 1] - t[a, i, m - 1 - lag]
-            else:
-                # the last window_time time units: the impacts after t_end - window_time, over the time
-                # from the event before the first of them (the window's span is at least window_time,
-                # unless the saved events do not reach that far back)
-                t_end = t[a, i, m - 1]
-                first = max(int(np.searchsorted(t[a, i, :m], t_end - window_time, side="right")), 1)
-                sl = slice(first, m)
-                duration = t_end - t[a, i, first - 1]
-            n = int(hit[a, i, sl].sum())
-            span[a, i], count[a, i] = duration, n
-            if n:
-                u_i[a, i], u_t[a, i] = averages(gain_all[a, i, sl][hit[a, i, sl]], duration)
-            else:
-                u_t[a, i] = 0.0  # stuck or resting over the whole window: no impact, no output
+    speed, gain_all, u_i, u_t, span, count = window_averages(
+        sw["t"].values, sw["v_minus"].values, sw["kind"].values, sw["status"].values, sw["period_events"].values,
+        np.broadcast_to(F[None, :], sw["status"].shape), membrane, M=M, omega=omega, window_time=window_time)
     ds = xr.Dataset(
-        {"speed": (("direction", "point", "event"), np.where(hit, speed, np.nan)),
+        {"speed": (("direction", "point", "event"), speed),
          "gain": (("direction", "point", "event"), gain_all),
          "U_I": (("direction", "point"), u_i), "U_T": (("direction", "point"), u_t),
          "window_time": (("direction", "point"), span), "window_impacts": (("direction", "point"), count),

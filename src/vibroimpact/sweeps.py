@@ -22,7 +22,7 @@ from .params import Params
 from .simulate import cycle_class
 
 __all__ = ["parameter_grid", "attractor_batch", "sweep", "locate_transitions", "bistable_intervals",
-           "basins", "regime_map", "APERIODIC"]
+           "basins", "regime_map", "plane_params", "APERIODIC"]
 
 #: Label of a run whose motion did not repeat within the allowed transient: chaotic, quasi-periodic,
 #: of a period longer than ``pmax`` events, or converging too slowly (near a period doubling or fold).
@@ -569,6 +569,45 @@ def basins(params: Params, phis, v0s, *, max_periods: float = 400, tol: float = 
     return annotate(_attractor_codes(out, ("phi", "v0")))
 
 
+def plane_params(x_name: str, xs, y_name: str, ys, **physical):
+    """The model parameters over a grid of two parameters (the plane of a regime or design map).
+
+    ``x_name, y_name``: two different names, both physical (``s``, ``F``, ``beta``, with ``r``) or both
+    non-dimensional (``d``, ``gbar``, with ``r``); ``**physical``: the other physical values (paper
+    defaults otherwise).  Returns ``X, Y, d, gbar, r`` on ``(len(ys), len(xs))`` and the values held
+    fixed (a dict).
+    """
+    allowed = ("s", "F", "beta", "d", "gbar", "r")
+    for name in (x_name, y_name):
+        if name not in allowed:
+            raise ValueError(f"map axis {name!r}; allowed: {allowed}")
+    if x_name == y_name:
+        raise ValueError(f"map axes x_name = y_name = {x_name!r}; allowed: two different names of {allowed}")
+    axes = {x_name, y_name}
+    nondim = sorted(axes & {"d", "gbar"})
+    if nondim and axes & {"s", "F", "beta"}:
+        raise ValueError(f"map axes ({x_name!r}, {y_name!r}): {nondim[0]!r} is non-dimensional; allowed: "
+                         "two of s, F, beta, r or two of d, gbar, r")
+    X, Y = np.meshgrid(np.asarray(xs, float), np.asarray(ys, float), indexing="xy")
+    base = dict(s=0.85, F=5.0, beta=math.pi / 6, M=0.1245, omega=5 * math.pi, g=9.8, r=0.5)
+    base.update(physical)
+    p0 = Params.from_physical(**base)
+    d, gbar, r = np.empty(X.shape), np.empty(X.shape), np.empty(X.shape)
+    for k, (x, y) in enumerate(zip(X.ravel(), Y.ravel(), strict=True)):
+        if nondim:
+            v = dict(d=p0.d, gbar=p0.gbar, r=p0.r)
+            v[x_name], v[y_name] = x, y
+            p = Params(d=v["d"], gbar=v["gbar"], r=v["r"])
+        else:
+            kw = dict(base)
+            kw[x_name], kw[y_name] = x, y
+            p = Params.from_physical(**kw)
+        d.flat[k], gbar.flat[k], r.flat[k] = p.d, p.gbar, p.r
+    fixed = ({k: float(getattr(p0, k)) for k in ("d", "gbar", "r") if k not in axes} if nondim
+             else {k: v for k, v in base.items() if k not in axes})
+    return X, Y, d, gbar, r, fixed
+
+
 def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float = 0.5, max_periods: float = 200,
                tol: float = 1e-9, window: int = 65, progress: bool | None = None, **physical) -> xr.Dataset:
     """Attractor class over a grid of two parameters, each run from the same bottom impact.
@@ -592,32 +631,9 @@ def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float 
     xarray.Dataset
         On ``(y_name, x_name)``: ``label``, ``period``, ``d``, ``gbar`` and ``code``.
     """
-    allowed = ("s", "F", "beta", "d", "gbar", "r")
-    for name in (x_name, y_name):
-        if name not in allowed:
-            raise ValueError(f"regime map axis {name!r}; allowed: {allowed}")
-    if x_name == y_name:
-        raise ValueError(f"regime map axes x_name = y_name = {x_name!r}; allowed: two different names of {allowed}")
+    X, Y, d, gbar, r, fixed = plane_params(x_name, xs, y_name, ys, **physical)
     axes = {x_name, y_name}
-    nondim = sorted(axes & {"d", "gbar"})
-    if nondim and axes & {"s", "F", "beta"}:
-        raise ValueError(f"regime map axes ({x_name!r}, {y_name!r}): {nondim[0]!r} is non-dimensional; allowed: "
-                         "two of s, F, beta, r or two of d, gbar, r")
-    X, Y = np.meshgrid(np.asarray(xs, float), np.asarray(ys, float), indexing="xy")
-    base = dict(s=0.85, F=5.0, beta=math.pi / 6, M=0.1245, omega=5 * math.pi, g=9.8, r=0.5)
-    base.update(physical)
-    p0 = Params.from_physical(**base)
-    d, gbar, r = np.empty(X.size), np.empty(X.size), np.empty(X.size)
-    for k, (x, y) in enumerate(zip(X.ravel(), Y.ravel(), strict=True)):
-        if nondim:
-            v = dict(d=p0.d, gbar=p0.gbar, r=p0.r)
-            v[x_name], v[y_name] = x, y
-            p = Params(d=v["d"], gbar=v["gbar"], r=v["r"])
-        else:
-            kw = dict(base)
-            kw[x_name], kw[y_name] = x, y
-            p = Params.from_physical(**kw)
-        d[k], gbar[k], r[k] = p.d, p.gbar, p.r
+    d, gbar, r = d.ravel(), gbar.ravel(), r.ravel()
     ds = attractor_batch(d, gbar, r, phi, v0, max_periods=max_periods, tol=tol, window=window, progress=progress,
                          desc=f"regime map over ({x_name}, {y_name})")
     shape = X.shape
@@ -634,7 +650,5 @@ def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float 
              "r": ("1", "coefficient of restitution r")}
     for name in (x_name, y_name):
         out[name].attrs.update(units=units[name][0], long_name=units[name][1])
-    fixed = ({k: float(getattr(p0, k)) for k in ("d", "gbar", "r") if k not in axes} if nondim
-             else {k: v for k, v in base.items() if k not in axes})
     out.attrs.update(phi=phi, v0=v0, max_periods=max_periods, tol=tol, **fixed)
     return annotate(_attractor_codes(out, (y_name, x_name)))

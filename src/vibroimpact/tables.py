@@ -293,3 +293,57 @@ def matched_accuracy_markdown(ma: xr.Dataset) -> str:
             f"first impacts is at most {ma.attrs['target']:g} (walls all right); cost per impact and ratio to "
             "the exact simulator, measured in one run (compilation excluded).\n\n")
     return head + pd.DataFrame(rows).to_markdown(index=False) + "\n"
+
+
+def _pi_name(x: float) -> str:
+    from .plots._common import pi_tex
+
+    return pi_tex(float(x)).replace("\\pi", "π")
+
+
+def design_robust_table(rows_by_map: dict[str, list[dict]]) -> pd.DataFrame:
+    """One row per map and incline: the best robust design (:func:`vibroimpact.design.best_designs`)
+    and, where the map varies ``s``, the longest device within the budget at the same incline and force."""
+    out = []
+    for name, rows in rows_by_map.items():
+        for r in rows:
+            row = {"map": name, "beta": r["beta"], "found": r["found"]}
+            if r["found"]:
+                row.update({k: r[k] for k in ("s", "F", "d", "motion", "E_U_T", "worst_U_T", "box_min_E_U_T",
+                                              "margin", "nearest_curve")})
+            lg = r.get("longest")
+            if lg:
+                row.update({f"longest_{k}": lg[k] for k in ("s", "F", "motion", "E_U_T", "worst_U_T", "box_min_E_U_T",
+                                                             "margin", "robust")})
+            out.append(row)
+    return pd.DataFrame(out)
+
+
+def design_robust_markdown(df: pd.DataFrame) -> str:
+    """The best robust designs, per incline, beside the longest device within the budget."""
+    rows = []
+    for _, r in df.iterrows():
+        if not r["found"]:
+            design = "no robust design within the budget"
+            cols = dict.fromkeys(("motion", "E[Ū_T] (kV)", "worst Ū_T (kV)", "lowest E[Ū_T] over the box (kV)",
+                                  "margin (nearest curve)"), "")
+        else:
+            design = f"s = {r.s:.3f} m, F = {r.F:.2f} N"
+            cols = {"motion": r.motion, "E[Ū_T] (kV)": f"{r.E_U_T / 1e3:.2f}", "worst Ū_T (kV)": f"{r.worst_U_T / 1e3:.2f}",
+                    "lowest E[Ū_T] over the box (kV)": f"{r.box_min_E_U_T / 1e3:.2f}",
+                    "margin (nearest curve)": (f"{r.margin:.1f} ({r.nearest_curve})" if np.isfinite(r.margin)
+                                               else "∞ (no curve meets the box's line)")}
+        longest = ""
+        if "longest_s" in r and isinstance(r.get("longest_motion"), str):
+            longest = (f"s = {r.longest_s:.3f} m: E[Ū_T] {r.longest_E_U_T / 1e3:.2f}, worst {r.longest_worst_U_T / 1e3:.2f};"
+                       f" {r.longest_motion}")
+        rows.append({"map": r["map"], "β": _pi_name(r.beta), "best robust design": design, **cols,
+                     "longest device within the budget": longest})
+    return pd.DataFrame(rows).to_markdown(index=False) + "\n"
+
+
+def design_cost_markdown(maps: dict[str, tuple[int, int]], seconds: dict[str, float]) -> str:
+    """Runs, events and job time per design map (its chunks summed), with events per second."""
+    rows = [{"map": m, "runs (points x starts)": runs, "events simulated": ev, "job time (s)": round(seconds[m], 1),
+             "events per second": f"{ev / seconds[m]:.3g}"} for m, (runs, ev) in maps.items()]
+    return pd.DataFrame(rows).to_markdown(index=False) + "\n"

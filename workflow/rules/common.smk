@@ -335,6 +335,7 @@ FIGURES = (
     + list(config["energy"]["figures"])
     + ["design", "work_precision", "failure_map", "analytics_accuracy"]
     + [f"bifurcation_set_{m}" for m in ALL_MAPS]
+    + [f"design_map_{m}" for m in config["design"]["maps"]]
 )
 FIGURE_REFERENCES = [
     f"{config['figure_checks']['reference_dir']}/{fig}.nc" for fig in FIGURES
@@ -361,3 +362,25 @@ def figure_formats(stem):
     """A figure's outputs besides its PNG: the quality preset's other ``figure_formats`` (PDF at paper
     quality; the draft preset writes the PNG only, a quicker look)."""
     return {f: f"{stem}.{f}" for f in RESOLUTION["figure_formats"] if f != "png"}
+
+
+# ---- design under multistability: value ranges and cross-key conditions, before any job --------------
+from vibroimpact.design import check_design
+
+DESIGN = config["design"]
+try:
+    check_design(
+        DESIGN,
+        {q: config["resolution"][q]["design"] for q in config["resolution"]},
+        config["maps"],
+    )
+except ValueError as err:
+    raise ValueError(f"config: {err}") from None
+
+
+def design_chunks(name):
+    """The chunk files of a design map: consecutive blocks of its grid rows, one job each."""
+    return [
+        f"results/design/{name}/chunk-{i}.nc"
+        for i in range(RESOLUTION["design"]["chunks"])
+    ]

@@ -8,7 +8,7 @@ import pytest
 from conftest import _snakemake
 
 FIGURES = ["fig0b", "fig4", "figFN2", "fig2", "fig3", "figBiS", "basins", "regime_map", "fig0", "fig5", "design",
-           "work_precision", "failure_map", "analytics_accuracy"]
+           "work_precision", "failure_map", "analytics_accuracy", "design_map_s_beta", "design_map_s_F"]
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 
 

@@ -1,5 +1,7 @@
 """The Snakemake workflow end to end on a tiny config, and config validation before any job."""
 
+import re
+
 import pytest
 import xarray as xr
 import yaml
@@ -184,6 +186,19 @@ def test_the_bifurcation_target_plans_its_rules_from_the_branches(tmp_path):
     for rule in ("bifurcation_set", "fig_bifurcation_set", "branch", "regime_map"):
         assert f"rule {rule}:" in out or f"\n{rule} " in out or f" {rule} " in out, rule
     assert "results/bifurcation/s_beta.nc" in out and "results/figures/bifurcation_set_s_F.png" in out
+
+
+def test_the_paper_preset_splits_each_design_map_into_chunk_jobs(tmp_path):
+    """`snakemake design_maps --config quality=paper`: each design map is planned as the preset's number
+    of chunk jobs (so a cluster profile runs them as separate jobs), merged by one job per map."""
+    cfg = _copy_workflow(tmp_path)
+    n = cfg["resolution"]["paper"]["design"]["chunks"]
+    res = _snakemake(tmp_path, "-n", "design_maps", "--config", "quality=paper")
+    assert res.returncode == 0, res.stderr[-2000:]
+    counts = dict(re.findall(r"^(design_chunk|design_map|fig_design_map)\s+(\d+)$", res.stdout + res.stderr, re.M))
+    maps = len(cfg["design"]["maps"])
+    assert counts == {"design_chunk": str(n * maps), "design_map": str(maps), "fig_design_map": str(maps)}
+    assert f"results/design/s_beta/chunk-{n - 1}.nc" in res.stdout + res.stderr
 
 
 @pytest.mark.slow

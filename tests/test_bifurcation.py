@@ -179,7 +179,7 @@ def test_the_bouncing_balls_period_doubling_cascade_approaches_feigenbaums_const
         start = (float(cyc.phase.values[0]), float(cyc.v_minus.values[0]))
         o = find_orbit(p, "B" * k, *start, k=k)
         br = continue_orbit(o, vary="gbar", value_range=(g - 0.3 * 0.22**level, g + 1e-3 * 0.22**level),
-                            step=2e-4 * 0.22**level)
+                            step=1e-3 * 0.22**level)
         b = br.critical_value.values[(br.critical_kind.values == "B") & (br.critical_value.values < g)]
         points.append(float(b.max()))
     gaps = -np.diff(points)

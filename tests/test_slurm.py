@@ -18,9 +18,11 @@ from conftest import _copy_workflow
 
 pytestmark = pytest.mark.slurm
 
-#: a slice of the workflow: one branch (with its energy) and one sweep (with transitions and energy)
+#: a slice of the workflow: one branch (with its energy), one sweep (with transitions and energy) and one
+#: chunk of a design map (a 2-thread job)
 TARGETS = ["results/branches/beta-1.0472_r-0.5000/orbit-BBT_vary-s.nc",
-           "results/sweeps/beta-0.5236_r-0.5000/figBiS.nc"]
+           "results/sweeps/beta-0.5236_r-0.5000/figBiS.nc",
+           "results/design/s_F/chunk-1.nc"]
 
 
 def _partition():
@@ -54,6 +56,7 @@ def _small_config(tmp_path):
     cfg = _copy_workflow(tmp_path)
     cfg["resolution"]["draft"].update(branch_step=4e-3, sweep_points=12)
     cfg["sweeps"]["locate"].update(xtol=1e-5, max_trials=20)
+    cfg["resolution"]["draft"]["design"] = {"grid": [6, 4], "starts": 8, "chunks": 2}
     (tmp_path / "config" / "config.yaml").write_text(yaml.safe_dump(cfg))
 
 
@@ -80,7 +83,7 @@ def test_a_slice_of_the_workflow_runs_through_sbatch_and_equals_a_local_run(tmp_
     jobs = subprocess.run(["squeue", "-h", "-t", "all", "-n", run_id, "-o", "%i %T"], capture_output=True,
                           text=True, timeout=30).stdout.split("\n")
     states = [line.split()[1] for line in jobs if line.strip()]
-    assert states == ["COMPLETED"] * 2, jobs
+    assert states == ["COMPLETED"] * len(TARGETS), jobs
     ref = subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", *TARGETS], cwd=local,
                          capture_output=True, text=True, timeout=900)
     assert ref.returncode == 0, ref.stderr[-2000:]

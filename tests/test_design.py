@@ -162,6 +162,7 @@ def _design_cfg():
     (lambda d, p: d["tolerance"].update(F=1.5), ["design.tolerance.F", "1.5", "< 1"]),
     (lambda d, p: p["draft"].update(starts=4), ["resolution.draft.design.starts", "4", ">= 8"]),
     (lambda d, p: p["paper"].update(chunks=500), ["resolution.paper.design.chunks", "500", "grid rows"]),
+    (lambda d, p: p["draft"].update(grid=[1, 5]), ["resolution.draft.design.grid", "[1, 5]", "each >= 2"]),
     (lambda d, p: d.update(maps=["s_gamma"]), ["design.maps", "s_gamma", "a regime map of `maps`"]),
     (lambda d, p: d.update(confidence=1.0), ["design.confidence", "1.0", "(0, 1)"]),
     (lambda d, p: d.update(table_betas=[0.01]), ["design.table_betas", "0.01", "beta range"]),
@@ -172,6 +173,9 @@ def test_bad_design_config_is_refused_naming_the_key(edit, words):
 
     design, presets = copy.deepcopy(CFG["design"]), _design_cfg()
     check_design(design, presets, CFG["maps"])  # the shipped config passes
+    smallest = copy.deepcopy(presets)
+    smallest["draft"].update(grid=[2, 2], starts=8, chunks=2)
+    check_design(design, smallest, CFG["maps"])  # and so do the smallest allowed values
     edit(design, presets)
     with pytest.raises(ValueError) as err:
         check_design(design, presets, CFG["maps"])
@@ -274,6 +278,13 @@ def test_tolerance_analysis_and_best_design_on_a_synthetic_plane():
     assert not best_designs(out, {"s": 0.3}, per="beta")[0]["found"]  # 0.30: its box leaves the grid
     with pytest.raises(ValueError, match="box is empty"):
         tolerance_analysis(ds, curves, {"s": 0.0, "beta": 0.0})
+    # a tolerance in beta only (0.01 rad): the box is a vertical segment, and only s = 0.504 meets the curve
+    only_beta = tolerance_analysis(ds, curves, {"s": 0.0, "beta": 0.01})
+    assert only_beta.margin.values[0, xs.searchsorted(0.6)] == math.inf and int((~only_beta.robust.values).sum()) == 0
+    # over the whole map (per=None): one best design, without a "longest" beside it
+    whole = best_designs(out, {"s": 0.71})
+    assert len(whole) == 1 and whole[0]["s"] == pytest.approx(0.71) and whole[0]["beta"] == 0.2
+    assert "longest" not in whole[0]
 
 
 def test_a_beta_axis_gets_a_row_for_each_table_incline():

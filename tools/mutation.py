@@ -53,13 +53,14 @@ PY = os.environ.get("MUT_PYTHON", sys.executable)
 
 
 def make_tree(fresh=False):
-    """Copy src/, tests/ and pyproject.toml into ROOT, and the modules' pristine sources."""
+    """Copy src/, tests/, config/ (tests read the shipped config) and pyproject.toml into ROOT, and the
+    modules' pristine sources."""
     if fresh and os.path.isdir(ROOT):
         shutil.rmtree(ROOT)
     if os.path.isdir(ROOT):
         return
     ignore = shutil.ignore_patterns("__pycache__", "*.egg-info")
-    for item in ("src", "tests"):
+    for item in ("src", "tests", "config"):
         shutil.copytree(os.path.join(REPO, item), os.path.join(ROOT, item), ignore=ignore)
     shutil.copy(os.path.join(REPO, "pyproject.toml"), ROOT)
     os.makedirs(os.path.join(ROOT, "pristine"))
@@ -74,6 +75,7 @@ TESTS = {
     "continuation": ["tests/test_orbits.py"],
     "sweeps": ["tests/test_sweeps.py"],
     "energy": ["tests/test_energy.py"],
+    "design": ["tests/test_design.py"],
 }
 NUMBA_MODULES = {"events", "kernels"}
 

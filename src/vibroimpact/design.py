@@ -233,7 +233,7 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, membrane: Membrane,
     X, Y, d, gbar, r, fixed = plane_params(x_name, xs, y_name, ys, **physical)
     F = X if x_name == "F" else Y if y_name == "F" else np.full(X.shape, float(fixed["F"]))
     shape, n_pts, n_st = X.shape, X.size, phi.size
-    M, omega = float(fixed.get("M", 0.1245)), float(fixed.get("omega", 5 * math.pi))
+    M, omega = float(fixed["M"]), float(fixed["omega"])  # plane_params holds every value not on an axis
     per_pt = max(1, block // n_st)
     points = []
     total = 0

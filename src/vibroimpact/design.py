@@ -39,7 +39,7 @@ from .energy import Membrane, window_averages
 from .sweeps import APERIODIC, _last_bottom, attractor_batch, plane_params
 
 __all__ = ["DISTRIBUTIONS", "MIN_STARTS", "AT_REST", "start_states", "check_design", "design_map",
-           "merge_chunks", "share_interval", "tolerance_analysis", "curve_margin", "box_minimum", "best_designs"]
+           "merge_chunks", "share_interval", "table_designs", "tolerance_analysis", "curve_margin", "box_minimum", "best_designs"]
 
 #: start-state distributions: at rest on the bottom membrane (uniform phase), or a box of bottom impacts
 DISTRIBUTIONS = ("rest", "box")
@@ -320,6 +320,10 @@ def _assemble(points, shape, x_name, xs, y_name, ys, d, gbar, fixed, n_st, total
     return annotate(summarise(ds))
 
 
+#: the per-point variables :func:`summarise` derives from the attractors (recomputed after a merge)
+SUMMARY = ("E_U_T", "E_U_I", "worst_U_T", "worst_U_I", "n_attractors", "multistable", "aperiodic_share")
+
+
 def summarise(ds: xr.Dataset) -> xr.Dataset:
     """Per point from its attractors: expected and worst-case outputs, how many attractors count, and
     the share without a period."""
@@ -362,9 +366,7 @@ def merge_chunks(chunks: list[xr.Dataset]) -> xr.Dataset:
     out = xr.concat(padded, dim=y, data_vars="minimal", coords="minimal", compat="override",
                     combine_attrs="override")
     out.attrs["events"] = int(sum(int(c.attrs["events"]) for c in chunks))
-    return annotate(summarise(out.drop_vars([v for v in ("E_U_T", "E_U_I", "worst_U_T", "worst_U_I",
-                                                         "n_attractors", "multistable", "aperiodic_share")
-                                             if v in out])))
+    return annotate(summarise(out.drop_vars([v for v in SUMMARY if v in out])))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -535,3 +537,12 @@ def _describe(ds, iy, ix, vals):
     return {**{a: float(vals[a][iy, ix]) for a in DESIGN_AXES}, "d": float(at["d"]), "motion": ", ".join(motions),
             "E_U_T": float(at["E_U_T"]), "worst_U_T": float(at["worst_U_T"]), "box_min_E_U_T": float(at["box_min_E_U_T"]),
             "margin": float(at["margin"]), "nearest_curve": str(at["nearest_curve"].values), "robust": bool(at["robust"])}
+
+
+def table_designs(ds: xr.Dataset, budget: dict, table_betas) -> list[dict]:
+    """:func:`best_designs` for the design table and figure: per incline of ``table_betas`` on a beta
+    axis (each has its own row, :func:`grid_axes`), over the whole map otherwise."""
+    if ds.attrs["y"] != "beta":
+        return best_designs(ds, budget)
+    return [b for b in best_designs(ds, budget, per="beta")
+            if any(math.isclose(b["beta"], t, rel_tol=0.0, abs_tol=1e-12) for t in table_betas)]

@@ -1,11 +1,10 @@
 """The best robust designs per incline, from the design maps, and what the design maps cost."""
 import logging
-import math
 
 import pandas as pd
 import xarray as xr
 
-from vibroimpact.design import best_designs
+from vibroimpact.design import table_designs
 from vibroimpact.tables import design_cost_markdown, design_robust_markdown, design_robust_table
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
@@ -13,11 +12,7 @@ rows, sizes, seconds = {}, {}, {}
 for path in snakemake.input.maps:
     ds = xr.load_dataset(path, engine="netcdf4")
     name = path.rsplit("/", 1)[-1].removesuffix(".nc")
-    per = "beta" if ds.attrs["y"] == "beta" else None
-    best = best_designs(ds, snakemake.params.budget, per=per)
-    if per:  # the table's inclines only (the map has a row for each)
-        best = [b for b in best if any(math.isclose(b["beta"], t, abs_tol=1e-12) for t in snakemake.params.table_betas)]
-    rows[name] = best
+    rows[name] = table_designs(ds, snakemake.params.budget, snakemake.params.table_betas)
     sizes[name] = (int(ds["E_U_T"].size * ds.attrs["starts"]), int(ds.attrs["events"]))
     seconds[name] = sum(float(pd.read_csv(f, sep="\t")["s"].iloc[0]) for f in snakemake.input.cost
                         if f.rsplit("/", 1)[-1].startswith(f"{name}-"))

@@ -10,22 +10,15 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from ._common import pi_label, use_style
-from .sweeps import _CURVE_NAME, _CURVE_STYLE, _WORD_COLOUR, _WORD_NAME, _pi_ticks
+from .sweeps import _pi_ticks, curve_pieces
 
 _AXIS = {"s": "cylinder length $s$ (m)", "F": r"forcing amplitude $\|\hat F\|$ (N)", "beta": r"incline $\beta$ (rad)"}
 
 
 def _curves(ax, curves, xname, yname, handles):
-    """The admissible pieces of every bifurcation curve (thin where not admissible), styled as in the
+    """The admissible pieces of every bifurcation curve (the margins count only those), styled as in the
     bifurcation-set figures."""
-    for c in range(curves.sizes["curve"]):
-        sel = curves.curve_index.values == c
-        if not sel.any():
-            continue
-        kind, word = str(curves.curve_kind.values[c]), str(curves.curve_word.values[c])
-        xs, ys, adm = curves[xname].values[sel], curves[yname].values[sel], curves.admissible.values[sel]
-        style, colour = _CURVE_STYLE.get(kind, "-"), _WORD_COLOUR.get(word, "0.3")
-        label = f"{_WORD_NAME.get(word, word)} {_CURVE_NAME.get(kind, kind)}"
+    for xs, ys, adm, style, colour, label in curve_pieces(curves, xname, yname):
         ax.plot(np.where(adm, xs, np.nan), np.where(adm, ys, np.nan), color="w", lw=2.4, zorder=4)
         ax.plot(np.where(adm, xs, np.nan), np.where(adm, ys, np.nan), style, color=colour, lw=1.3, zorder=5,
                 label="_" + label)

@@ -226,6 +226,20 @@ _WORD_COLOUR = {"BT": "#000000", "BBT": "#D55E00", "BBBT": "#0072B2"}
 _WORD_NAME = {"BT": "1:1", "BBT": "2:1", "BBBT": "3:1"}
 
 
+def curve_pieces(curves, xname, yname):
+    """Each curve of a bifurcation set (:func:`vibroimpact.bifurcation.curve_set`) as drawn: its points in
+    the plane ``(xname, yname)``, where its orbit is admissible, and its line style (by kind), colour (by
+    orbit family) and legend label."""
+    for c in range(curves.sizes["curve"]):
+        sel = curves.curve_index.values == c
+        if not sel.any():
+            continue
+        kind, word = str(curves.curve_kind.values[c]), str(curves.curve_word.values[c])
+        yield (curves[xname].values[sel], curves[yname].values[sel], curves.admissible.values[sel],
+               _CURVE_STYLE.get(kind, "-"), _WORD_COLOUR.get(word, "0.3"),
+               f"{_WORD_NAME.get(word, word)} {_CURVE_NAME.get(kind, kind)}")
+
+
 def fig_bifurcation_set(m, curves, boundaries=None):
     """The regime map ``m`` (brute force, one start per point) with the bifurcation curves of
     :func:`vibroimpact.bifurcation.curve_set` over it: line style by kind, colour by orbit family,
@@ -239,17 +253,10 @@ def fig_bifurcation_set(m, curves, boundaries=None):
     ax = fig.axes[0]
     xname, yname = curves.attrs["params"].split()
     handles = []
-    for c in range(curves.sizes["curve"]):
-        sel = curves.curve_index.values == c
-        if not sel.any():
-            continue
-        kind, word = str(curves.curve_kind.values[c]), str(curves.curve_word.values[c])
-        xs, ys, adm = curves[xname].values[sel], curves[yname].values[sel], curves.admissible.values[sel]
-        style, colour = _CURVE_STYLE.get(kind, "-"), _WORD_COLOUR.get(word, "0.3")
+    for xs, ys, adm, style, colour, label in curve_pieces(curves, xname, yname):
         ax.plot(xs, ys, style, color="w", lw=2.6, zorder=4)
         ax.plot(np.where(adm, xs, np.nan), np.where(adm, ys, np.nan), style, color=colour, lw=1.6, zorder=5)
         ax.plot(np.where(adm, np.nan, xs), np.where(adm, np.nan, ys), style, color=colour, lw=0.6, zorder=5)
-        label = f"{_WORD_NAME.get(word, word)} {_CURVE_NAME.get(kind, kind)}"
         if label not in [h.get_label() for h in handles]:
             handles.append(Line2D([], [], ls=style, color=colour, lw=1.6, label=label))
     if curves.sizes["event"]:

@@ -265,3 +265,12 @@ def test_map_boundaries_are_on_a_curve_or_named_by_their_cause():
     other.attrs["params"] = "s F"
     with pytest.raises(ValueError, match="plane"):
         map_boundaries(m, other)
+
+
+def test_every_point_of_a_grazing_curve_is_admissible_contact(grazing_curve):
+    """On G1 the 2:1 orbit's extremum touches the bottom wall at every point: the contact, with a
+    clearance of rounding size on either side of zero, is no violation, so the whole curve (inside the
+    region where the 2:1 orbit exists) is drawn admissible rather than flickering with the rounding."""
+    c = grazing_curve
+    assert np.all(np.abs(c.clearance.values) < 1e-9)
+    assert c.admissible.values.all(), np.flatnonzero(~c.admissible.values)

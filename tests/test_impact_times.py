@@ -240,3 +240,24 @@ def test_a_hit_just_after_the_start_past_a_tight_tangent_bound_is_found(wall, ep
         ref = mp.findroot(f, (max(mp.mpf(tau_e) - width, mp.mpf(0)), mp.mpf(tau_e)), solver="anderson")
         assert w == wall
         assert abs(tau - float(ref)) < TOL_T
+
+
+def test_a_short_step_propagates_the_state_as_the_closed_form():
+    """Within a root search a point near the last is propagated from it by Taylor polynomials
+    (``state_step``) instead of sines and cosines. From states at random phases, steps from 1e-12 up
+    to the largest allowed (``NEAR_STEP``), both directions: displacement, velocity, acceleration and
+    jerk against the 40-digit closed form, to TOL_T."""
+    from vibroimpact.flight import NEAR_STEP, state3, state_step
+
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        theta, u, gbar, tau = rng.uniform(0, 2 * np.pi), rng.uniform(-1, 1), rng.uniform(0, 1.2), rng.uniform(0, 2)
+        h = rng.choice([-1, 1]) * min(10 ** rng.uniform(-12, 0), 0.999 * NEAR_STEP / np.pi)
+        got = state_step(h, *state3(tau, math.cos(theta), math.sin(theta), u, gbar), gbar)
+        th, x = mp.mpf(theta), mp.pi * (mp.mpf(tau) + mp.mpf(h))
+        ref = (u * (x / mp.pi) + gbar * (x / mp.pi) ** 2 / 2 - (mp.cos(th + x) - mp.cos(th) + x * mp.sin(th)) / mp.pi**2,
+               u + gbar * x / mp.pi + (mp.sin(th + x) - mp.sin(th)) / mp.pi,
+               mp.cos(th + x) + gbar,
+               -mp.pi * mp.sin(th + x))
+        for name, a, b in zip(("displacement", "velocity", "acceleration", "jerk"), got, ref, strict=True):
+            assert abs(a - float(b)) < TOL_T, (name, theta, u, gbar, tau, h)

@@ -519,3 +519,18 @@ def test_bouncing_ball_period_one_fold_and_doubling_match_the_closed_forms(r):
     found = sorted(rb.critical_value.values[(rb.critical_kind.values == "B") & rb.critical_admissible.values])
     assert len(found) == len(expected) == (0 if r == 0.8 else 1)
     assert np.allclose(found, expected, rtol=0, atol=1e-10)
+
+
+def test_an_orbit_with_an_impact_at_zero_speed_has_no_eigenvalues_rather_than_an_error(monkeypatch):
+    """On a grazing curve through a zero-speed impact the map's Jacobian grows as 1 / v; where v is 0.0
+    exactly it is infinite. The orbit is still built (a bifurcation curve keeps its point) with NaN
+    eigenvalues, determinant and an "undefined" stability, not a LinAlgError."""
+    import vibroimpact.orbits as orbits
+
+    beta, d, v, phi, *_ = CAPTIONS["fig4_a"]
+    good = find_orbit(vi.Params(d=d, gbar=gbar_of(beta), r=0.5), "BBT", phi, v)
+    assert np.all(np.isfinite(good.eigenvalues)) and good.stability.startswith("stable")
+    monkeypatch.setattr(orbits, "map_jacobian", lambda *a: np.array([[np.inf, 1.0], [0.0, -np.inf]]))
+    o = orbits.orbit_from_vector(good.params, "BBT", good.k, good.z)
+    assert np.all(np.isnan(o.eigenvalues)) and math.isnan(o.det)
+    assert o.stability == "undefined (zero-speed impact)" and not o.stable

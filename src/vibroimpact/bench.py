@@ -33,15 +33,16 @@ def simulator_benchmark(n_impacts: int, n_impacts_ivp: int, n_flights_accuracy: 
     simulate(p, SCENE["phi"], SCENE["v0"], n_impacts=100)  # compile outside the timing
     simulate_batch([p.d] * 2, g, 0.5, SCENE["phi"], SCENE["v0"], n_impacts=100)
 
-    t = time.perf_counter()
     ds = simulate(p, SCENE["phi"], SCENE["v0"], n_impacts=n_impacts)
-    exact_s = (time.perf_counter() - t) / n_impacts
-
     m = 2 * 64
     phis = np.linspace(0, 2 * np.pi, m, endpoint=False)
-    t = time.perf_counter()
-    simulate_batch([p.d] * m, g, 0.5, phis, SCENE["v0"], n_impacts=n_impacts // m)
-    batch_s = (time.perf_counter() - t) / (m * (n_impacts // m))
+    # the fastest of REPEATS runs, in rounds (as in kernel_profile); solve_ivp, a thousand times slower,
+    # is timed once
+    exact_s = batch_s = math.inf
+    for _ in range(REPEATS):
+        exact_s = min(exact_s, _seconds(partial(simulate, p, SCENE["phi"], SCENE["v0"], n_impacts=n_impacts)) / n_impacts)
+        batch_s = min(batch_s, _seconds(partial(simulate_batch, [p.d] * m, g, 0.5, phis, SCENE["v0"],
+                                                n_impacts=n_impacts // m)) / (m * (n_impacts // m)))
 
     ivp = run_ivp(p, SCENE["phi"], SCENE["v0"], n_impacts_ivp, rtol=rtol, atol=atol, max_seconds=math.inf)
     ivp_s = ivp.seconds / n_impacts_ivp
@@ -189,7 +190,7 @@ def _count_worker(args: str) -> None:
 
         setattr(events, name, g)
 
-    for name, key in (("state3", "points"), ("state_from_half", "points"), ("state_from_sc", "points"), ("_rtsafe", "roots")):
+    for name, key in (("state3", "points"), ("state_step", "points"), ("state_from_sc", "points"), ("_rtsafe", "roots")):
         counted(name, key)
     fm = types.SimpleNamespace(**{k: getattr(math, k) for k in dir(math) if not k.startswith("_")})
 
@@ -218,17 +219,18 @@ def _count_worker(args: str) -> None:
 
 #: timed runs per measurement of the kernel benchmark; the fastest counts (timeit's convention: on a
 #: shared machine the noise only ever adds time), for our kernel and heyoka's alike
-REPEATS = 5
+REPEATS = 9
 
 
-def _fastest(run, repeats: int) -> float:
-    """Seconds of the fastest of ``repeats`` calls of ``run()``."""
-    best = math.inf
-    for _ in range(max(int(repeats), 1)):
-        t = time.perf_counter()
-        run()
-        best = min(best, time.perf_counter() - t)
-    return best
+def _seconds(run, threads=None) -> float:
+    """Seconds of one call of ``run()`` (on ``threads`` numba threads if given)."""
+    import numba
+
+    if threads is not None:
+        numba.set_num_threads(threads)
+    t = time.perf_counter()
+    run()
+    return time.perf_counter() - t
 
 
 def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: int = 20_000,
@@ -239,7 +241,7 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: i
     ``n_counted`` flights of the same algorithm run as plain Python); in the same run, heyoka's
     stepping cost per impact at tol = eps (:func:`~vibroimpact.peer_heyoka.stepping_cost`, over
     ``n_heyoka`` impacts), NaN where heyoka is not installed.  Every timing is the fastest of
-    ``repeats`` runs (:data:`REPEATS`)."""
+    ``repeats`` runs (:data:`REPEATS`), taken in rounds over both scenes and all methods."""
     import json
     import os
     import subprocess
@@ -254,29 +256,37 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: i
     from . import peer_heyoka
 
     names = list(KERNEL_SCENES)
-    us, rate1, rateall, hy_us, hy_steps = [], [], [], [], []
     cores = numba.config.NUMBA_NUM_THREADS
+    m = 64 * cores
+    phis = np.linspace(0, 2 * np.pi, m, endpoint=False)
+    timers = {}  # (scene, what) -> a call returning its seconds
+    hy_result = {}
     for name in names:
         beta, d, phi, v0 = KERNEL_SCENES[name]
         p = Params(d=d, gbar=0.1245 * 9.8 * math.sin(beta) / 5.0, r=0.5)
         if peer_heyoka.available():
-            hy = peer_heyoka.stepping_cost(p, phi, v0, n_heyoka, tol=np.finfo(float).eps, repeats=repeats)
-            hy_us.append(hy["us_per_impact"])
-            hy_steps.append(hy["steps_per_impact"])
-        else:
-            hy_us.append(math.nan)
-            hy_steps.append(math.nan)
+            timers[name, "heyoka"], hy_result[name] = peer_heyoka.stepping_timer(p, phi, v0, n_heyoka,
+                                                                                tol=np.finfo(float).eps)
         simulate(p, phi, v0, n_impacts=100)
-        us.append(_fastest(partial(simulate, p, phi, v0, n_impacts=n_impacts), repeats) / n_impacts * 1e6)
-        m = 64 * cores
-        phis = np.linspace(0, 2 * np.pi, m, endpoint=False)
-        for threads, rates in ((1, rate1), (cores, rateall)):
-            numba.set_num_threads(threads)
-            simulate_batch([p.d] * m, p.gbar, 0.5, phis, v0, n_impacts=10)
-            best = _fastest(partial(simulate_batch, [p.d] * m, p.gbar, 0.5, phis, v0, n_impacts=n_impacts // m),
-                             repeats)
-            rates.append(m * (n_impacts // m) / best)
-        numba.set_num_threads(cores)
+        simulate_batch([p.d] * m, p.gbar, 0.5, phis, v0, n_impacts=10)
+        timers[name, "simulate"] = partial(_seconds, partial(simulate, p, phi, v0, n_impacts=n_impacts))
+        for threads in (1, cores):
+            timers[name, threads] = partial(_seconds, partial(simulate_batch, [p.d] * m, p.gbar, 0.5, phis, v0,
+                                                              n_impacts=n_impacts // m), threads=threads)
+    # every timing is the fastest of `repeats`, taken in rounds over all scenes and methods (ours and
+    # heyoka's alike), so that a noisy stretch of a shared machine slows one round of each, not all the
+    # runs of one of them
+    best = dict.fromkeys(timers, math.inf)
+    for _ in range(max(int(repeats), 1)):
+        for key, timed in timers.items():
+            best[key] = min(best[key], timed())
+    numba.set_num_threads(cores)
+    us = [best[n, "simulate"] / n_impacts * 1e6 for n in names]
+    rate1 = [m * (n_impacts // m) / best[n, 1] for n in names]
+    rateall = [m * (n_impacts // m) / best[n, cores] for n in names]
+    hy = {n: hy_result[n](best[n, "heyoka"]) for n in hy_result}
+    hy_us = [hy[n]["us_per_impact"] if n in hy else math.nan for n in names]
+    hy_steps = [hy[n]["steps_per_impact"] if n in hy else math.nan for n in names]
     per = lambda key: ("scene", [counts[n][key] for n in names])
     ds = xr.Dataset(
         {

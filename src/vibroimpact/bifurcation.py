@@ -33,6 +33,8 @@ __all__ = ["bistable_band", "curve_crossings", "curve_set", "curve_values", "fol
 
 #: test-function values beyond this are a singular impact map (an impact at zero speed), not a crossing
 REGULAR = 1e6
+#: a curve point is converged when its residual, the test function included, is below this
+RESIDUAL = 1e-9
 #: the kinds of point that can be followed (test functions of :mod:`vibroimpact.continuation`)
 KINDS = ("B", "fold", "A", "grazing")
 _PHYSICAL = ("s", "F", "beta", "omega")
@@ -156,7 +158,7 @@ def _newton(X, walls, template, pm, kind, row=None, target=0.0, tol=1e-12, max_i
         step = np.linalg.solve(A, -np.append(G, row @ X - target))
         X = X + step
         size = np.max(np.abs(step))
-        if size < tol * max(1.0, np.max(np.abs(X))) and np.max(np.abs(_residual(X, walls, template, pm, kind))) < 1e-9:
+        if size < tol * max(1.0, np.max(np.abs(X))) and np.max(np.abs(_residual(X, walls, template, pm, kind))) < RESIDUAL:
             return X
         if size > 0.5 * last:
             J = None  # the chord's Jacobian is too far off: a true Newton step next
@@ -365,13 +367,19 @@ def _curve_dataset(Xs, template, pm, kind, params, stops, scale) -> xr.Dataset:
             events.append((other, *(lam[i] + w * (lam[i + 1] - lam[i]))))
     for i in plane_cusps(lam, scale):
         events.append(("cusp", *lam[i]))
+    admissible = np.array([o.admissible for o in orbits])
+    if kind == "grazing":
+        # on a grazing curve the orbit touches a wall (or hits it at zero speed) by construction: a
+        # clearance within the corrector's residual, on either side of zero, is that contact and not a
+        # violation (its sign is rounding, and would make the drawn admissibility flicker along the curve)
+        admissible |= np.abs(np.array([o.clearance for o in orbits])) < RESIDUAL
     data = {
         params[0]: ("point", lam[:, 0]),
         params[1]: ("point", lam[:, 1]),
         "d": ("point", np.array([o.params.d for o in orbits])),
         "gbar": ("point", np.array([o.params.gbar for o in orbits])),
         "r": ("point", np.array([o.params.r for o in orbits])),
-        "admissible": ("point", np.array([o.admissible for o in orbits])),
+        "admissible": ("point", admissible),
         "clearance": ("point", np.array([o.clearance for o in orbits])),
         "trace": ("point", np.array([o.trace for o in orbits])),
         "det": ("point", np.array([o.det for o in orbits])),

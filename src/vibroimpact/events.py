@@ -8,9 +8,9 @@ ends.  Every crossing, including a tangential (grazing) contact at an extremum, 
 bracketed; no step size is involved.  A near miss is decided by the sign of the gap at the
 extremum, evaluated in double-double arithmetic when it is within 1e-12 of the wall.
 
-Roots are found by Halley's method safeguarded by bisection (``rtsafe``'s safeguards), started
-at the secant point moved by one Newton step on the cubic Hermite interpolant of the end values and
-slopes.  A crossing with small impact
+Roots are found by Householder's third-order method (the point's first three derivatives come with
+it) safeguarded by bisection (``rtsafe``'s safeguards), started at the secant point moved by one
+Newton step on the cubic Hermite interpolant of the end values and slopes.  A crossing with small impact
 velocity is ill-conditioned in time (``dt = dZ / Zdot``), so it is polished on the double-double gap
 by steps that solve its local quadratic.
 
@@ -24,10 +24,12 @@ it brackets the hit without the extremum.
 
 Cost: every point is evaluated once for its displacement, velocity, acceleration and jerk from one
 sine and cosine of half the angle travelled (:func:`~vibroimpact.flight.state3`); within a root
-search each new point takes them from the previous one by angle addition; at a zero of the
-acceleration they follow from ``cos = -gbar`` by angle subtraction.  The event loop carries the
-phase's cosine and sine.  About 4-5 points and 5-7 trigonometric calls per impact
-(``vibroimpact.bench.kernel_profile``).
+search each new point within a short step of the last takes them from it by Taylor polynomials
+(:func:`~vibroimpact.flight.state_step`, no trigonometric call); at a zero of the acceleration they
+follow from ``cos = -gbar`` by angle subtraction.  The event loop carries the phase's cosine and
+sine.  About 3.7-4.6 points and 4-5.3 trigonometric calls per impact
+(``vibroimpact.bench.kernel_profile``).  Compiled with numba's ``numpy`` error model: no check per
+division (every divisor here is nonzero by construction or tested first).
 """
 
 import math
@@ -36,13 +38,13 @@ from numba import njit
 
 from .flight import (
     INV_PI,
+    NEAR_STEP,
     PI,
     TWO_PI,
     gap_dd,
-    half_angle_near,
     state3,
-    state_from_half,
     state_from_sc,
+    state_step,
     velocity,
 )
 
@@ -52,7 +54,7 @@ POLISH_SPEED = 1e-3
 DD_MARGIN = 1e-12
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def accel_zero(tau, theta, alpha):
     """Smallest local time ``t > tau`` where ``cos(theta + pi t) = -gbar`` (``alpha = arccos(-gbar)``),
     and the sign of ``sin(theta + pi t)`` there: +1 at the phase ``alpha``, -1 at ``2 pi - alpha``."""
@@ -67,13 +69,13 @@ def accel_zero(tau, theta, alpha):
     return (base + TWO_PI * 2 - alpha - theta) / PI, -1.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def next_accel_zero(tau, theta, alpha):
     """Smallest local time > ``tau`` where ``cos(theta + pi t) = -gbar`` (``alpha = arccos(-gbar)``)."""
     return accel_zero(tau, theta, alpha)[0]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _hermite_start(lo, hi, flo, fhi, dflo, dfhi):
     """Start for a root search on [lo, hi]: one Newton step on the cubic Hermite interpolant of f
     (values and slopes at both ends, all known there) from the secant point; the secant point when
@@ -97,35 +99,33 @@ def _hermite_start(lo, hi, flo, fhi, dflo, dfhi):
     return lo + x * h
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _done(step, x, df, d2f, d3f):
-    """Is the root within rounding of ``x - step``?  Halley's error after the step is about
-    ``K step^3`` with ``K = (f''/2f')^2 + |f'''/6f'|``; stop when that is below 1e-17 of ``|x|``."""
+    """Is the root within rounding of ``x - step``?  Halley's error after the step would be about
+    ``K step^3`` with ``K = (f''/2f')^2 + |f'''/6f'|``; stop when that is below 1e-17 of ``|x|``.
+    The fourth-order step actually taken leaves less (``O(step^4)``), so the test is conservative."""
     if abs(step) <= 2.2e-16 * max(abs(x), 1e-300):
         return True
     if df == 0.0 or abs(step) > 1e-4:
         return False
-    inv = 1.0 / df
-    q = 0.5 * d2f * inv
-    k = q * q + abs(d3f * inv) * (1.0 / 6.0)
-    return k * step * step * abs(step) <= 1e-17 * max(abs(x), 1e-300)
+    # K |step|^3 <= 1e-17 |x| multiplied through by f'^2: no division
+    return (0.25 * d2f * d2f + abs(d3f * df) * (1.0 / 6.0)) * step * step * abs(step) <= 1e-17 * max(abs(x), 1e-300) * df * df
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _rtsafe(which, lo, hi, flo, fhi, dflo, dfhi, c, s, z0w, u, gbar):
     """Root of a monotone function on [lo, hi] with f(lo), f(hi) of opposite sign (or zero):
     ``which=0`` Zdot, ``which=1`` the gap ``Z - wall`` (``z0w`` its value at the flight's start),
     ``which=2`` the slope ``(Z(x) - Z(0)) / x`` of a flight that starts on the wall it returns to;
     ``dflo``, ``dfhi`` its slopes at the ends (NaN if unknown: the search starts at the midpoint).
 
-    Halley's method (third order: the second derivative comes with the same evaluation) from the
-    secant point moved by one Newton step on the cubic Hermite interpolant (:func:`_hermite_start`),
-    safeguarded as rtsafe is:
-    bisection where even Newton's step would not halve the bracket (a flat f) and where Halley's
-    step leaves it.  It stops when Halley's last step leaves an error at rounding level
-    (:func:`_done`).  After the first point, the sine and cosine at each new point come from the
-    previous point's by angle addition while the steps are small
-    (:func:`~vibroimpact.flight.half_angle_near`).
+    Householder's third-order method (fourth-order convergence: the second and third derivatives
+    come with the same evaluation) from the secant point moved by one Newton step on the cubic
+    Hermite interpolant (:func:`_hermite_start`), safeguarded as rtsafe is: bisection where even
+    Newton's step would not halve the bracket (a flat f) and where the step leaves it.  It stops when
+    the last step leaves an error at rounding level (:func:`_done`).  After the first point, each new
+    point within a short step of the last is propagated from it by Taylor polynomials, with no
+    trigonometric call (:func:`~vibroimpact.flight.state_step`).
 
     Returns ``(x, disp, vel)``: the root and the displacement and velocity there, from the last
     evaluated point by Taylor's formula (its distance to the root is below 1e-5, or the bracket's
@@ -145,10 +145,7 @@ def _rtsafe(which, lo, hi, flo, fhi, dflo, dfhi, c, s, z0w, u, gbar):
         x = 0.5 * (lo + hi)
     dxold = abs(hi - lo)
     dx = dxold
-    half = 0.5 * PI * x
-    sh = math.sin(half)
-    ch = math.cos(half)
-    disp, vel, acc, jerk = state_from_half(x, sh, ch, c, s, u, gbar)
+    disp, vel, acc, jerk = state3(x, c, s, u, gbar)
     xe = x
     for _ in range(200):
         if which == 0:
@@ -166,24 +163,30 @@ def _rtsafe(which, lo, hi, flo, fhi, dflo, dfhi, c, s, z0w, u, gbar):
             xl = x
         else:
             xh = x
-        den = 2.0 * df * df - f * d2f
-        step = 2.0 * f * df / den if den != 0.0 else 0.0
+        # Householder's third-order step (fourth-order convergence: the third derivative comes with
+        # the point as well)
+        num = 2.0 * df * df - f * d2f
+        den = 3.0 * df * num - f * (3.0 * df * d2f - f * d3f)
+        step = 3.0 * f * num / den if den != 0.0 else 0.0
         xn = x - step
         if den == 0.0 or abs(2.0 * f) > abs(dxold * df) or (xn - xh) * (xn - xl) > 0.0:
             dxold = dx
             dx = 0.5 * (xh - xl)
             x = xl + dx
-            halley = False
+            fast = False
         else:
             dxold = dx
             dx = step
             x = xn
-            halley = True
-        if (halley and _done(dx, x, df, d2f, d3f)) or abs(xh - xl) <= 4.4e-16 * max(abs(x), 1e-300):
+            fast = True
+        if (fast and _done(dx, x, df, d2f, d3f)) or abs(xh - xl) <= 4.4e-16 * max(abs(x), 1e-300):
             h = x - xe
             return x, disp + h * (vel + 0.5 * h * acc), vel + h * (acc + 0.5 * h * jerk)
-        sh, ch = half_angle_near(x, xe, sh, ch)
-        disp, vel, acc, jerk = state_from_half(x, sh, ch, c, s, u, gbar)
+        h = x - xe
+        if abs(PI * h) < NEAR_STEP:
+            disp, vel, acc, jerk = state_step(h, disp, vel, acc, jerk, gbar)
+        else:
+            disp, vel, acc, jerk = state3(x, c, s, u, gbar)
         xe = x
     return x, disp, vel
 
@@ -193,7 +196,7 @@ def _rtsafe(which, lo, hi, flo, fhi, dflo, dfhi, c, s, z0w, u, gbar):
 SKIP_MARGIN = 1e-9
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _gap_sign_dd(tau, theta, z0w, u, gbar, g):
     """Gap at an extremum, re-evaluated in double-double when it is within DD_MARGIN of zero."""
     if abs(g) < DD_MARGIN:
@@ -201,7 +204,7 @@ def _gap_sign_dd(tau, theta, z0w, u, gbar, g):
     return g
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _polish(tau, lo, hi, theta, c, s, z0w, u, gbar):
     """Steps on the double-double gap, kept inside [lo, hi]: each solves the local quadratic
     ``g + v h + a h^2 / 2 = 0`` for the root nearest to ``tau``, which converges fast even where the
@@ -227,7 +230,7 @@ def _polish(tau, lo, hi, theta, c, s, z0w, u, gbar):
     return tau
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _slow(t, v, lo, hi, theta, c, s, z0w, u, gbar, sg):
     """``(t, wall, Zdot-)`` of a hit on the wall on side ``sg`` (+1 bottom) at ``t`` with velocity
     ``v``, polished in double-double when the impact is slow (:func:`_polish`)."""
@@ -237,7 +240,7 @@ def _slow(t, v, lo, hi, theta, c, s, z0w, u, gbar, sg):
     return t, 1 if sg > 0.0 else -1, v
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def next_impact(theta, z0, u, d, gbar, tau_max):
     """First impact of the flight that starts at phase ``theta``, position ``z0``, velocity ``u``.
 
@@ -265,7 +268,7 @@ def next_impact(theta, z0, u, d, gbar, tau_max):
     return tau, wall
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
     """:func:`next_impact` for the event loop: the start phase ``theta`` in [0, 2 pi) with its cosine
     ``c`` and sine ``s``, and ``alpha = arccos(-gbar)`` (any value when ``gbar >= 1``), computed once

@@ -25,51 +25,51 @@ INV_PI2 = 1.0 / (math.pi * math.pi)
 TWO_PI = 2.0 * math.pi
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def one_minus_cos(x):
     """1 - cos x without cancellation."""
     s = math.sin(0.5 * x)
     return 2.0 * s * s
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def sin_minus_x(x):
     """sin x - x without cancellation (Taylor series for |x| < 0.25)."""
     if abs(x) < 0.25:
         x2 = x * x
-        return -x * x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0 * (1.0 - x2 / 110.0))))
+        return -x * x2 * (1.0 / 6.0) * (1.0 - x2 * (1.0 / 20.0) * (1.0 - x2 * (1.0 / 42.0) * (1.0 - x2 * (1.0 / 72.0) * (1.0 - x2 * (1.0 / 110.0)))))
     return math.sin(x) - x
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def displacement(tau, c, s, u, gbar):
     """Z(tau) - Z(0) for a flight with cos/sin of the start phase ``c``, ``s``."""
     x = PI * tau
     return u * tau + 0.5 * gbar * tau * tau + (c * one_minus_cos(x) + s * sin_minus_x(x)) * INV_PI2
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def velocity(tau, c, s, u, gbar):
     """Zdot(tau)."""
     x = PI * tau
     return u + gbar * tau + (c * math.sin(x) - s * one_minus_cos(x)) * INV_PI
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def acceleration(tau, c, s, gbar):
     """Z''(tau) = cos(theta + pi tau) + gbar."""
     x = PI * tau
     return c * math.cos(x) - s * math.sin(x) + gbar
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def state_from_sc(tau, sx, omc, c, s, u, gbar):
     """Displacement ``Z(tau) - Z(0)``, velocity, acceleration and jerk of a flight from ``sin x`` and
     ``1 - cos x`` of the forcing angle travelled, ``x = pi tau``."""
     x = PI * tau
     if abs(x) < 0.25:
         x2 = x * x
-        smx = -x * x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0 * (1.0 - x2 / 110.0))))
+        smx = -x * x2 * (1.0 / 6.0) * (1.0 - x2 * (1.0 / 20.0) * (1.0 - x2 * (1.0 / 42.0) * (1.0 - x2 * (1.0 / 72.0) * (1.0 - x2 * (1.0 / 110.0)))))
     else:
         smx = sx - x
     cx = 1.0 - omc
@@ -80,14 +80,14 @@ def state_from_sc(tau, sx, omc, c, s, u, gbar):
     return disp, vel, acc, jerk
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def state_from_half(tau, sh, ch, c, s, u, gbar):
     """:func:`state_from_sc` from the sine ``sh`` and cosine ``ch`` of half the angle travelled
     (``sin x = 2 sh ch``, ``1 - cos x = 2 sh^2``: no cancellation however short the flight)."""
     return state_from_sc(tau, 2.0 * sh * ch, 2.0 * sh * sh, c, s, u, gbar)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def state3(tau, c, s, u, gbar):
     """Displacement, velocity, acceleration and jerk at ``tau`` (:func:`state_from_half`) for one
     sine and one cosine, where separate formulas would take four to six trigonometric calls."""
@@ -95,23 +95,35 @@ def state3(tau, c, s, u, gbar):
     return state_from_half(tau, math.sin(half), math.cos(half), c, s, u, gbar)
 
 
-#: below this half-angle step, :func:`half_angle_near` uses a Taylor polynomial instead of sin/cos
-NEAR_STEP = 0.05
+#: below this angle step ``pi h``, :func:`state_step` uses Taylor polynomials instead of sin/cos
+NEAR_STEP = 0.1
 
 
-@njit(cache=True, inline="always")
-def half_angle_near(tau, tau_b, sh_b, ch_b):
-    """``sin`` and ``cos`` of ``pi tau / 2`` from their values ``sh_b``, ``ch_b`` at ``tau_b`` by angle
-    addition, with the small step's sine and cosine from their Taylor series (truncation below 1e-20
-    for a step under ``NEAR_STEP``); sin and cos themselves for a larger step."""
-    dl = 0.5 * PI * (tau - tau_b)
-    if abs(dl) >= NEAR_STEP:
-        half = 0.5 * PI * tau
-        return math.sin(half), math.cos(half)
-    d2 = dl * dl
-    sd = dl * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))))
-    cd = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0 * (1.0 - d2 / 90.0))))
-    return sh_b * cd + ch_b * sd, ch_b * cd - sh_b * sd
+@njit(cache=True, error_model="numpy", inline="always")
+def state_step(h, disp, vel, acc, jerk, gbar):
+    """Displacement, velocity, acceleration and jerk at ``tau + h`` from their values at ``tau``, for
+    a step with ``|pi h| < NEAR_STEP``: the acceleration less ``gbar`` is a pure harmonic, so
+
+        acc(tau + h) - gbar = (acc - gbar) cos w + jerk sin(w) / pi,     w = pi h,
+
+    and velocity and displacement are its integrals; ``sin w``, ``1 - cos w`` and ``w - sin w`` come
+    from their Taylor series (relative truncation below 3e-18 for ``|w| < NEAR_STEP``), so no
+    trigonometric call and no cancellation.  Replaces sin and cos at the points of a root search after
+    the first, whose steps are short."""
+    w = PI * h
+    w2 = w * w
+    sw = w * (1.0 - w2 * (1.0 / 6.0) * (1.0 - w2 * (1.0 / 20.0) * (1.0 - w2 * (1.0 / 42.0) * (1.0 - w2 * (1.0 / 72.0)))))
+    omc = w2 * 0.5 * (1.0 - w2 * (1.0 / 12.0) * (1.0 - w2 * (1.0 / 30.0) * (1.0 - w2 * (1.0 / 56.0)
+                                                                               * (1.0 - w2 * (1.0 / 90.0)))))
+    wms = w * w2 * (1.0 / 6.0) * (1.0 - w2 * (1.0 / 20.0) * (1.0 - w2 * (1.0 / 42.0) * (1.0 - w2 * (1.0 / 72.0)
+                                                                                         * (1.0 - w2 * (1.0 / 110.0)))))
+    a = acc - gbar
+    jp = jerk * INV_PI
+    disp1 = disp + vel * h + 0.5 * gbar * h * h + (a * omc + jp * wms) * INV_PI2
+    vel1 = vel + gbar * h + (a * sw + jp * omc) * INV_PI
+    acc1 = gbar + a - a * omc + jp * sw
+    jerk1 = jerk - jerk * omc - PI * a * sw
+    return disp1, vel1, acc1, jerk1
 
 
 # --------------------------------------------------------------------------------------------
@@ -121,20 +133,20 @@ def half_angle_near(tau, tau_b, sh_b, ch_b):
 _SPLIT = 134217729.0  # 2^27 + 1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _two_sum(a, b):
     s = a + b
     bb = s - a
     return s, (a - (s - bb)) + (b - bb)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _quick_two_sum(a, b):
     s = a + b
     return s, b - (s - a)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _two_prod(a, b):
     p = a * b
     t = _SPLIT * a
@@ -146,7 +158,7 @@ def _two_prod(a, b):
     return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def dd_add(ah, al, bh, bl):
     s, e = _two_sum(ah, bh)
     t, f = _two_sum(al, bl)
@@ -156,7 +168,7 @@ def dd_add(ah, al, bh, bl):
     return _quick_two_sum(s, e)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def dd_mul(ah, al, bh, bl):
     p, e = _two_prod(ah, bh)
     e += ah * bl + al * bh
@@ -172,7 +184,7 @@ HALF_PI_HI = 1.5707963267948966
 HALF_PI_LO = 6.123233995736766e-17
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def dd_div_int(ah, al, n):
     """Double-double divided by an integer-valued double."""
     q = ah / n
@@ -181,7 +193,7 @@ def dd_div_int(ah, al, n):
     return _quick_two_sum(q, r)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _dd_sincos_reduced(rh, rl):
     """sin and cos of a double-double |r| <= pi/4 by Taylor series (27 terms)."""
     r2h, r2l = dd_mul(rh, rl, rh, rl)
@@ -201,7 +213,7 @@ def _dd_sincos_reduced(rh, rl):
     return sh, sl, ch, cl
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dd_sincos(xh, xl):
     """sin and cos of a double-double argument (|x| up to ~1e6) to ~1e-30 absolute."""
     k = math.floor(xh / HALF_PI_HI + 0.5)
@@ -218,7 +230,7 @@ def dd_sincos(xh, xl):
     return -ch, -cl, sh, sl
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def gap_dd(tau, theta, z0_minus_wall, u, gbar):
     """(Z(tau) - wall) in double-double, rounded to double: accurate to ~1e-30 absolute.
 

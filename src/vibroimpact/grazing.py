@@ -18,7 +18,7 @@ from .events import _rtsafe, next_accel_zero, next_impact
 from .flight import PI, TWO_PI, displacement, velocity
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def interior_clearance(theta, z0, u, d, gbar, tau_end):
     """Smallest distance to a wall of the interior extrema of one flight on ``(0, tau_end)``.
 

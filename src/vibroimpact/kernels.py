@@ -54,7 +54,7 @@ CHATTER_DRIFT = 1e-9
 TAU_HORIZON = 1.0e5
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _wrap(x):
     """``x % TWO_PI`` for ``x >= 0``, bit for bit: below ``2 TWO_PI`` one subtraction, exact by
     Sterbenz's lemma (as the remainder is), without the library call."""
@@ -65,13 +65,13 @@ def _wrap(x):
     return x % TWO_PI
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _phase_distance(a, b):
     x = abs(a - b) % TWO_PI
     return min(x, TWO_PI - x)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def period_update(i, t, wall, vm, phase, kind, counts, tol):
     """Update the per-lag match counters with event ``i``; return the smallest lag p whose last
     ``2p`` events all repeated the event ``p`` earlier (two full cycles), else 0.
@@ -109,7 +109,7 @@ def period_update(i, t, wall, vm, phase, kind, counts, tol):
     return found
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _no_shorter_period(i, p, vm, phase, tol):
     """False when a divisor q of p has lag-q residuals below sqrt(tol) over the last p events.
 
@@ -130,7 +130,7 @@ def _no_shorter_period(i, p, vm, phase, tol):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _accumulation_time(c, s, u, w, gbar, r, v_chatter):
     """Time to the accumulation point of a chattering sequence after an impact on wall ``w`` with
     rebound velocity ``u`` at the phase with cosine ``c`` and sine ``s``, or -1 when the rule does
@@ -152,7 +152,7 @@ def _accumulation_time(c, s, u, w, gbar, r, v_chatter):
     return tau
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def run(d, gbar, r, t_start, theta_start, z_start, v_start, kind_start, wall_start,
         i0, t_end, v_chatter, detect, tol, counts,
         out_t, out_wall, out_vm, out_vp, out_phase, out_kind, out_z):
@@ -276,7 +276,7 @@ def run(d, gbar, r, t_start, theta_start, z_start, v_start, kind_start, wall_sta
         pending = IMPACT
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, error_model="numpy", parallel=True)
 def run_batch(d, gbar, r, theta0, v0, n_events, t_end, v_chatter, detect, tol, pmax,
               out_t, out_wall, out_vm, out_vp, out_phase, out_kind, out_z, out_n, out_status, out_lag):
     """Run many independent simulations in parallel, each from a bottom impact (paper convention).
@@ -294,7 +294,7 @@ def run_batch(d, gbar, r, theta0, v0, n_events, t_end, v_chatter, detect, tol, p
         out_lag[k] = lag
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _resume_code(kind):
     if kind == STICK:
         return STICK
@@ -303,7 +303,7 @@ def _resume_code(kind):
     return RESUME
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def run_window(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, cap,
                win_t, win_wall, win_vm, win_phase, win_kind):
     """Run from a bottom impact at t = 0 until the motion is periodic, ``t_end`` or ``max_events``,
@@ -354,7 +354,7 @@ def run_window(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, 
     return status, lag, total, m
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, error_model="numpy", parallel=True)
 def window_batch(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, cap,
                  win_t, win_wall, win_vm, win_phase, win_kind, out_status, out_lag, out_total, out_n):
     """:func:`run_window` for many runs in parallel (numba prange); outputs of shape (m, window)."""

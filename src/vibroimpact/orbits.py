@@ -218,7 +218,8 @@ class Orbit:
 
     @property
     def det(self):
-        return float(np.linalg.det(self.jacobian))
+        J = self.jacobian
+        return float(np.linalg.det(J)) if np.all(np.isfinite(J)) else math.nan
 
     @property
     def discriminant(self):
@@ -233,6 +234,8 @@ class Orbit:
     def stability(self):
         """'stable node', 'unstable focus', ... (paper Table 1); 'saddle' when one |lambda| > 1 > other."""
         mods = np.abs(self.eigenvalues)
+        if not np.all(np.isfinite(mods)):
+            return "undefined (zero-speed impact)"
         kind = "focus" if self.discriminant < 0 else "node"
         if np.all(mods < 1):
             return f"stable {kind}"
@@ -243,8 +246,11 @@ class Orbit:
 
 def _assemble(params, word, k, z):
     walls = parse_word(word)
-    J = map_jacobian(z, walls, params.gbar, params.r)
-    ev = np.linalg.eigvals(J)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        J = map_jacobian(z, walls, params.gbar, params.r)
+    # an impact at exactly zero speed (on a grazing curve) makes the map's Jacobian infinite (it grows as
+    # 1 / v): no eigenvalues there, NaN rather than an error
+    ev = np.linalg.eigvals(J) if np.all(np.isfinite(J)) else np.full(2, complex(math.nan, math.nan))
     from .grazing import admissibility  # late import: grazing builds on this module
 
     ok, reason, clearance = admissibility(z, walls, params.d, params.gbar, params.r)

@@ -179,16 +179,10 @@ def run_heyoka(p: Params, phi, v0, n, *, tol, t_end=math.inf, max_seconds=60.0, 
     return flight_loop(flight, p, phi, v0, n, t_end=t_end, max_seconds=max_seconds, errors=(ValueError, RuntimeError))
 
 
-def stepping_cost(p: Params, phi, v0, n, *, tol, repeats: int = 1) -> dict:
-    """heyoka's cost per impact without any Python in the loop: the seconds per Taylor step of one
-    ``propagate_until`` over the time ``n`` impacts of :func:`run_heyoka` span (same equations and
-    tolerance, no events), times the steps per impact that event loop took.  ``free_end``: the timed
-    propagation's final (Z, Zdot) at ``span``, from a bottom impact at phase ``phi`` (Zdot+ = -r v0).
-
-    This is the floor a user driving heyoka from C++ would approach; the propagation is timed
-    ``repeats`` times from the same state and the fastest counts.  Returns ``us_per_impact``,
-    ``steps_per_impact``, ``us_per_step``, the event loop's own ``loop_us_per_impact`` and the timed
-    propagation's ``timed_steps``."""
+def stepping_timer(p: Params, phi, v0, n, *, tol):
+    """:func:`stepping_cost` in two parts, so that its timed runs can be interleaved with other
+    timings: returns ``(timed, result)``; ``timed()`` runs the propagation once from the same state and
+    returns its seconds, ``result(seconds)`` the cost dictionary for the fastest of them."""
     import heyoka as hy
 
     ta_ev = integrator(tol)
@@ -201,14 +195,34 @@ def stepping_cost(p: Params, phi, v0, n, *, tol, repeats: int = 1) -> dict:
     ta = hy.taylor_adaptive([(z, v), (v, hy.cos(hy.par[0] + math.pi * hy.time) + hy.par[1])], [0.5 * p.d, -p.r * v0],
                             tol=float(tol), pars=[phi, p.gbar])
     ta.propagate_until(1.0)  # touch the compiled code outside the clock
-    seconds = math.inf
-    for _ in range(max(int(repeats), 1)):
+    last = {}
+
+    def timed():
         ta.time = 0.0
         ta.state[:] = [0.5 * p.d, -p.r * v0]
         start = time.perf_counter()
-        free = ta.propagate_until(span)
-        seconds = min(seconds, time.perf_counter() - start)
-    per_step = seconds / max(int(free[3]), 1)
-    return dict(us_per_impact=per_step * steps / len(run.t) * 1e6, steps_per_impact=steps / len(run.t),
-                us_per_step=per_step * 1e6, loop_us_per_impact=run.seconds / len(run.t) * 1e6,
-                span=span, free_end=(float(ta.state[0]), float(ta.state[1])), timed_steps=int(free[3]))
+        last["free"] = ta.propagate_until(span)
+        return time.perf_counter() - start
+
+    def result(seconds):
+        timed_steps = int(last["free"][3])
+        per_step = seconds / max(timed_steps, 1)
+        return dict(us_per_impact=per_step * steps / len(run.t) * 1e6, steps_per_impact=steps / len(run.t),
+                    us_per_step=per_step * 1e6, loop_us_per_impact=run.seconds / len(run.t) * 1e6,
+                    span=span, free_end=(float(ta.state[0]), float(ta.state[1])), timed_steps=timed_steps)
+
+    return timed, result
+
+
+def stepping_cost(p: Params, phi, v0, n, *, tol, repeats: int = 1) -> dict:
+    """heyoka's cost per impact without any Python in the loop: the seconds per Taylor step of one
+    ``propagate_until`` over the time ``n`` impacts of :func:`run_heyoka` span (same equations and
+    tolerance, no events), times the steps per impact that event loop took.  ``free_end``: the timed
+    propagation's final (Z, Zdot) at ``span``, from a bottom impact at phase ``phi`` (Zdot+ = -r v0).
+
+    This is the floor a user driving heyoka from C++ would approach; the propagation is timed
+    ``repeats`` times from the same state and the fastest counts.  Returns ``us_per_impact``,
+    ``steps_per_impact``, ``us_per_step``, the event loop's own ``loop_us_per_impact`` and the timed
+    propagation's ``timed_steps``."""
+    timed, result = stepping_timer(p, phi, v0, n, tol=tol)
+    return result(min(timed() for _ in range(max(int(repeats), 1))))

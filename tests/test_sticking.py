@@ -109,3 +109,18 @@ def test_growing_buffers_do_not_change_the_run():
     whole = vi.simulate(sticky, 0.3, 0.5, n_impacts=n + 1)
     np.testing.assert_array_equal(chunked["t"].values, whole["t"].values[:n])
     np.testing.assert_array_equal(chunked["kind"].values, whole["kind"].values[:n])
+
+
+def test_at_rest_where_the_acceleration_turns_into_the_wall_the_ball_sticks_and_time_goes_on():
+    """gbar one ulp below 1, r = 0: the release window is 3e-8 wide in phase and the excursion in it
+    ~1e-32, below rounding, so the return is found at the zero of the acceleration itself. At rest
+    there, with the acceleration into the wall exactly zero and turning positive, the ball sticks
+    (a flight from there meets the wall at once, and would repeat at the same time for ever), and no
+    hit arrives out of its wall (found by hypothesis)."""
+    p = vi.Params(d=1.0, gbar=0.9999999999999999, r=0.0)
+    ds = vi.simulate(p, 0.0, 0.0, n_impacts=150, t_end=200.0)
+    kind = ds["kind"].values
+    hits = (kind == K.IMPACT) | (kind == K.GRAZING)
+    assert np.all(ds["wall"].values[hits] * ds["v_minus"].values[hits] >= 0)
+    assert np.all(np.diff(ds["t"].values) >= 0) and float(ds["t"][-1]) > 90  # one stick per forcing period
+    assert (kind == K.STICK).sum() >= 49 and (kind == K.RELEASE).sum() >= 49

@@ -52,6 +52,9 @@ from .flight import (
 POLISH_SPEED = 1e-3
 #: Within this distance of a wall a near-extremum hit/miss decision is made in double-double.
 DD_MARGIN = 1e-12
+#: An arrival speed below this is rounding (the velocity is a sum of terms of order 1, each rounded
+#: to ~1e-16): a hit found with such a speed pointing out of its wall arrives at zero speed.
+ZERO_SPEED = 1e-15
 
 
 @njit(cache=True, error_model="numpy")
@@ -237,6 +240,10 @@ def _slow(t, v, lo, hi, theta, c, s, z0w, u, gbar, sg):
     if abs(v) < POLISH_SPEED:
         t = _polish(t, lo, hi, theta, c, s, z0w, u, gbar)
         v = velocity(t, c, s, u, gbar)
+        if sg * v < 0.0 and abs(v) < ZERO_SPEED:
+            # a crossing into the wall (bracketed as one) whose speed is below the velocity's
+            # rounding error: it arrives at zero speed, not out of the wall
+            v = 0.0
     return t, 1 if sg > 0.0 else -1, v
 
 

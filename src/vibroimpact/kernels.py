@@ -143,8 +143,13 @@ def _accumulation_time(c, s, u, w, gbar, r, v_chatter):
     is of order ``CHATTER_DRIFT``.  Otherwise the next bounce is computed exactly.
     """
     a_in = w * (c + gbar)
-    if a_in <= 0.0 or abs(u) >= v_chatter:
+    if abs(u) >= v_chatter:
         return -1.0
+    if a_in <= 0.0:
+        # at rest exactly where the acceleration into the wall is zero and turning positive (the
+        # phase where w Z'' changes sign towards the wall): the ball stays; a flight from there would
+        # meet the wall again at once, forever at the same time
+        return 0.0 if u == 0.0 and a_in == 0.0 and w * s < 0.0 else -1.0
     tau = 2.0 * abs(u) / ((1.0 - r) * a_in)
     drift = PI * abs(s) * tau + 0.5 * PI * PI * tau * tau
     if drift > CHATTER_DRIFT * a_in:

@@ -135,10 +135,11 @@ def test_impact_times_with_gbar_at_least_one_match_the_reference():
 
 
 def test_simulate_impact_times_match_reference_along_a_run():
-    """Each flight of a simulated run, restarted from its recorded post-impact state, agrees."""
+    """Each flight of a simulated run, restarted from its recorded post-impact state, agrees: the
+    impact's wall, time and arrival velocity (the reference's velocity at its impact time)."""
     p = vi.Params(d=0.25, gbar=0.15, r=0.5)
     ds = vi.simulate(p, 0.7, 0.6, n_impacts=25)
-    t, phase, z, vp, kind = (ds[k].values for k in ("t", "phase", "z", "v_plus", "kind"))
+    t, phase, z, vp, vm, kind = (ds[k].values for k in ("t", "phase", "z", "v_plus", "v_minus", "kind"))
     for j in range(len(t) - 1):
         if kind[j] != 0:
             continue
@@ -147,6 +148,7 @@ def test_simulate_impact_times_match_reference_along_a_run():
             continue
         assert ds["wall"].values[j + 1] == ref_wall
         assert abs((t[j + 1] - t[j]) - float(ref_tau)) < TOL_T * max(1.0, t[j + 1])
+        assert abs(vm[j + 1] - float(velocity(phase[j], vp[j], p.gbar)(ref_tau))) < TOL_T
 
 
 def test_no_flight_time_left_means_no_impact():

@@ -122,5 +122,6 @@ def test_at_rest_where_the_acceleration_turns_into_the_wall_the_ball_sticks_and_
     kind = ds["kind"].values
     hits = (kind == K.IMPACT) | (kind == K.GRAZING)
     assert np.all(ds["wall"].values[hits] * ds["v_minus"].values[hits] >= 0)
+    assert np.all(np.abs(ds["v_minus"].values[hits]) < TOL_T)  # contacts at rest, not impacts
     assert np.all(np.diff(ds["t"].values) >= 0) and float(ds["t"][-1]) > 90  # one stick per forcing period
     assert (kind == K.STICK).sum() >= 49 and (kind == K.RELEASE).sum() >= 49

@@ -68,7 +68,7 @@ def make_tree(fresh=False):
         shutil.copy(os.path.join(PKG, mod + ".py"), os.path.join(ROOT, "pristine", mod + ".py"))
 
 TESTS = {
-    "events": ["tests/test_impact_times.py", "tests/test_properties.py"],
+    "events": ["tests/test_impact_times.py", "tests/test_properties.py", "tests/test_sticking.py"],
     "kernels": ["tests/test_kernels.py", "tests/test_sticking.py", "tests/test_attractor.py",
                 "tests/test_properties.py", "tests/test_impact_times.py"],
     "orbits": ["tests/test_orbits.py", "tests/test_captions.py"],

@@ -36,13 +36,13 @@ def simulator_benchmark(n_impacts: int, n_impacts_ivp: int, n_flights_accuracy: 
     ds = simulate(p, SCENE["phi"], SCENE["v0"], n_impacts=n_impacts)
     m = 2 * 64
     phis = np.linspace(0, 2 * np.pi, m, endpoint=False)
-    # the fastest of REPEATS runs, in rounds (as in kernel_profile); solve_ivp, a thousand times slower,
-    # is timed once
-    exact_s = batch_s = math.inf
-    for _ in range(REPEATS):
-        exact_s = min(exact_s, _seconds(partial(simulate, p, SCENE["phi"], SCENE["v0"], n_impacts=n_impacts)) / n_impacts)
-        batch_s = min(batch_s, _seconds(partial(simulate_batch, [p.d] * m, g, 0.5, phis, SCENE["v0"],
-                                                n_impacts=n_impacts // m)) / (m * (n_impacts // m)))
+    # solve_ivp, a thousand times slower, is timed once
+    best = _fastest_in_rounds({
+        "exact": partial(_seconds, partial(simulate, p, SCENE["phi"], SCENE["v0"], n_impacts=n_impacts)),
+        "batch": partial(_seconds, partial(simulate_batch, [p.d] * m, g, 0.5, phis, SCENE["v0"], n_impacts=n_impacts // m)),
+    }, REPEATS)
+    exact_s = best["exact"] / n_impacts
+    batch_s = best["batch"] / (m * (n_impacts // m))
 
     ivp = run_ivp(p, SCENE["phi"], SCENE["v0"], n_impacts_ivp, rtol=rtol, atol=atol, max_seconds=math.inf)
     ivp_s = ivp.seconds / n_impacts_ivp
@@ -233,6 +233,17 @@ def _seconds(run, threads=None) -> float:
     return time.perf_counter() - t
 
 
+def _fastest_in_rounds(timers: dict, repeats: int) -> dict:
+    """The fastest of ``repeats`` seconds of each of ``timers`` (calls returning their seconds), taken
+    in rounds over all of them, so that a noisy stretch of a shared machine slows one round of each,
+    not all the runs of one of them."""
+    best = dict.fromkeys(timers, math.inf)
+    for _ in range(max(int(repeats), 1)):
+        for key, timed in timers.items():
+            best[key] = min(best[key], timed())
+    return best
+
+
 def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: int = 20_000,
                    repeats: int = REPEATS) -> xr.Dataset:
     """Cost of the exact kernel on the two target scenes: microseconds per impact on one thread
@@ -273,13 +284,7 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: i
         for threads in (1, cores):
             timers[name, threads] = partial(_seconds, partial(simulate_batch, [p.d] * m, p.gbar, 0.5, phis, v0,
                                                               n_impacts=n_impacts // m), threads=threads)
-    # every timing is the fastest of `repeats`, taken in rounds over all scenes and methods (ours and
-    # heyoka's alike), so that a noisy stretch of a shared machine slows one round of each, not all the
-    # runs of one of them
-    best = dict.fromkeys(timers, math.inf)
-    for _ in range(max(int(repeats), 1)):
-        for key, timed in timers.items():
-            best[key] = min(best[key], timed())
+    best = _fastest_in_rounds(timers, repeats)  # ours and heyoka's alike
     numba.set_num_threads(cores)
     us = [best[n, "simulate"] / n_impacts * 1e6 for n in names]
     rate1 = [m * (n_impacts // m) / best[n, 1] for n in names]

@@ -368,11 +368,12 @@ def _curve_dataset(Xs, template, pm, kind, params, stops, scale) -> xr.Dataset:
     for i in plane_cusps(lam, scale):
         events.append(("cusp", *lam[i]))
     admissible = np.array([o.admissible for o in orbits])
+    clearance = np.array([o.clearance for o in orbits])
     if kind == "grazing":
         # on a grazing curve the orbit touches a wall (or hits it at zero speed) by construction: a
         # clearance within the corrector's residual, on either side of zero, is that contact and not a
         # violation (its sign is rounding, and would make the drawn admissibility flicker along the curve)
-        admissible |= np.abs(np.array([o.clearance for o in orbits])) < RESIDUAL
+        admissible |= np.abs(clearance) < RESIDUAL
     data = {
         params[0]: ("point", lam[:, 0]),
         params[1]: ("point", lam[:, 1]),
@@ -380,7 +381,7 @@ def _curve_dataset(Xs, template, pm, kind, params, stops, scale) -> xr.Dataset:
         "gbar": ("point", np.array([o.params.gbar for o in orbits])),
         "r": ("point", np.array([o.params.r for o in orbits])),
         "admissible": ("point", admissible),
-        "clearance": ("point", np.array([o.clearance for o in orbits])),
+        "clearance": ("point", clearance),
         "trace": ("point", np.array([o.trace for o in orbits])),
         "det": ("point", np.array([o.det for o in orbits])),
         "phase": ("point", np.array([o.phase[0] for o in orbits])),

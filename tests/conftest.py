@@ -85,10 +85,63 @@ def _snakemake(tmp_path, *args):
                           capture_output=True, text=True, timeout=600)
 
 
+# ---- README.md's commands, executed as written (tests/test_readme.py) -----------------------------
+import os  # noqa: E402
+import re  # noqa: E402
+
+#: a shell block of a document, with the marker before it naming what runs it:
+#: <!-- tested by tests/test_x.py::test_name -->  or  <!-- run by .ci/run -->
+SHELL_BLOCK = re.compile(r"(?:<!--\s*(tested by|run by)\s+(\S+)\s*-->\s*\n)?```(?:bash|sh|shell|console)\n(.*?)```", re.S)
+
+
+def shell_blocks(path):
+    """``(marker, target, command)`` of every shell block of a Markdown file (marker None where none)."""
+    return [(m.group(1), m.group(2), m.group(3).strip()) for m in SHELL_BLOCK.finditer(Path(path).read_text())]
+
+
+def readme_command(test_id):
+    """The command of the README block whose marker names ``test_id`` (what README.md shows, run as is)."""
+    found = [cmd for kind, target, cmd in shell_blocks(ROOT / "README.md") if kind == "tested by" and target == test_id]
+    assert len(found) == 1, f"README.md has {len(found)} blocks marked 'tested by {test_id}'"
+    return found[0]
+
+
+def scratch_clone(dest):
+    """The repository as a fresh clone has it (the files git tracks, and new ones it does not ignore), in
+    ``dest``: what a user has after ``git clone``, with this working tree's changes."""
+    files = subprocess.run(["git", "ls-files", "-co", "--exclude-standard", "-z"], cwd=ROOT, capture_output=True,
+                           check=True).stdout.decode().split("\0")
+    for f in filter(None, files):
+        src = ROOT / f
+        if src.is_file():
+            (dest / f).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, dest / f)
+    return dest
+
+
+def run_readme(cwd, command, env=None, timeout=3600):
+    """A README command run as a user runs it: in bash, from the clone's root."""
+    return subprocess.run(["bash", "-c", command], cwd=cwd, capture_output=True, text=True, timeout=timeout,
+                          env=os.environ | (env or {}))
+
+
 @pytest.fixture(scope="session")
-def default_run(tmp_path_factory):
-    """The shipped config's `check` target, built once per test session in a temporary copy."""
-    tmp_path = tmp_path_factory.mktemp("default")
-    _copy_workflow(tmp_path)
-    res = _snakemake(tmp_path, "check")
-    return tmp_path, res
+def readme_clone(tmp_path_factory):
+    """A scratch clone set up and run by README.md's first command, as on another machine: under glibc's
+    other libm code path (vibroimpact.conditioning.LIBM_SWITCH) for the whole process tree.  Returns the
+    clone, the first command's result and the result of README's check command run after it."""
+    from vibroimpact.conditioning import LIBM_SWITCH
+
+    clone = scratch_clone(tmp_path_factory.mktemp("clone"))
+    first = run_readme(clone, readme_command("tests/test_readme.py::test_the_first_command_sets_up_and_runs_the_default_target"),
+                       LIBM_SWITCH)
+    check = run_readme(clone, readme_command("tests/test_readme.py::test_the_check_passes_under_another_libm"),
+                       LIBM_SWITCH) if first.returncode == 0 else first
+    return clone, first, check
+
+
+@pytest.fixture(scope="session")
+def default_run(readme_clone):
+    """The default target and `check` as README.md runs them (in a scratch clone, under another libm)."""
+    clone, _, check = readme_clone
+    return clone, check

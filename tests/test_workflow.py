@@ -141,6 +141,35 @@ def test_check_target_passes_on_the_default_config(default_run):
     assert (figs["status"] == "pass").sum() > 100
 
 
+@pytest.mark.parametrize("studies, edit, words", [
+    # a reversed and an empty s range
+    ("[{beta: 0.4, r: 0.6, s_range: [0.5, 0.2]}]", None, ["studies[0].s_range", "[0.5, 0.2]", "s_min < s_max"]),
+    ("[{beta: 0.4, r: 0.6, s_range: [0.3, 0.3]}]", None, ["studies[0].s_range", "[0.3, 0.3]", "s_min < s_max"]),
+    # a study repeating another (the same paths to 4 decimals)
+    ("[{beta: 0.4, r: 0.6}, {beta: 0.40001, r: 0.6}]", None,
+     ["studies[1]", "repeats studies[0]", "results/studies/beta-0.4000_r-0.6000"]),
+    # no rebound: every impact ends at rest on the wall, so no impact orbit can start a branch
+    ("[{beta: 0.4, r: 0}]", None, ["studies[0].r", "0", "r > 0"]),
+    # a device too weak to lift the ball off the bottom membrane at this incline
+    ("[{beta: 1.5, r: 0.6}]", lambda c: c["physics"].update(F=1.0), ["studies[0].beta", "1.5", "gbar", "< 1"]),
+    # the defaults' range, reversed
+    ("[{beta: 0.4, r: 0.6}]", lambda c: c["study_defaults"].update(s_range=[0.72, 0.19]),
+     ["study_defaults.s_range", "[0.72, 0.19]"]),
+])
+def test_a_bad_study_is_refused_before_any_job(tmp_path, studies, edit, words):
+    """Bad study input fails the dry run, naming the key, the value and what is allowed."""
+    cfg = _copy_workflow(tmp_path)
+    if edit:
+        edit(cfg)
+        (tmp_path / "config" / "config.yaml").write_text(yaml.safe_dump(cfg))
+    res = _snakemake(tmp_path, "-n", "--config", f"studies={studies}")
+    out = res.stdout + res.stderr
+    assert res.returncode != 0
+    for w in words:
+        assert w in out, (w, out[-2000:])
+    assert not (tmp_path / "results").exists()
+
+
 def test_a_study_adds_only_its_own_jobs(tmp_path):
     """`--config 'studies=[...]'` plans only the study's jobs (dry run on top of a finished
     default run is covered in README; here: the study's targets and no default ones)."""

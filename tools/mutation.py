@@ -76,6 +76,15 @@ TESTS = {
     "sweeps": ["tests/test_sweeps.py"],
     "energy": ["tests/test_energy.py"],
     "design": ["tests/test_design.py"],
+    "settled": ["tests/test_settled.py", "tests/test_energy.py"],
+    "figcheck": ["tests/test_figcheck.py"],
+    "figdata": ["tests/test_figdata.py", "tests/test_figcheck.py"],
+    # its unit tests (the workflow-level test regenerates figures in scratch copies: minutes a mutant)
+    "conditioning": ["tests/test_conditioning.py::test_an_array_is_ill_conditioned_when_any_perturbation_moves_it_"
+                     "beyond_the_strict_tolerance",
+                     "tests/test_conditioning.py::test_timings_and_optional_peers_are_excluded_as_in_the_check",
+                     "tests/test_conditioning.py::test_the_mass_moves_by_the_given_number_of_ulps_and_nothing_else",
+                     "tests/test_readme.py::test_the_libm_switch_changes_sin_where_glibc_dispatches_it"],
 }
 NUMBA_MODULES = {"events", "kernels"}
 

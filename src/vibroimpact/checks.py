@@ -362,3 +362,50 @@ PLURAL = {"known discrepancy": "known discrepancies", "fail": "fail"}
 
 #: the row of the figure check that compares the rendered images
 IMAGE_ROW = "PNG (perceptual hash)"
+
+
+def figure_check_markdown(df: pd.DataFrame, conditioning: pd.DataFrame | None, *, rtol: float, atol: float) -> str:
+    """``results/checks/figures.md``: per figure, then per array, the rule it was compared by, why (its
+    measured spread under the conditioning's perturbations), this run's difference and the result."""
+    data = df[df.variable != IMAGE_ROW]
+    image = df[df.variable == IMAGE_ROW].set_index("figure")
+    summary = (data.assign(failed=~data.status.isin(["pass", "excluded"]),
+                           wellposed=~data.rule.isin(["strict", "excluded"]))
+               .groupby("figure", sort=False)
+               .agg(arrays=("variable", "size"), pointwise=("rule", lambda s: int((s == "strict").sum())),
+                    well_posed=("wellposed", "sum"), excluded=("status", lambda s: int((s == "excluded").sum())),
+                    failed=("failed", "sum"))
+               .reset_index())
+    summary["image"] = [f"{image.status.get(f, 'missing')} ({image.max_difference.get(f, float('nan')):g} bits)"
+                        for f in summary.figure]
+    summary["status"] = ["pass" if n == 0 and image.status.get(f) in ("pass", "excluded") else "fail"
+                         for n, f in zip(summary.failed, summary.figure, strict=True)]
+    measured = (conditioning.set_index(["figure", "variable"]) if conditioning is not None and len(conditioning)
+                else None)
+
+    def why(fig, var, rule):
+        if measured is None or (fig, var) not in measured.index:
+            return "not measured: pointwise"
+        m = measured.loc[(fig, var)]
+        if rule == "excluded":
+            return "timings or an optional peer"
+        spread = "changed shape" if not math.isfinite(m.spread) else f"spread {m.spread:.2g} ({m.ratio:.2g} x tolerance)"
+        if m.conditioning == "strict":
+            return f"well-conditioned: {spread}"
+        return f"ill-conditioned: {spread} under {m.moved_by}"
+
+    rows = df.assign(why=[why(f, v, r) for f, v, r in zip(df.figure, df.variable, df.rule, strict=True)])
+    cols = ["figure", "variable", "rule", "why", "max_difference", "status", "detail"]
+    special = rows[(rows.rule != "strict") & (rows.variable != IMAGE_ROW)]
+    plain = rows[rows.rule == "strict"]
+    out = [f"# Figure regeneration check\n\nEach array of every figure against its committed reference, by one "
+           f"rule: pointwise (|new - ref| <= {atol:g} + {rtol:g} |ref|) where the array's measured conditioning "
+           "keeps another machine's perturbations within that; by what is well-posed about it where it does not "
+           "(vibroimpact.figcheck: motions, run, curve, on curve, boundary).  The image: within twice the "
+           "perceptual-hash distance the perturbations moved it, and at least 2 bits.\n",
+           summary.to_markdown(index=False),
+           "\n## Images\n", rows[rows.variable == IMAGE_ROW][["figure", "rule", "max_difference", "status"]]
+           .to_markdown(index=False),
+           "\n## Arrays compared by what is well-posed about them\n", special[cols].to_markdown(index=False),
+           "\n## Arrays compared pointwise\n", plain[cols[:-1]].to_markdown(index=False), ""]
+    return "\n".join(out)

@@ -172,6 +172,47 @@ def share_interval(k: int, n: int, confidence: float) -> tuple[float, float]:
     return float(ci.low), float(ci.high)
 
 
+def _settle_attractor(att, events, lag, d, gbar, r, F, membrane, M, omega):
+    """Make an attractor's outputs well-posed (:mod:`vibroimpact.settled`): a periodic one's are its exact
+    cycle's (solved through one of its runs' recorded cycle), settled; resting on the bottom gives 0,
+    settled; a motion with no period gets the long run's averages with their batch-means standard errors
+    (continued from one of its runs: the window of a run is one sample of the motion, and the runs of one
+    attractor need not be independent samples: starts at rest all leave the wall at the release phase),
+    or keeps its runs' mean with no standard error where the long run settles after all."""
+    from .energy import LONG_BATCHES, _batch_averages, speed_si, voltage_gain
+    from .settled import LONG_IMPACTS, STICK_REL, long_run, polish_cycle
+
+    att["settled"], att["U_T_se"], att["U_I_se"] = False, math.nan, math.nan
+    if att["label"] == AT_REST:
+        att["settled"] = True
+        return
+    if att["label"] == APERIODIC:
+        phi, v0 = att["impact"]
+        if not (math.isfinite(phi) and math.isfinite(v0)):
+            return
+        run = long_run(d, gbar, r, phi, v0, impacts=LONG_IMPACTS)
+        if run["status"] != "aperiodic":
+            return
+        u_i, se_i, u_t, se_t = _batch_averages(run, F, membrane, M=M, omega=omega, batches=LONG_BATCHES)
+        att.update(U_I=float(u_i), U_I_se=float(se_i), U_T=float(u_t), U_T_se=float(se_t))
+        return
+    t, wall, vm, phase, kind = events
+    n = t.size
+    if not lag or n <= lag:
+        return
+    sl = slice(n - lag, n)
+    res = polish_cycle(d, gbar, r, t[sl], wall[sl], vm[sl], phase[sl], kind[sl], span=t[n - 1] - t[n - 1 - lag])
+    if not (res["settled"] or res["status"] == "sticking"):
+        return
+    hit = (res["kind"] == K.IMPACT) | (res["kind"] == K.GRAZING)
+    gain = voltage_gain(speed_si(res["v_minus"][hit], F, M, omega), membrane)
+    att["U_T"] = float(gain.sum() / (2.0 * att["period"])) if att["period"] else math.nan
+    att["U_I"] = float(gain.mean()) if gain.size else math.nan
+    att["settled"] = bool(res["settled"])
+    if res["status"] == "sticking":  # known to the accuracy of its summed chatter
+        att["U_T_se"], att["U_I_se"] = STICK_REL * abs(att["U_T"]), STICK_REL * abs(att["U_I"])
+
+
 def _point_attractors(labels, u_t, u_i, confidence):
     """Per attractor of one point (largest share first): label, runs, share and its interval, U_T, U_I."""
     n = labels.size
@@ -181,7 +222,7 @@ def _point_attractors(labels, u_t, u_i, confidence):
         low, high = share_interval(k, n, confidence)
         out.append(dict(label=str(labels[idx[0]]), runs=idx, count=k, share=k / n, low=low, high=high,
                         U_T=float(np.mean(u_t[idx])), U_I=float(np.mean(u_i[idx])) if np.isfinite(u_i[idx]).all()
-                        else math.nan))
+                        else math.nan, u_t_runs=u_t[idx], u_i_runs=u_i[idx]))
     out.sort(key=lambda a: (-a["count"], a["label"], a["U_T"]))
     return out
 
@@ -253,15 +294,19 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, membrane: Membrane,
             total += int(runs["n_events"].values.sum())
             ev = [runs[v].values for v in ("t", "wall", "v_minus", "phase", "kind")]
             nw = np.isfinite(ev[0]).sum(axis=1)
+            lags = runs["period_events"].values
             for j in range(b - a):
                 rs = slice(j * n_st, (j + 1) * n_st)
                 atts = _point_attractors(labels[rs], u_t[rs], u_i[rs], confidence)
+                pt = a + j
                 for att in atts:
                     k = rs.start + int(att["runs"][0])
                     last = _last_bottom(*(e[k] for e in ev), int(nw[k]))
                     att["impact"] = last if last is not None else (math.nan, math.nan)
                     for v in ("period", "n_bottom", "n_top"):
                         att[v] = int(runs[v].values[k])
+                    _settle_attractor(att, [e[k][:int(nw[k])] for e in ev], int(lags[k]), d.flat[pt], gbar.flat[pt],
+                                      r.flat[pt], F.flat[pt], membrane, M, omega)
                 points.append((atts, int(runs["n_events"].values[rs].sum())))
             bar.update(b - a)
     return _assemble(points, shape, x_name, xs, y_name, ys, d, gbar, fixed, n_st, total,
@@ -272,8 +317,9 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, membrane: Membrane,
 def _assemble(points, shape, x_name, xs, y_name, ys, d, gbar, fixed, n_st, total, settings):
     n_att = max(len(a) for a, _ in points)
     A = (*shape, n_att)
-    arr = {v: np.full(A, np.nan) for v in ("share", "share_low", "share_high", "U_T", "U_I",
+    arr = {v: np.full(A, np.nan) for v in ("share", "share_low", "share_high", "U_T", "U_I", "U_T_se", "U_I_se",
                                              "impact_phase", "impact_v_minus")}
+    settled = np.zeros(A, bool)
     ints = {v: np.zeros(A, np.int64) for v in ("count", "period", "n_bottom", "n_top")}
     label = np.full(A, "", dtype=object)
     n_events = np.zeros(shape, np.int64)
@@ -283,8 +329,9 @@ def _assemble(points, shape, x_name, xs, y_name, ys, d, gbar, fixed, n_st, total
         for k, att in enumerate(atts):
             label[iy, ix, k] = att["label"]
             for v, key in (("share", "share"), ("share_low", "low"), ("share_high", "high"), ("U_T", "U_T"),
-                           ("U_I", "U_I")):
-                arr[v][iy, ix, k] = att[key]
+                           ("U_I", "U_I"), ("U_T_se", "U_T_se"), ("U_I_se", "U_I_se")):
+                arr[v][iy, ix, k] = att.get(key, math.nan)
+            settled[iy, ix, k] = att.get("settled", False)
             arr["impact_phase"][iy, ix, k], arr["impact_v_minus"][iy, ix, k] = att["impact"]
             for v in ints:
                 ints[v][iy, ix, k] = att[v]
@@ -301,6 +348,11 @@ def _assemble(points, shape, x_name, xs, y_name, ys, d, gbar, fixed, n_st, total
          "U_T": (dims3, arr["U_T"], {"units": "V", "long_name": "average voltage gain per unit time U_T of the "
                                      "attractor (mean over its runs)"}),
          "U_I": (dims3, arr["U_I"], {"units": "V", "long_name": "average voltage gain per impact U_I of the attractor"}),
+         "U_T_se": (dims3, arr["U_T_se"], {"units": "V", "long_name": "standard error of U_T over the attractor's runs "
+                                           "(no period found: each run's window is one sample; NaN where settled)"}),
+         "U_I_se": (dims3, arr["U_I_se"], {"units": "V", "long_name": "standard error of U_I over the attractor's runs"}),
+         "settled": (dims3, settled, {"units": "1", "long_name": "the attractor's outputs are exact: its Newton-solved "
+                                      "or sticking cycle, or resting"}),
          "period": (dims3, ints["period"], {"units": "1", "long_name": "period in forcing periods (0: none found)"}),
          "n_bottom": (dims3, ints["n_bottom"], {"units": "1", "long_name": "bottom impacts per period"}),
          "n_top": (dims3, ints["n_top"], {"units": "1", "long_name": "top impacts per period"}),
@@ -321,7 +373,8 @@ def _assemble(points, shape, x_name, xs, y_name, ys, d, gbar, fixed, n_st, total
 
 
 #: the per-point variables :func:`summarise` derives from the attractors (recomputed after a merge)
-SUMMARY = ("E_U_T", "E_U_I", "worst_U_T", "worst_U_I", "n_attractors", "multistable", "aperiodic_share")
+SUMMARY = ("E_U_T", "E_U_I", "worst_U_T", "worst_U_I", "n_attractors", "multistable", "aperiodic_share", "E_U_T_se",
+           "point_settled", "worst_U_T_se")
 
 
 def summarise(ds: xr.Dataset) -> xr.Dataset:
@@ -344,6 +397,25 @@ def summarise(ds: xr.Dataset) -> xr.Dataset:
     ds["multistable"].attrs.update(units="1", long_name="two or more attractors with share >= min_share")
     ds["aperiodic_share"] = share.where(ds["label"] == APERIODIC, 0.0).sum("attractor")
     ds["aperiodic_share"].attrs.update(units="1", long_name="share of the starts with no period found")
+    # how well E_U_T is known: the starts are a sample of the start distribution (the sampling error of
+    # the mean over them), and a motion with no period contributes its runs' own spread
+    present = ds["share"].notnull()
+    n = float(ds.attrs.get("starts", 1))
+    spread = (share * (u_t.fillna(0.0) - ds["E_U_T"]) ** 2).where(present).sum("attractor") / n
+    own = (share**2 * ds["U_T_se"].fillna(0.0) ** 2).where(present).sum("attractor") if "U_T_se" in ds else 0.0
+    ds["E_U_T_se"] = np.sqrt(spread + own).where(present.any("attractor"))
+    if "settled" in ds:  # an attractor neither settled nor with a long-run error leaves E_U_T without one
+        unknown = (present & ~ds["settled"] & ds["U_T_se"].isnull()).any("attractor")
+        ds["E_U_T_se"] = ds["E_U_T_se"].where(~unknown)
+    ds["E_U_T_se"].attrs.update(units="V", long_name="standard error of E_U_T: the sampling error over the starts "
+                                "and the spread of runs with no period")
+    if "settled" in ds:
+        ds["point_settled"] = (ds["settled"] | ~present).all("attractor")
+        ds["point_settled"].attrs.update(units="1", long_name="every attractor at the point has exact outputs")
+        worst = u_t.where(counts).fillna(np.inf).argmin("attractor")
+        ds["worst_U_T_se"] = ds["U_T_se"].isel(attractor=worst).where(ds["worst_U_T"].notnull())
+        ds["worst_U_T_se"] = ds["worst_U_T_se"].where(~ds["settled"].isel(attractor=worst), 0.0)
+        ds["worst_U_T_se"].attrs.update(units="V", long_name="standard error of worst_U_T (0 where that attractor is settled)")
     return ds
 
 
@@ -362,6 +434,8 @@ def merge_chunks(chunks: list[xr.Dataset]) -> xr.Dataset:
             c["label"] = c["label"].fillna("").astype(str)
             for v in ("count", "period", "n_bottom", "n_top"):
                 c[v] = c[v].fillna(0).astype(np.int64)
+            if "settled" in c:
+                c["settled"] = c["settled"].fillna(False).astype(bool)
         padded.append(c)
     out = xr.concat(padded, dim=y, data_vars="minimal", coords="minimal", compat="override",
                     combine_attrs="override")

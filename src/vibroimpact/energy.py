@@ -26,8 +26,10 @@ import xarray as xr
 
 from . import kernels as K
 from .datasets import annotate
+from .settled import LONG_BATCHES
 
-__all__ = ["Membrane", "voltage_gain", "speed_si", "averages", "window_averages", "orbit_energy", "branch_energy", "sweep_energy"]
+__all__ = ["Membrane", "voltage_gain", "speed_si", "averages", "window_averages", "orbit_energy", "branch_energy", "sweep_energy",
+           "delivered"]
 
 
 @dataclass(frozen=True)
@@ -265,13 +267,95 @@ def window_averages(t, v_minus, kind, status, period_events, F, membrane: Membra
     return np.where(hit, speed, np.nan), gain_all, u_i, u_t, span, count
 
 
+def _settled_energy(sw, F, membrane, *, M, omega):
+    """Gains and averages of each attractor's exact cycle (:func:`vibroimpact.sweeps.settle`), and the
+    long-run averages (batch means, with standard errors) of each motion with no period."""
+    from .settled import long_run
+
+    shape = sw["status"].shape
+    vm, kind = sw["cycle_v_minus"].values, sw["cycle_kind"].values
+    hit = np.isfinite(vm) & ((kind == K.IMPACT) | (kind == K.GRAZING))
+    cyc_gain = np.where(hit, voltage_gain(np.where(hit, speed_si(vm, F[..., None], M, omega), 0.0), membrane), np.nan)
+    per = sw["period"].values.astype(float)
+    n_hit = hit.sum(axis=-1)
+    total = np.nansum(cyc_gain, axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cu_i = np.where(n_hit > 0, total / np.maximum(n_hit, 1), np.nan)
+        cu_t = np.where(per > 0, total / (2.0 * per), np.nan)
+    long = np.full((*shape, 4), np.nan)
+    batches = int(sw.attrs.get("long_batches", LONG_BATCHES))
+    for idx in np.ndindex(shape):
+        if str(sw["long_status"].values[idx]) != "aperiodic":
+            continue
+        run = long_run(sw.d.values[idx[-1]], sw.gbar.values[idx[-1]], sw.attrs["r"], sw["long_phi"].values[idx],
+                       sw["long_v0"].values[idx], impacts=int(sw.attrs["long_impacts"]), tol=float(sw.attrs.get("tol", 1e-9)))
+        if run["status"] != "aperiodic":
+            continue
+        long[idx] = _batch_averages(run, F[idx], membrane, M=M, omega=omega, batches=batches)
+    dims, edims = ("direction", "point"), ("direction", "point", "cycle")
+    return {
+        "cycle_gain": (edims, cyc_gain, {"units": "V", "long_name": "gain of each impact of the attractor's cycle"}),
+        "cycle_U_I": (dims, cu_i, {"units": "V", "long_name": "U_I of the attractor's cycle (exact where settled)"}),
+        "cycle_U_T": (dims, cu_t, {"units": "V", "long_name": "U_T of the attractor's cycle (exact where settled)"}),
+        "U_I_long": (dims, long[..., 0], {"units": "V", "long_name": "U_I over the long run of a motion with no period (batch means)"}),
+        "U_I_long_se": (dims, long[..., 1], {"units": "V", "long_name": "standard error of U_I_long (batch means)"}),
+        "U_T_long": (dims, long[..., 2], {"units": "V", "long_name": "U_T over the long run of a motion with no period (batch means)"}),
+        "U_T_long_se": (dims, long[..., 3], {"units": "V", "long_name": "standard error of U_T_long (batch means)"}),
+    }
+
+
+def _batch_averages(run, F, membrane, *, M, omega, batches):
+    """``U_I``, its standard error, ``U_T``, its standard error over the impacts of a long run, from
+    ``batches`` consecutive batches of equally many impacts."""
+    hit = (run["kind"] == K.IMPACT) | (run["kind"] == K.GRAZING)
+    t, gain = run["t"][hit], voltage_gain(speed_si(run["v_minus"][hit], F, M, omega), membrane)
+    m = gain.size // batches
+    if m < 2:
+        return np.full(4, np.nan)
+    g = gain[:m * batches].reshape(batches, m)
+    ends = t[m - 1::m][:batches]
+    starts = np.concatenate([[t[0]], ends[:-1]])
+    # the first batch's span starts at its first impact; the others at the previous batch's last
+    first = g[0, 1:].sum() / (ends[0] - starts[0])
+    u_t = np.concatenate([[first], g[1:].sum(axis=1) / (ends[1:] - starts[1:])])
+    u_i = g.mean(axis=1)
+    se = lambda b: float(b.std(ddof=1) / np.sqrt(b.size))
+    return np.array([u_i.mean(), se(u_i), u_t.mean(), se(u_t)])
+
+
+def delivered(en: xr.Dataset, q: str = "U_T"):
+    """What a device delivers at each point of a sweep energy, well-posed: ``(value, se)`` of ``q``
+    (``"U_T"`` or ``"U_I"``) on ``(direction, point)``.
+
+    The exact cycle's average where the attractor is settled (standard error 0); a sticking cycle's, known
+    to its summed chatter's accuracy (:data:`vibroimpact.settled.STICK_REL`); the long-run average
+    with its batch-means standard error where no period was found and the long run stays aperiodic; NaN
+    where neither is known (a transient longer than the cap, whose output is that of wherever it settles).
+    A sweep energy without settled cycles gives its window averages (standard error NaN)."""
+    if q not in ("U_T", "U_I"):
+        raise ValueError(f"q = {q!r}; allowed: 'U_T' or 'U_I'")
+    if "settled" not in en:
+        return en[q].values, np.full(en[q].shape, np.nan)
+    from .settled import STICK_REL
+
+    settled = en["settled"].values
+    sticking = np.char.find(en["label"].values.astype(str), "with sticking") >= 0
+    chaotic = en["long_status"].values.astype(str) == "aperiodic"
+    value = np.where(settled | sticking, en[q].values, np.where(chaotic, en[f"{q}_long"].values, np.nan))
+    se = np.where(settled, 0.0, np.where(sticking, STICK_REL * np.abs(en[q].values),
+                                         np.where(chaotic, en[f"{q}_long_se"].values, np.nan)))
+    return value, se
+
+
 def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, window_time: float = 30.0) -> xr.Dataset:
     """Gains and averages at every point of a sweep.
 
-    A periodic attractor is averaged over one whole period, as long as the simulated events measure it
-    (from an event to the same event one period earlier; exact to rounding).  Where no period was found the
-    average runs over the impacts of the last ``window_time`` time units (the paper uses 30 for the
-    1:1 and 20 for the 2:1 motion), and ``window_time`` records the span actually used.
+    A periodic attractor is averaged over one whole period: its exact cycle's where the sweep settled it
+    (:func:`vibroimpact.sweeps.settle`), else as the simulated events measure it (from an event to the
+    same event one period earlier).  Where no period was found the average runs over the impacts of the
+    last ``window_time`` time units (the paper uses 30 for the 1:1 and 20 for the 2:1 motion), and
+    ``window_time`` records the span actually used; such a window is one sample of the motion, so the
+    long-run averages are given beside it (``U_I_long``, ``U_T_long`` with standard errors).
 
     Parameters
     ----------
@@ -292,17 +376,25 @@ def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, 
         impacts in its window has ``U_T = 0`` and ``U_I`` NaN (no impact to average).
     """
     F = sw["F"].values
+    Fb = np.broadcast_to(F[None, :], sw["status"].shape)
     speed, gain_all, u_i, u_t, span, count = window_averages(
         sw["t"].values, sw["v_minus"].values, sw["kind"].values, sw["status"].values, sw["period_events"].values,
-        np.broadcast_to(F[None, :], sw["status"].shape), membrane, M=M, omega=omega, window_time=window_time)
-    ds = xr.Dataset(
-        {"speed": (("direction", "point", "event"), speed),
-         "gain": (("direction", "point", "event"), gain_all),
-         "U_I": (("direction", "point"), u_i), "U_T": (("direction", "point"), u_t),
-         "window_time": (("direction", "point"), span), "window_impacts": (("direction", "point"), count),
-         "label": sw["label"]},
-        coords={c: sw[c] for c in ("direction", "point", "d", "s", "F", "gbar") if c in sw.variables},
-    )
+        Fb, membrane, M=M, omega=omega, window_time=window_time)
+    data = {"speed": (("direction", "point", "event"), speed),
+            "gain": (("direction", "point", "event"), gain_all),
+            "U_I": (("direction", "point"), u_i), "U_T": (("direction", "point"), u_t),
+            "window_time": (("direction", "point"), span), "window_impacts": (("direction", "point"), count),
+            "label": sw["label"]}
+    if "cycle_v_minus" in sw:
+        data |= _settled_energy(sw, Fb, membrane, M=M, omega=omega)
+        # a settled attractor's averages are its exact cycle's (the window's are that cycle's to the
+        # periodicity tolerance); resting for good keeps U_T = 0
+        exact = sw["settled"].values & np.isfinite(data["cycle_U_T"][1])
+        data["U_I"] = (("direction", "point"), np.where(exact, data["cycle_U_I"][1], u_i))
+        data["U_T"] = (("direction", "point"), np.where(exact, data["cycle_U_T"][1], u_t))
+        data["settled"] = sw["settled"]
+        data["long_status"] = sw["long_status"]
+    ds = xr.Dataset(data, coords={c: sw[c] for c in ("direction", "point", "d", "s", "F", "gbar") if c in sw.variables})
     ds.attrs.update({k: sw.attrs[k] for k in ("vary", "beta", "r") if k in sw.attrs}, window_time=window_time)
     ds.attrs.update({f"membrane_{k}": v for k, v in asdict(membrane).items()})
     return annotate(ds)

@@ -263,6 +263,34 @@ def orbit_from_vector(params: Params, word: str, k: int, z) -> Orbit:
     return _assemble(params, word, k, np.asarray(z, dtype=float))
 
 
+def orbit_run(orbit: Orbit, periods: int = 1):
+    """The orbit's impacts over ``periods`` periods as a run, in the form :func:`~vibroimpact.simulate`
+    returns (events ``t``, ``wall``, ``v_minus``, ``v_plus``, ``phase``, ``z``, ``kind``; ``t = 0`` at
+    impact 0, the last event the return to it), for :func:`~vibroimpact.trajectory`.
+
+    The exact state along the orbit, with no simulation: at a grazing point the loop touches a wall,
+    and whether a simulator registers that touch as an impact is decided by rounding; the Newton
+    orbit's flights are the orbit itself.
+    """
+    from . import kernels as K
+    from .simulate import _events_dataset
+
+    if int(periods) < 1:
+        raise ValueError(f"periods = {periods!r}; allowed: an integer >= 1")
+    n, m = orbit.n, orbit.n * int(periods) + 1
+    idx = np.arange(m) % n
+    t = np.concatenate([orbit.t + 2.0 * orbit.k * p for p in range(int(periods))] + [[2.0 * orbit.k * int(periods)]])
+    walls = orbit.walls[idx]
+    vm = orbit.v_minus[idx]
+    bufs = (t, walls.astype(np.int8), vm, -orbit.params.r * vm, orbit.phase[idx],
+            np.full(m, K.IMPACT, np.int8), 0.5 * orbit.params.d * walls)
+    ds = _events_dataset(bufs, m)
+    ds.attrs.update(d=orbit.params.d, gbar=orbit.params.gbar, r=orbit.params.r, phi=orbit.phi,
+                    v0=float(orbit.v_minus[0]), t0=0.0, start=f"periodic orbit {orbit.word} (k = {orbit.k})",
+                    status="n_events", t_valid=float(t[-1]))
+    return ds
+
+
 def find_orbit(params: Params, word: str, phi: float, v0: float, *, k: int = 1) -> Orbit:
     """Solve the periodic orbit ``word`` (over ``k`` forcing periods) near a guess.
 

@@ -97,7 +97,7 @@ def add_located_grazing(ds: xr.Dataset, params: Params, *, window: float = 0.01,
     ``grazing_clearance`` (of the orbit solved there) and ``grazing_Z``, ``grazing_Zdot`` over one
     period from its first bottom impact, or ``grazing_status`` with the reason none was found."""
     from .continuation import continue_orbit
-    from .orbits import OrbitError, find_orbit, orbit_from_vector, parse_word, solve_orbit
+    from .orbits import OrbitError, find_orbit, orbit_from_vector, orbit_run, parse_word, solve_orbit
 
     if ds.attrs.get("orbit_status") != "solved":
         ds.attrs["grazing_status"] = f"no Newton orbit to continue ({ds.attrs.get('orbit_status')})"
@@ -121,7 +121,9 @@ def add_located_grazing(ds: xr.Dataset, params: Params, *, window: float = 0.01,
     # the wall makes the simulated word ambiguous)
     z0 = np.concatenate([[br.phase.values[near, 0]], np.roll(br.dt.values[near], -1), br.v_minus.values[near]])
     og = orbit_from_vector(pg, word, k, solve_orbit(z0, parse_word(word), dg, pg.gbar, pg.r, k))
-    run = simulate(pg, float(og.phase[0]), float(og.v_minus[0]), t_end=2.0 * k)
+    # drawn from the Newton orbit's own flights: at the grazing d a simulator's run of it registers the
+    # loop's touch of the wall as an impact or not as rounding decides, and the two runs part there
+    run = orbit_run(og)
     times = np.linspace(0.0, 2.0 * k, int(round(samples_per_unit * 2 * k)) + 1)
     tr = trajectory(run, times)
     ds["grazing_Z"] = ("grazing_time", tr.Z.values, {"long_name": "Z of the orbit at the located grazing d", "units": "1"})

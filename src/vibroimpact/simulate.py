@@ -235,13 +235,19 @@ def simulate_batch(d, gbar, r, phi, v0, *, n_impacts, t_end=None, stop_when_peri
 # ---------------------------------------------------------------------------------------------
 
 
+#: a sample this close to an event (absolute, or relative beyond t = 1) is read just after it: rounding
+#: decides on which side of an impact a sample at the impact's instant falls, so without this rule the
+#: same figure could show the pre-impact velocity on one machine and the post-impact one on another
+SNAP = 1e-9
+
+
 @njit(cache=True)
 def _dense(times, t, phase, z, vp, kind, gbar, out_z, out_v):
     j = 0
     n = t.shape[0]
     for i in range(times.shape[0]):
         ti = times[i]
-        while j + 1 < n and t[j + 1] <= ti:
+        while j + 1 < n and t[j + 1] <= ti + SNAP * max(1.0, abs(ti)):
             j += 1
         tau = ti - t[j]
         if kind[j] == K.STICK:
@@ -259,7 +265,9 @@ def trajectory(ds: xr.Dataset, times) -> xr.Dataset:
 
     ``X*(t) = -cos(pi t + phi) / pi^2`` is the zero-mean periodic cylinder motion (``X*'' = cos``);
     ``x* = X* - Z``.  Times must lie within the run: from its first event to its last, or to
-    ``t_end`` when the run stopped there (no impact happened in between).
+    ``t_end`` when the run stopped there (no impact happened in between).  The state is right-continuous
+    at events, and a time within :data:`SNAP` (1e-9, relative beyond t = 1) before an event is read after it,
+    so a sample at an impact's instant is the post-impact state whichever side rounding puts it.
 
     Parameters
     ----------
@@ -276,7 +284,8 @@ def trajectory(ds: xr.Dataset, times) -> xr.Dataset:
     times = np.asarray(times, dtype=np.float64)
     t = ds["t"].values
     t_last = max(float(ds.attrs.get("t_valid", t[-1])), float(t[-1]))
-    if times.size and (times.min() < t[0] or times.max() > t_last):
+    if times.size and (times.min() < t[0] - SNAP * max(1.0, abs(t[0]))
+                       or times.max() > t_last + SNAP * max(1.0, abs(t_last))):
         raise ValueError(
             f"times span [{times.min()!r}, {times.max()!r}]; allowed: within the run [{t[0]!r}, {t_last!r}]"
         )

@@ -21,7 +21,7 @@ from .datasets import annotate
 from .params import Params
 from .simulate import cycle_class
 
-__all__ = ["parameter_grid", "attractor_batch", "sweep", "locate_transitions", "bistable_intervals",
+__all__ = ["parameter_grid", "attractor_batch", "sweep", "settle", "locate_transitions", "bistable_intervals",
            "basins", "regime_map", "plane_params", "APERIODIC"]
 
 #: Label of a run whose motion did not repeat within the allowed transient: chaotic, quasi-periodic,
@@ -132,6 +132,74 @@ def _window_dataset(win, st, lag, tot, nw, dims):
     return annotate(ds)
 
 
+def settle(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None, tol: float = 1e-9) -> xr.Dataset:
+    """Add what is well-posed about each attractor of a window dataset (a sweep's or
+    :func:`attractor_batch`'s): the exact cycle of a periodic one, the long-run statistics of an
+    aperiodic one (:mod:`vibroimpact.settled`).
+
+    ``d``, ``gbar``, ``r`` broadcast to the dataset's per-run shape.  Added, per run: ``settled`` and
+    ``settle_status``; ``cycle_t``, ``cycle_wall``, ``cycle_v_minus``, ``cycle_phase``, ``cycle_kind``
+    on a ``cycle`` dimension (the Newton-solved orbit from its canonical first impact, or the recorded
+    cycle where it is not settled; NaN-padded); for runs with no period, ``long_status``, the restart
+    ``long_phi``, ``long_v0`` (the window's last bottom impact) and ``abs_v_mean``, ``abs_v_se`` (batch
+    means of ``|Zdot-|`` over ``long_impacts`` impacts; ``long_impacts = 0`` skips the long runs).
+    """
+    from .settled import LONG_BATCHES, LONG_IMPACTS, long_run, long_statistics, polish_cycle
+
+    long_impacts = LONG_IMPACTS if long_impacts is None else int(long_impacts)
+    shape = ds["status"].shape
+    d, gbar, r = (np.broadcast_to(np.asarray(a, dtype=float), shape) for a in (d, gbar, r))
+    lags = ds["period_events"].values
+    width = max(int(lags.max()) if lags.size else 1, 1)
+    cyc = {v: np.full((*shape, width), np.nan) for v in ("t", "v_minus", "phase")}
+    cyc |= {v: np.zeros((*shape, width), np.int8) for v in ("wall", "kind")}
+    settled = np.zeros(shape, bool)
+    status = np.empty(shape, dtype=object)
+    long_status = np.full(shape, "", dtype=object)
+    long_start = np.full((*shape, 2), np.nan)
+    stats = np.full((*shape, 2), np.nan)
+    ev = {v: ds[v].values for v in _EVENT_VARS}
+    n_real = np.isfinite(ev["t"]).sum(axis=-1)
+    for idx in np.ndindex(shape):
+        n, lag = int(n_real[idx]), int(lags[idx])
+        rows = {v: ev[v][idx][:n] for v in _EVENT_VARS}
+        if lag and n > lag:
+            sl = slice(n - lag, n)
+            res = polish_cycle(d[idx], gbar[idx], r[idx], *(rows[v][sl] for v in _EVENT_VARS),
+                               span=rows["t"][n - 1] - rows["t"][n - 1 - lag])
+            for v in cyc:
+                cyc[v][idx][:lag] = res[v]
+            settled[idx], status[idx] = res["settled"], res["status"]
+            continue
+        if int(ds["status"].values[idx]) == K.STUCK_FOREVER:  # at rest on the bottom for good: exact
+            settled[idx], status[idx], long_status[idx] = True, "stuck", "stuck"
+            continue
+        status[idx] = "aperiodic"
+        start = _last_bottom(*(rows[v] for v in _EVENT_VARS), n)
+        if start is None or not long_impacts:
+            long_status[idx] = "no restart" if start is None else "not run"
+            continue
+        long_start[idx] = start
+        run = long_run(d[idx], gbar[idx], r[idx], *start, impacts=long_impacts, tol=tol)
+        long_status[idx] = run["status"]
+        stats[idx] = long_statistics(run, LONG_BATCHES)
+    edims = (*ds["status"].dims, "cycle")
+    pdims = ds["status"].dims
+    ds["settled"] = (pdims, settled, {"units": "1", "long_name": "the attractor's values are well-posed: a Newton-solved or sticking (exact) cycle"})
+    ds["settle_status"] = (pdims, status.astype(str), {"units": "1", "long_name": "how the cycle was settled, or why not"})
+    names = {"t": ("time from the cycle's canonical first event", "1"), "wall": ("wall (1 bottom, -1 top)", "1"),
+             "v_minus": ("pre-impact velocity Zdot-", "1"), "phase": ("forcing phase", "rad"), "kind": ("event kind", "1")}
+    for v, (text, unit) in names.items():
+        ds[f"cycle_{v}"] = (edims, cyc[v], {"units": unit, "long_name": f"attractor cycle (exact where settled): {text}"})
+    ds["long_status"] = (pdims, long_status.astype(str), {"units": "1", "long_name": "long run of a motion with no period: aperiodic, settles (a longer transient), stuck"})
+    ds["long_phi"] = (pdims, long_start[..., 0], {"units": "rad", "long_name": "long run: phase of its first bottom impact"})
+    ds["long_v0"] = (pdims, long_start[..., 1], {"units": "1", "long_name": "long run: pre-impact velocity of its first bottom impact"})
+    ds["abs_v_mean"] = (pdims, stats[..., 0], {"units": "1", "long_name": "long run: mean |Zdot-| over its impacts (batch means)"})
+    ds["abs_v_se"] = (pdims, stats[..., 1], {"units": "1", "long_name": "long run: standard error of abs_v_mean (batch means)"})
+    ds.attrs.update(long_impacts=long_impacts, long_batches=LONG_BATCHES)
+    return ds
+
+
 def _last_bottom(win_t, win_wall, win_vm, win_phase, win_kind, n):
     for j in range(n - 1, -1, -1):
         if win_wall[j] == 1 and win_kind[j] == K.IMPACT and win_vm[j] > 0:
@@ -149,7 +217,7 @@ def _run_one(d, gbar, r, phi, v0, max_periods, max_events, tol, window, pmax):
 
 def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, max_periods: float = 200,
           max_events: int = 200_000, tol: float = 1e-9, window: int = 65, pmax: int = 64,
-          progress: bool | None = None, **physical) -> xr.Dataset:
+          progress: bool | None = None, long_impacts: int | None = None, **physical) -> xr.Dataset:
     """Sweep ``s`` (fixed force) or ``F`` (fixed length) up and down, following the attractor.
 
     Parameters
@@ -167,6 +235,9 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
         (in events) looked for; ``window >= pmax + 1``.
     progress : bool, optional
         A progress bar (default: only when run interactively, :mod:`vibroimpact._progress`).
+    long_impacts : int, optional
+        Impacts of the long run of every point with no period (:func:`settle`; default
+        :data:`vibroimpact.settled.LONG_IMPACTS`, 0: none).
 
     Returns
     -------
@@ -174,7 +245,9 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
         Dimensions ``direction`` (``"up"``: d increasing, ``"down"``), ``point`` (coordinate ``d``,
         increasing, with ``s``, ``F``, ``gbar``) and ``event`` (the last ``window`` events of each
         attractor); per point ``label``, ``period``, ``period_events``, ``n_bottom``, ``n_top``,
-        ``n_events``, ``status`` and the start used (``start_phi``, ``start_v0``).
+        ``n_events``, ``status`` and the start used (``start_phi``, ``start_v0``); and what is
+        well-posed about each attractor (:func:`settle`): its exact cycle on dimension ``cycle``, or the
+        long-run statistics of a motion with no period.
     """
     _check_window(window, pmax)
     d, gbar, s_arr, F_arr = parameter_grid(vary, values, beta=beta, **physical)
@@ -204,6 +277,7 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
                 start = nxt
     bar.close()
     ds = _window_dataset(win, st, lag, tot, nw, dims=("direction", "point"))
+    ds = settle(ds, d[None, :], gbar[None, :], r, long_impacts=long_impacts, tol=tol)
     ds = ds.assign_coords(direction=["up", "down"], point=np.arange(m), d=("point", d), gbar=("point", gbar),
                           s=("point", s_arr), F=("point", F_arr))
     ds["start_phi"] = (("direction", "point"), starts[..., 0], {"units": "rad", "long_name": "phase of the start impact"})

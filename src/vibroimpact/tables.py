@@ -132,19 +132,25 @@ def _half_width(width) -> str:
 
 def design_table(energies: list[xr.Dataset]) -> pd.DataFrame:
     """For each sweep energy (an incline and a swept s or F): where U_T and U_I are largest, and
-    the motion there (both sweep directions considered)."""
+    the motion there (both sweep directions considered).  The outputs compared are what the device
+    delivers (:func:`vibroimpact.energy.delivered`): the exact cycle's where the motion is periodic, the
+    long run's where it is not (``U_T_se``, ``U_I_se``: their standard errors)."""
+    from .energy import delivered
+
     rows = []
     for e in energies:
         vary = e.attrs["vary"]
+        out = {q: delivered(e, q) for q in ("U_T", "U_I")}
         for q in ("U_T", "U_I"):
-            vals = e[q].values
+            vals = out[q][0]
             if not np.isfinite(vals).any():
                 continue
             a, i = np.unravel_index(np.nanargmax(vals), vals.shape)
             rows.append({
                 "beta": float(e.attrs["beta"]), "beta_deg": round(math.degrees(float(e.attrs["beta"])), 6),
                 "vary": vary, "maximise": q, "best": float(e[vary].values[i]), "d": float(e.d.values[i]),
-                "U_T": float(e.U_T.values[a, i]), "U_I": float(e.U_I.values[a, i]),
+                "U_T": float(out["U_T"][0][a, i]), "U_I": float(out["U_I"][0][a, i]),
+                "U_T_se": float(out["U_T"][1][a, i]), "U_I_se": float(out["U_I"][1][a, i]),
                 "motion": str(e.label.values[a, i]), "direction": str(e.direction.values[a]),
                 "s": float(e.s.values[i]), "F": float(e.F.values[i]),
             })

@@ -60,11 +60,35 @@ rule check_paper_values:
         "../scripts/check.py"
 
 
+# One figure against its committed reference (snakemake results/checks/figures/fig2.csv checks one);
+# fails, naming the arrays, when the figure moved.
+rule check_figure:
+    input:
+        data="results/figures/data/{fig}.nc",
+        # the committed reference; a missing one is reported by the check (not a missing input)
+        reference=lambda wc: [
+            f for f in [figure_reference(wc.fig)] if os.path.exists(f)
+        ],
+    output:
+        "results/checks/figures/{fig}.csv",
+    log:
+        "logs/checks/figures/{fig}.log",
+    wildcard_constraints:
+        fig="|".join(FIGURES),
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        **{k: v for k, v in config["figure_checks"].items() if k != "reference_dir"},
+        reference=lambda wc: figure_reference(wc.fig),
+        # each array's measured conditioning, kept with the references (target figure_conditioning)
+        conditioning=f"{config['figure_checks']['reference_dir']}/conditioning.csv",
+    script:
+        "../scripts/check_figure.py"
+
+
 rule check_figures:
     input:
-        data=expand("results/figures/data/{fig}.nc", fig=FIGURES),
-        # committed references; a missing one is reported by the check (not a missing input)
-        reference=[f for f in FIGURE_REFERENCES if os.path.exists(f)],
+        expand("results/checks/figures/{fig}.csv", fig=FIGURES),
     output:
         csv=report(
             "results/checks/figures.csv",
@@ -77,17 +101,46 @@ rule check_figures:
     conda:
         "../envs/vibroimpact.yaml"
     params:
-        **{k: v for k, v in config["figure_checks"].items() if k != "reference_dir"},
-        figures=FIGURES,
-        references=FIGURE_REFERENCES,
+        rtol=config["figure_checks"]["rtol"],
+        atol=config["figure_checks"]["atol"],
+        conditioning=f"{config['figure_checks']['reference_dir']}/conditioning.csv",
     script:
         "../scripts/check_figures.py"
 
 
-# Deliberately accept the current figures: copy their data over the committed references.
-rule update_figure_references:
+# How well each figure array is determined: the figure data recomputed in scratch copies under
+# perturbations that stand for another machine (another libm; the inputs moved by a few ulps), and
+# each array's spread (vibroimpact.conditioning).  Slow (three whole regenerations): run it before
+# accepting new references.
+rule figure_conditioning:
     input:
         expand("results/figures/data/{fig}.nc", fig=FIGURES),
+    output:
+        csv="results/checks/conditioning.csv",
+        md="results/checks/conditioning.md",
+    log:
+        "logs/checks/figure_conditioning.log",
+    benchmark:
+        "benchmarks/checks/figure_conditioning.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        figures=FIGURES,
+        rtol=config["figure_checks"]["rtol"],
+        atol=config["figure_checks"]["atol"],
+        exclude=config["figure_checks"]["exclude_axis_labels"],
+        optional=config["figure_checks"]["optional_peers"],
+        scratch="results/conditioning",
+    script:
+        "../scripts/figure_conditioning.py"
+
+
+# Deliberately accept the current figures: copy their data, and their measured conditioning, over the
+# committed references.
+rule update_figure_references:
+    input:
+        data=expand("results/figures/data/{fig}.nc", fig=FIGURES),
+        conditioning="results/checks/conditioning.csv",
     log:
         "logs/checks/update_figure_references.log",
     conda:

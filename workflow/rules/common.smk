@@ -7,6 +7,12 @@ def _fail(key, value, allowed):
     raise ValueError(f"config: {key} = {value!r} is not allowed; allowed: {allowed}")
 
 
+def _check_range(key, value, what="[low, high] with low < high"):
+    """A range of two numbers, increasing (a reversed or empty range is refused)."""
+    if len(value) != 2 or not value[0] < value[1]:
+        _fail(key, list(value), what)
+
+
 CAPTIONS = config["captions"]
 SCENES = list(config["scenes"])
 QUALITY = config["quality"]
@@ -111,6 +117,12 @@ for _scene, _spec in BRANCH_SCENES.items():
             _spec["s_ranges"],
             "one [s_min, s_max] per beta",
         )
+    for _i, _r in enumerate(_spec["s_ranges"]):
+        _check_range(
+            f"branch_scenes.{_scene}.s_ranges[{_i}]",
+            _r,
+            "[s_min, s_max] with s_min < s_max",
+        )
     for _w in [_spec["word"]] + (
         [_spec["grazing"]["word"]] if "grazing" in _spec else []
     ):
@@ -123,8 +135,16 @@ for _scene, _spec in BRANCH_SCENES.items():
 
 
 _lo, _hi = config["branches"]["d_range"]
-if not _lo < _hi:
-    _fail("branches.d_range", [_lo, _hi], "[d_min, d_max] with d_min < d_max")
+_check_range("branches.d_range", [_lo, _hi], "[d_min, d_max] with d_min < d_max")
+_check_range(
+    "branches.force.F_range",
+    config["branches"]["force"]["F_range"],
+    "[F_min, F_max] with F_min < F_max",
+)
+for _name, _b in config["basins"].items():
+    for _k in ("phi_range", "v0_range"):
+        if _k in _b:
+            _check_range(f"basins.{_name}.{_k}", _b[_k])
 for _w, _spec in WORDS.items():
     if not _lo < _spec["start_d"] < _hi:
         _fail(
@@ -266,6 +286,51 @@ for _v in ("s", "F"):
 # ---- studies: new beta or r beside the defaults ------------------------------------------------
 STUDIES = config.get("studies", []) or []
 
+_check_range(
+    "study_defaults.s_range",
+    config["study_defaults"]["s_range"],
+    "[s_min, s_max] with s_min < s_max",
+)
+_seen_studies = {}
+for _i, _st in enumerate(STUDIES):
+    if "s_range" in _st:
+        _check_range(
+            f"studies[{_i}].s_range",
+            _st["s_range"],
+            "[s_min, s_max] with s_min < s_max (m)",
+        )
+    _key = f"beta-{_st['beta']:.4f}_r-{_st['r']:.4f}"
+    if _key in _seen_studies:
+        _j = _seen_studies[_key]
+        _fail(
+            f"studies[{_i}]",
+            _st,
+            f"a study of its own (beta, r): it repeats studies[{_j}] = {STUDIES[_j]!r} (both would write "
+            f"results/studies/{_key}; beta and r are told apart to 4 decimals)",
+        )
+    _seen_studies[_key] = _i
+    if not _st["r"] > 0:
+        _fail(
+            f"studies[{_i}].r",
+            _st["r"],
+            "r > 0 (with r = 0 the ball never rebounds: every impact ends at rest on the wall, so no impact "
+            "orbit exists and no branch can start)",
+        )
+    # the ball must be able to leave the bottom membrane, or no orbit (and no branch) can start
+    _gbar = (
+        config["physics"]["M"]
+        * config["physics"]["g"]
+        * math.sin(_st["beta"])
+        / config["physics"]["F"]
+    )
+    if _gbar >= 1:
+        _fail(
+            f"studies[{_i}].beta",
+            _st["beta"],
+            f"an incline with gbar = M g sin(beta) / F < 1 (here {_gbar:.4g}: the forcing can never lift the ball "
+            "off the bottom membrane, so no impact orbit exists and no branch can start)",
+        )
+
 
 def r_value(key):
     """Exact restitution for its path form: the physics' r or a study's."""
@@ -328,7 +393,7 @@ for _item in config["checks"]["known"]:
 
 
 #: every figure whose plotted data the `check` target compares with its committed reference
-FIGURES = (
+ALL_FIGURES = (
     list(SCENES)
     + list(BRANCH_SCENES)
     + ["figBiS", "basins", "regime_map"]
@@ -337,9 +402,22 @@ FIGURES = (
     + [f"bifurcation_set_{m}" for m in ALL_MAPS]
     + [f"design_map_{m}" for m in config["design"]["maps"]]
 )
-FIGURE_REFERENCES = [
-    f"{config['figure_checks']['reference_dir']}/{fig}.nc" for fig in FIGURES
-]
+# figure_checks.figures: every figure ("all"), or the ones a list names (e.g. while working on one)
+_chosen = config["figure_checks"].get("figures", "all")
+if _chosen != "all":
+    for _f in _chosen:
+        if _f not in ALL_FIGURES:
+            _fail(
+                "figure_checks.figures",
+                _f,
+                f"'all' or a list of figures of {ALL_FIGURES}",
+            )
+FIGURES = ALL_FIGURES if _chosen == "all" else list(_chosen)
+
+
+def figure_reference(fig):
+    """The committed reference of a figure's data."""
+    return f"{config['figure_checks']['reference_dir']}/{fig}.nc"
 
 
 # ---- the report's captions: each figure's check result, from the last `check` run -------------------

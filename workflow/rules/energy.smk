@@ -85,7 +85,8 @@ rule study_figure:
                 if w in WORDS
             ],
         ],
-        sweeps="results/sweeps/beta-{beta}_r-{r}/study_s.nc",
+        # a list, as energy_figure.py reads one sweep per panel
+        sweeps=["results/sweeps/beta-{beta}_r-{r}/study_s.nc"],
         orbits=lambda wc: [
             f"results/branches/beta-{wc.beta}_r-{wc.r}/orbit-{w}_vary-s.nc"
             for w in ("BT", "BBT")

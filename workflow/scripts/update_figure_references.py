@@ -1,10 +1,11 @@
 """Accept the current figures: copy the data they draw over the committed references, but only
 where the data or the rendered image changed (a copy with the same arrays and image would only change
-the creation time)."""
+the creation time), and the arrays' measured conditioning beside them."""
 import logging
 import shutil
 from pathlib import Path
 
+import pandas as pd
 import xarray as xr
 
 from vibroimpact.figdata import compare, compare_image
@@ -12,7 +13,7 @@ from vibroimpact.figdata import compare, compare_image
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 ref_dir = Path(snakemake.params.reference_dir)
 ref_dir.mkdir(parents=True, exist_ok=True)
-for f in snakemake.input:
+for f in snakemake.input.data:
     ref = ref_dir / Path(f).name
     if ref.exists():
         new, old = xr.load_dataset(f, engine="netcdf4"), xr.load_dataset(ref, engine="netcdf4")
@@ -22,3 +23,11 @@ for f in snakemake.input:
             continue
     shutil.copy(f, ref)
     logging.info("reference updated: %s", ref)
+# the measured figures' rows replace theirs; the other figures' rows (figure_checks.figures a subset) stay
+measured = pd.read_csv(snakemake.input.conditioning)
+old_file = ref_dir / "conditioning.csv"
+if old_file.exists():
+    kept = pd.read_csv(old_file)
+    measured = pd.concat([kept[~kept.figure.isin(set(measured.figure))], measured], ignore_index=True)
+measured.to_csv(old_file, index=False)
+logging.info("conditioning updated for %s: %s", sorted(set(pd.read_csv(snakemake.input.conditioning).figure)), old_file)

@@ -61,6 +61,26 @@ def save_outputs(fig, output, *, data=None, attrs=None) -> list[Path]:
     return save(fig, str(output.png).removesuffix(".png"), data=data, attrs=attrs, formats=formats)
 
 
+def wellposed(artist, rule: str, **fields):
+    """Record on a drawn ``artist`` what is well-posed about its data, for the figure regeneration check
+    (:mod:`vibroimpact.figcheck`, which applies it where the data's measured conditioning calls for it);
+    :func:`vibroimpact.figdata.figure_data` saves it beside the artist's arrays.  ``rule``:
+
+    * ``"motions"``: values at simulated attractors; per element ``motion`` (its label), ``settled``
+      (the value is exact: a Newton-solved or sticking cycle), ``unsettled`` (no period found but the motion
+      settles later: a transient longer than the cap) and ``mean``, ``se`` (the long-run statistic of the
+      quantity drawn, where no period was found), each aligned with the artist's points;
+    * ``"run"``: a text naming a run of one motion along a sweep, placed at its middle; ``step``: the
+      sweep's spacing (each end of the run is known to one point);
+    * ``"curve"``: a curve sampled by continuation (its points lie on the curve; where they lie along it
+      depends on the step control);
+    * ``"on curve"``: points located on sampled curves (events, crossings), known to within a segment;
+    * ``"boundary"``: points between grid cells whose motions differ.
+    """
+    artist._vi_wellposed = {"rule": rule, **fields}
+    return artist
+
+
 def pi_tex(x, fmt=".4g"):
     """``x`` in TeX as a fraction of pi when it is one (``\\pi/6``, ``5\\pi``), else formatted with ``fmt``."""
     import math

@@ -9,7 +9,7 @@ from matplotlib.colors import Normalize
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from ._common import pi_label, use_style
+from ._common import pi_label, use_style, wellposed
 from .sweeps import _pi_ticks, curve_pieces
 
 _AXIS = {"s": "cylinder length $s$ (m)", "F": r"forcing amplitude $\|\hat F\|$ (N)", "beta": r"incline $\beta$ (rad)"}
@@ -19,11 +19,19 @@ def _curves(ax, curves, xname, yname, handles):
     """The admissible pieces of every bifurcation curve (the margins count only those), styled as in the
     bifurcation-set figures."""
     for xs, ys, adm, style, colour, label in curve_pieces(curves, xname, yname):
-        ax.plot(np.where(adm, xs, np.nan), np.where(adm, ys, np.nan), color="w", lw=2.4, zorder=4)
-        ax.plot(np.where(adm, xs, np.nan), np.where(adm, ys, np.nan), style, color=colour, lw=1.3, zorder=5,
-                label="_" + label)
+        wellposed(ax.plot(np.where(adm, xs, np.nan), np.where(adm, ys, np.nan), color="w", lw=2.4, zorder=4)[0], "curve")
+        wellposed(ax.plot(np.where(adm, xs, np.nan), np.where(adm, ys, np.nan), style, color=colour, lw=1.3, zorder=5,
+                          label="_" + label)[0], "curve")
         if label not in [h.get_label() for h in handles]:
             handles.append(Line2D([], [], ls=style, color=colour, lw=1.3, label=label))
+
+
+def _cell_motions(ds):
+    """Per grid point (in the order the maps draw them): the attractors reached and by how many starts."""
+    lab, cnt = ds["label"].values.astype(str), ds["count"].values
+    out = ["; ".join(f"{a} x{c}" for a, c in zip(la, ca, strict=True) if a)
+           for la, ca in zip(lab.reshape(-1, lab.shape[-1]), cnt.reshape(-1, cnt.shape[-1]), strict=True)]
+    return np.array(out, dtype=str)
 
 
 def fig_design_map(ds, curves, best):
@@ -42,8 +50,15 @@ def fig_design_map(ds, curves, best):
     norm = Normalize(np.nanmin(vals), np.nanmax(vals))
     handles = []
     multi = ds["multistable"].values.astype(float)
+    motion = _cell_motions(ds)
     for ax, (field, title), v in zip(axes, fields, vals, strict=True):
         mesh = ax.pcolormesh(xs, ys, v, shading="nearest", norm=norm, cmap="viridis", label=field)
+        if "point_settled" in ds:
+            # a point with starts that found no period: whether a long transient ends within the cap, and
+            # so which motions the starts are counted under, is for rounding to decide
+            wellposed(mesh, "motions", motion=motion, settled=ds["point_settled"].values.ravel(),
+                      unsettled=(ds["aperiodic_share"].values > 0).ravel(), mean=v.ravel(),
+                      se=ds[f"{field}_se"].values.ravel() / 1e3)
         ax.grid(False)
         if multi.any():
             ax.contourf(xs, ys, multi, levels=[0.5, 1.5], colors="none", hatches=["////"], zorder=3)

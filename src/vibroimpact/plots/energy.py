@@ -5,8 +5,8 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ._common import BOTTOM, TOP, beta_label, branch_line, use_style
-from .sweeps import _last_events
+from ._common import BOTTOM, TOP, beta_label, branch_line, use_style, wellposed
+from .sweeps import _last_events, point_info
 
 U_I_COLOR = "tab:red"
 U_T_COLOR = "tab:cyan"
@@ -70,13 +70,14 @@ def _motion_runs(ax, sw, direction="down", min_share=0.07):
     edges = np.flatnonzero(lab[1:] != lab[:-1]) + 1
     starts, ends = np.r_[0, edges], np.r_[edges, lab.size]
     tr = blended_transform_factory(ax.transData, ax.transAxes)
+    step = float(np.max(np.diff(d))) if d.size > 1 else 0.0
     for a, b in zip(starts, ends, strict=True):
         if (b - a) < min_share * lab.size:
             continue
         ax.annotate("", (d[a], 0.985), (d[b - 1], 0.985), xycoords=tr, arrowprops=dict(arrowstyle="|-|", lw=0.5,
                     color="0.4", shrinkA=0, shrinkB=0, mutation_scale=2))
-        ax.text(0.5 * (d[a] + d[b - 1]), 0.965, _short(lab[a]), transform=tr, ha="center", va="top", fontsize=5,
-                color="0.25")
+        wellposed(ax.text(0.5 * (d[a] + d[b - 1]), 0.965, _short(lab[a]), transform=tr, ha="center", va="top",
+                          fontsize=5, color="0.25"), "run", step=step)
 
 
 def _secondary_axis(ax, sw):
@@ -119,8 +120,24 @@ def _sim_points(ax, sw, var, scale=1.0):
     the down sweep (d decreasing, o) at every other point, the up sweep (+) at the points between."""
     for direction, marker, keep in (("down", "o", 0), ("up", "+", 1)):
         sub = sw.isel(point=slice(keep, None, 2))
-        x, y = _last_events(sub, var, direction)
-        ax.plot(x, np.abs(y) * scale, marker, mfc="none", color=SIM_COLOR, ms=2.2, mew=0.5, ls="none", zorder=2)
+        x, y, info = _last_events(sub, var, direction, info=True)
+        line = ax.plot(x, np.abs(y) * scale, marker, mfc="none", color=SIM_COLOR, ms=2.2, mew=0.5, ls="none",
+                       zorder=2)[0]
+        _motions(line, info, scale)
+
+
+def _motions(artist, info, scale=1.0):
+    """What the check compares of simulated points (:func:`vibroimpact.plots._common.wellposed`), in the
+    units drawn."""
+    wellposed(artist, "motions", **(info | {"mean": info["mean"] * scale, "se": info["se"] * scale}))
+
+
+def _point_markers(ax, en, var, fmt, scale, **style):
+    """``var`` (U_T or U_I) at every point of the down sweep, with what the check compares."""
+    dn = en.sel(direction="down")
+    line = ax.plot(dn.d, dn[var] * scale, fmt, ls="none", **style)[0]
+    _motions(line, point_info(dn, np.arange(dn.sizes["point"]), var), scale)
+    return line
 
 
 def _mark_grazing(ax, marks):
@@ -182,9 +199,8 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
         _sim_points(uax, en, "gain", KV)
         _analytic(uax, brs, "gain", scale=KV)
         _analytic(uax, brs, "gain", averages=True, scale=KV)
-        dn = en.sel(direction="down")
-        uax.plot(dn.d, dn.U_T * KV, "D", mfc="none", color=U_T_COLOR, ms=3, mew=0.6, ls="none", zorder=3)
-        uax.plot(dn.d, dn.U_I * KV, "*", color=U_I_COLOR, ms=3, ls="none", zorder=3)
+        _point_markers(uax, en, "U_T", "D", KV, mfc="none", color=U_T_COLOR, ms=3, mew=0.6, zorder=3)
+        _point_markers(uax, en, "U_I", "*", KV, color=U_I_COLOR, ms=3, zorder=3)
         uax.set_xlabel("d")
         uax.set_ylabel(r"$U_k-U_{in}$, $\overline{U}_I$, $\overline{U}_T$ (kV)")
         uax.set_title(_panel_title(sw, next(letters)))
@@ -208,8 +224,12 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
 
 
 def fig_design(s_sets, F_sets, table):
-    """U_T (solid) and U_I (dashed) against s at fixed force and against F at fixed s, per incline,
-    with the maxima of the design table marked."""
+    """What a device delivers (:func:`vibroimpact.energy.delivered`: the exact cycle's U_T and U_I where
+    the motion is periodic, the long run's where it is not; a gap where a transient outlasts the cap)
+    against s at fixed force and against F at fixed s, per incline, U_T solid and U_I dashed, with the
+    maxima of the design table marked."""
+    from ..energy import delivered
+
     use_style()
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
     colors = plt.get_cmap("tab10").colors
@@ -217,16 +237,25 @@ def fig_design(s_sets, F_sets, table):
         for k, e in enumerate(sets):
             dn = e.sel(direction="down")
             c = colors[k % 10]
-            ax.plot(e[vary], dn.U_T, "-", color=c, lw=1.0, label=beta_label(e.attrs["beta"]) + r": $\overline{U}_T$")
-            ax.plot(e[vary], dn.U_I, "--", color=c, lw=0.8)
+            every = np.arange(dn.sizes["point"])
+            down = list(e.direction.values).index("down")
+            for q, style, lw, label in (("U_T", "-", 1.0, beta_label(e.attrs["beta"]) + r": $\overline{U}_T$"),
+                                        ("U_I", "--", 0.8, None)):
+                value, se = delivered(e, q)
+                info = point_info(dn, every, q) | {"mean": value[down], "se": se[down]}
+                wellposed(ax.plot(e[vary], value[down], style, color=c, lw=lw, label=label)[0], "motions", **info)
             rows = table[(table.vary == vary) & (abs(table.beta - float(e.attrs["beta"])) < 1e-9)]
             for _, r in rows.iterrows():
-                ax.plot(r.best, r.U_T if r.maximise == "U_T" else r.U_I, "o" if r.maximise == "U_T" else "s",
-                        mfc="none", color=c, ms=8)
+                value, se = (r.U_T, r.U_T_se) if r.maximise == "U_T" else (r.U_I, r.U_I_se)
+                mark = ax.plot(r.best, value, "o" if r.maximise == "U_T" else "s", mfc="none", color=c, ms=8)[0]
+                # a maximum where no period is found is the long run's mean, known to its standard error
+                wellposed(mark, "motions", motion=[r.motion], settled=[se == 0], unsettled=[False], mean=[value],
+                          se=[se])
         ax.set_xlabel("cylinder length s (m)" if vary == "s" else "forcing amplitude ||F|| (N)")
         ax.set_ylabel("average output voltage (V)")
         ax.set_title(("(a) length sweep at fixed force" if vary == "s" else "(b) force sweep at s = 0.85 m")
-                     + r"; dashed: $\overline{U}_I$; circles/squares: maxima")
+                     + r"; dashed: $\overline{U}_I$; circles/squares: maxima" + "\nperiodic: the exact cycle's "
+                     "average; no period found: the long run's; a gap: a transient longer than the cap", fontsize=8)
     axes[0].legend(loc="best", fontsize=6)
     return fig
 

@@ -5,29 +5,64 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ._common import BOTTOM, TOP, branch_line, use_style
+from ._common import BOTTOM, TOP, branch_line, use_style, wellposed
+
+#: the statistic of a motion with no period that each drawn quantity is compared by (the long run's)
+_LONG_STAT = {"v_minus": ("abs_v_mean", "abs_v_se"), "gain": ("U_I_long", "U_I_long_se"),
+              "U_T": ("U_T_long", "U_T_long_se"), "U_I": ("U_I_long", "U_I_long_se")}
+_CYCLE = {"v_minus": "cycle_v_minus", "phase": "cycle_phase", "gain": "cycle_gain", "dt": "cycle_t"}
 
 
-def _last_events(ds, var, direction="down", labels=False):
-    """(d, values) of every point's last period of events in one sweep direction (its last 24 events
-    where no period was found); ``var="dt"`` gives the time since the previous event.  With
-    ``labels``, also each value's point's identified motion."""
+def point_info(s, idx, var):
+    """Per element drawn from points ``idx`` of one sweep direction ``s``: the motion, whether the value is
+    exact (``settled``), whether the motion is a transient longer than the cap (``unsettled``: no period
+    found, but its long run settles), and the long-run ``mean`` and ``se`` of ``var`` where no period was
+    found (NaN elsewhere).  What the figure check compares where the values are not well-posed."""
+    idx = np.asarray(idx, dtype=int)
+    lab = s["label"].values.astype(str)[idx]
+    settled = s["settled"].values[idx] if "settled" in s else np.zeros(idx.size, bool)
+    long = s["long_status"].values.astype(str)[idx] if "long_status" in s else np.full(idx.size, "")
+    unsettled = (lab == "no period found") & (long != "aperiodic")
+    m, e = _LONG_STAT.get(var, (None, None))
+    mean = s[m].values[idx] if m in s else np.full(idx.size, np.nan)
+    se = s[e].values[idx] if e in s else np.full(idx.size, np.nan)
+    return dict(motion=lab, settled=np.asarray(settled, bool), unsettled=unsettled, mean=mean, se=se)
+
+
+def _last_events(ds, var, direction="down", labels=False, info=False):
+    """(d, values) of every point's last period of events in one sweep direction: its exact cycle from
+    the canonical first impact where the sweep settled it (:func:`vibroimpact.sweeps.settle`), else the
+    recorded last period (the last 24 events where no period was found); ``var="dt"`` gives the time
+    since the previous event.  With ``labels``, also each value's point's identified motion; with
+    ``info``, a dict per element (:func:`point_info`) instead."""
 
     s = ds.sel(direction=direction)
-    xs, ys, ls = [], [], []
+    cyc = _CYCLE.get(var)
+    have = cyc is not None and cyc in s
+    xs, ys, pts = [], [], []
     for i in range(s.sizes["point"]):
-        t = s["t"].values[i] if "t" in s else s[var].values[i]
-        m = int(np.isfinite(t).sum())
-        n = (int(s["period_events"].values[i]) if "period_events" in s else 0) or min(m, 24)
-        v = np.diff(t[max(m - n - 1, 0):m]) if var == "dt" else s[var].values[i, m - n:m]
-        v = v[np.isfinite(v)]
+        c = s[cyc].values[i] if have else None
+        if have and np.isfinite(c).any() and (var != "dt" or "period" in s):
+            if var == "dt":
+                tt = c[np.isfinite(c)]
+                v = np.diff(np.concatenate([[tt[-1] - 2.0 * float(s["period"].values[i])], tt]))
+            else:
+                v = c[np.isfinite(c)]
+        else:
+            t = s["t"].values[i] if "t" in s else s[var].values[i]
+            m = int(np.isfinite(t).sum())
+            n = (int(s["period_events"].values[i]) if "period_events" in s else 0) or min(m, 24)
+            v = np.diff(t[max(m - n - 1, 0):m]) if var == "dt" else s[var].values[i, m - n:m]
+            v = v[np.isfinite(v)]
         xs.append(np.full(v.size, float(s.d[i])))
         ys.append(v)
-        if labels:
-            ls.append(np.full(v.size, str(s["label"].values[i]), dtype=object))
+        pts.append(np.full(v.size, i))
+    x, y, pts = np.concatenate(xs), np.concatenate(ys), np.concatenate(pts)
+    if info:
+        return x, y, point_info(s, pts, var)
     if labels:
-        return np.concatenate(xs), np.concatenate(ys), np.concatenate(ls).astype(str)
-    return np.concatenate(xs), np.concatenate(ys)
+        return x, y, s["label"].values.astype(str)[pts]
+    return x, y
 
 
 def fig_bis(sw, transitions, portraits, branches):
@@ -54,11 +89,14 @@ def fig_bis(sw, transitions, portraits, branches):
                 y = np.abs(y) if var == "v_minus" else y
                 branch_line(ax, br.d.values[m], y, br.stable.values[m], color, lw=0.8)
         for direction, marker in (("down", "o"), ("up", "+")):
-            x, y, lab = _last_events(sw, var, direction, labels=True)
+            x, y, info = _last_events(sw, var, direction, info=True)
             y = np.abs(y) if var == "v_minus" else y
+            lab = info["motion"]
             for motion in sorted(set(lab)):
                 sel = lab == motion
-                ax.plot(x[sel], y[sel], marker, mfc="none", color=motion_color.get(motion, "0.7"), ms=3.5, ls="none")
+                line = ax.plot(x[sel], y[sel], marker, mfc="none", color=motion_color.get(motion, "0.7"), ms=3.5,
+                               ls="none")[0]
+                wellposed(line, "motions", **{k: v[sel] for k, v in info.items()})
         for g, c, name, dx in ((g1, "k", "G1", -13), (g2, "tab:red", "G2", 2)):
             ax.axvline(g, color=c, ls="-.", lw=0.8)
             ax.annotate(name, (g, 1.0), xycoords=("data", "axes fraction"), xytext=(dx, -10), textcoords="offset points",
@@ -121,7 +159,10 @@ def _class_image(ax, da, x, y, legend, n_show=9, *, key=True):
     colors = _class_colors(names)
     cmap = ListedColormap(colors)
     norm = BoundaryNorm(np.arange(len(names) + 1) - 0.5, len(names))
-    ax.pcolormesh(x, y, codes, cmap=cmap, norm=norm, shading="nearest")
+    mesh = ax.pcolormesh(x, y, codes, cmap=cmap, norm=norm, shading="nearest")
+    # the check compares the motion in each cell (the colour codes follow the legend's order, which
+    # depends on how many cells each motion has)
+    wellposed(mesh, "motions", motion=np.asarray(names, dtype=object)[np.asarray(codes).ravel()].astype(str))
     ax.grid(False)
     handles = [Patch(color=colors[i], label=names[i]) for i in range(len(names))]
     if key:
@@ -254,9 +295,10 @@ def fig_bifurcation_set(m, curves, boundaries=None):
     xname, yname = curves.attrs["params"].split()
     handles = []
     for xs, ys, adm, style, colour, label in curve_pieces(curves, xname, yname):
-        ax.plot(xs, ys, style, color="w", lw=2.6, zorder=4)
-        ax.plot(np.where(adm, xs, np.nan), np.where(adm, ys, np.nan), style, color=colour, lw=1.6, zorder=5)
-        ax.plot(np.where(adm, np.nan, xs), np.where(adm, np.nan, ys), style, color=colour, lw=0.6, zorder=5)
+        for line in (ax.plot(xs, ys, style, color="w", lw=2.6, zorder=4)[0],
+                     ax.plot(np.where(adm, xs, np.nan), np.where(adm, ys, np.nan), style, color=colour, lw=1.6, zorder=5)[0],
+                     ax.plot(np.where(adm, np.nan, xs), np.where(adm, np.nan, ys), style, color=colour, lw=0.6, zorder=5)[0]):
+            wellposed(line, "curve")
         if label not in [h.get_label() for h in handles]:
             handles.append(Line2D([], [], ls=style, color=colour, lw=1.6, label=label))
     if curves.sizes["event"]:
@@ -264,12 +306,12 @@ def fig_bifurcation_set(m, curves, boundaries=None):
         for sel, marker, label in ((~cusp, "x", "a curve meets another set of its orbit"),
                                    (cusp, "^", "cusp: the curve turns back in the plane")):
             if sel.any():
-                ax.plot(curves[f"event_{xname}"].values[sel], curves[f"event_{yname}"].values[sel], marker, color="k",
-                        ms=5, mew=1.2, mfc="none", zorder=6)
+                wellposed(ax.plot(curves[f"event_{xname}"].values[sel], curves[f"event_{yname}"].values[sel], marker,
+                                  color="k", ms=5, mew=1.2, mfc="none", zorder=6)[0], "on curve")
                 handles.append(Line2D([], [], ls="", marker=marker, color="k", mfc="none", label=label))
     if curves.sizes.get("crossing", 0):
-        ax.plot(curves[f"crossing_{xname}"].values, curves[f"crossing_{yname}"].values, "o", color="k", ms=6,
-                mfc="none", mew=1.2, zorder=6)
+        wellposed(ax.plot(curves[f"crossing_{xname}"].values, curves[f"crossing_{yname}"].values, "o", color="k", ms=6,
+                          mfc="none", mew=1.2, zorder=6)[0], "on curve")
         handles.append(Line2D([], [], ls="", marker="o", color="k", mfc="none",
                               label="two curves cross (where 2:1 grazing\nmeets 3:1 fold, [G1, G2] closes)"))
     counts = ""
@@ -279,7 +321,7 @@ def fig_bifurcation_set(m, curves, boundaries=None):
                 ("aperiodic", ".", 2.5, "0.1", "boundary on no curve:\nbeside no period found"),
                 ("jump", "+", 4.0, "#CC0066", "boundary on no curve:\nbetween periodic motions")):
             sel = boundaries.cause.values == cause
-            ax.plot(bx[sel], by[sel], marker, ls="", color=colour, ms=ms, mew=0.8, zorder=3.5)
+            wellposed(ax.plot(bx[sel], by[sel], marker, ls="", color=colour, ms=ms, mew=0.8, zorder=3.5)[0], "boundary")
             handles.append(Line2D([], [], ls="", marker=marker, color=colour, ms=ms + 1, label=text))
         n = {c: int((boundaries.cause.values == c).sum()) for c in ("on a curve", "aperiodic", "jump")}
         counts = (f"simulated boundaries (label changes between neighbouring grid points): {n['on a curve']} within "

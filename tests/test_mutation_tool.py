@@ -1,0 +1,30 @@
+"""tools/mutation.py, as README.md runs it, at a smaller preset: a few mutants of a fast module."""
+
+import json
+import sys
+from pathlib import Path
+
+import pytest
+from conftest import readme_command, run_readme, scratch_clone
+
+
+@pytest.mark.slow
+def test_the_mutation_tool_samples_mutants_and_reports_them(tmp_path):
+    """README's command with a smaller sample (3 mutants of energy.py, whose tests take seconds instead of
+    40 of events.py): each mutant is run in the private copy and recorded killed, survived, timed out or
+    invalid; the report counts them; the working tree is left as it was."""
+    clone = scratch_clone(tmp_path)
+    (clone / ".venv").symlink_to(Path(sys.prefix))  # the suite's environment stands for README's .venv
+    cmd = readme_command("tests/test_mutation_tool.py::test_the_mutation_tool_samples_mutants_and_reports_them")
+    run = cmd.split("#")[0].strip()
+    assert "run events --n 40" in run
+    small = run.replace("run events --n 40", "run energy --n 3")
+    before = (clone / "src" / "vibroimpact" / "energy.py").read_bytes()
+    res = run_readme(clone, small, timeout=900)
+    assert res.returncode == 0, (res.stdout + res.stderr)[-3000:]
+    rows = [json.loads(line) for line in (clone / "results" / "mutation" / "results_energy.jsonl").read_text().split("\n")
+            if line]
+    assert len(rows) == 3 and {r["status"] for r in rows} <= {"killed", "survived", "timeout", "invalid"}
+    assert (clone / "src" / "vibroimpact" / "energy.py").read_bytes() == before
+    report = run_readme(clone, ".venv/bin/python tools/mutation.py report energy")
+    assert report.returncode == 0 and "energy: tried 3" in report.stdout, report.stdout + report.stderr

@@ -1,0 +1,228 @@
+"""README.md's commands, run as a user runs them: in a scratch clone, as written, on an emulated other machine.
+
+Every shell block of the documentation carries a marker naming the test that runs it (or `.ci/run`);
+the tests here read the command from README.md itself, so what is tested is what a user is told.
+"""
+
+import os
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+import yaml
+from conftest import ROOT, _copy_workflow, readme_command, run_readme, shell_blocks
+
+DOCS = [ROOT / "README.md", ROOT / "config" / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+
+
+def test_every_shell_command_in_the_docs_is_run_by_a_test():
+    """Each shell block of README.md and the docs names the test that executes it (as written, or its
+    code path at a smaller preset) or `.ci/run`, and that test exists."""
+    blocks = [(doc, *b) for doc in DOCS if doc.exists() for b in shell_blocks(doc)]
+    assert len(blocks) >= 6
+    for doc, kind, target, cmd in blocks:
+        assert kind, f"{doc.name}: a shell block with no 'tested by' or 'run by' marker:\n{cmd}"
+        if kind == "run by":
+            assert target == ".ci/run", target
+            assert cmd in (ROOT / ".ci" / "run").read_text().splitlines(), f".ci/run does not run `{cmd}`"
+            continue
+        path, _, name = target.partition("::")
+        assert (ROOT / path).is_file(), target
+        assert re.search(rf"^def {re.escape(name)}\(", (ROOT / path).read_text(), re.M), f"{target}: no such test"
+
+
+def test_ci_runs_readme_s_set_up_and_test_command():
+    """`.ci/run` sets up as the first command does (its install steps, the same words) and then runs
+    exactly README's test command."""
+    first = readme_command("tests/test_readme.py::test_the_first_command_sets_up_and_runs_the_default_target")
+    ci = (ROOT / ".ci" / "run").read_text()
+    for step in first.split(" && ")[:-1]:  # everything but the workflow run
+        assert step.replace(".venv/bin/pip install", ".venv/bin/pip install -q") in ci, step
+
+
+@pytest.mark.slow
+def test_the_first_command_sets_up_and_runs_the_default_target(readme_clone):
+    """From a fresh clone, under the other libm: a venv with the locked versions, the package, and the
+    default target's figures, tables and datasets."""
+    clone, first, _ = readme_clone
+    assert first.returncode == 0, (first.stdout + first.stderr)[-3000:]
+    for f in ("results/figures/fig0.png", "results/figures/fig5.png", "results/figures/figBiS.png",
+              "results/tables/table1.md", "results/checks/paper_values.csv", "results/tables/workflow_cost.md"):
+        assert (clone / f).stat().st_size > 500, f
+    # the locked versions, not whatever a resolver picks today
+    pins = dict(re.findall(r"^([A-Za-z0-9_.-]+)==(\S+)", (ROOT / "requirements.lock").read_text(), re.M))
+    got = subprocess.run([clone / ".venv" / "bin" / "python", "-m", "pip", "list", "--format=freeze"],
+                         capture_output=True, text=True, check=True).stdout
+    have = dict(line.split("==") for line in got.split() if "==" in line)
+    norm = lambda n: re.sub(r"[-_.]+", "-", n).lower()
+    have = {norm(k): v for k, v in have.items()}
+    for name in ("numpy", "scipy", "numba", "llvmlite", "matplotlib", "xarray", "snakemake", "netcdf4", "pandas"):
+        assert have[name] == pins[name], (name, have[name], pins[name])
+
+
+@pytest.mark.slow
+def test_the_check_passes_under_another_libm(readme_clone):
+    """README's check command, run after the first under glibc's other libm code path, passes: every
+    published value reproduced or a listed discrepancy, every figure's arrays by the rule its measured
+    conditioning calls for, with the ill-conditioned ones compared by what is well-posed about them."""
+    from vibroimpact.conditioning import libm_switch_works
+
+    if not libm_switch_works():
+        pytest.skip("glibc does not dispatch sin on FMA/AVX2 here: the libm switch emulates nothing on this CPU")
+    clone, _, check = readme_clone
+    assert check.returncode == 0, (check.stdout + check.stderr)[-4000:]
+    df = pd.read_csv(clone / "results" / "checks" / "paper_values.csv")
+    assert len(df) > 50 and set(df["status"]) <= {"pass", "known discrepancy"}
+    assert (df["status"] == "pass").sum() > 50
+    assert df.loc[df["status"] == "known discrepancy", "note"].str.len().min() > 20
+    figs = pd.read_csv(clone / "results" / "checks" / "figures.csv")
+    assert set(figs["status"]) <= {"pass", "excluded"} and figs["figure"].nunique() >= 14
+    assert (figs["rule"] == "strict").sum() > 1000
+    # the sweeps' clouds, the maps and the continuation curves were compared by what is well-posed
+    assert {"motions", "curve"} <= set(figs["rule"])
+    md = (clone / "results" / "checks" / "figures.md").read_text()
+    assert "ill-conditioned: " in md and "well-conditioned: spread" in md
+
+
+@pytest.mark.slow
+def test_the_study_command_builds_its_figure(readme_clone):
+    """README's rerun for a new incline and restitution, after the default target: the study's branches,
+    sweep, energies, figure and figure data; its branches are the API's orbits."""
+    import vibroimpact as vi
+
+    clone, first, _ = readme_clone
+    assert first.returncode == 0
+    res = run_readme(clone, readme_command("tests/test_readme.py::test_the_study_command_builds_its_figure"))
+    assert res.returncode == 0, (res.stdout + res.stderr)[-3000:]
+    key = "beta-0.4000_r-0.6000"
+    study = clone / "results" / "studies" / key
+    assert (study / "study.png").stat().st_size > 10_000
+    data = xr.load_dataset(study / "study-figure-data.nc")
+    assert len(data.data_vars) > 10
+    sw = xr.load_dataset(clone / "results" / "sweeps" / key / "study_s.nc")
+    assert sw.attrs["r"] == 0.6 and abs(sw.attrs["beta"] - 0.4) < 1e-15
+    assert (clone / "results" / "energy" / key / "study_s.nc").exists()
+    cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    ph = cfg["physics"]
+    for word in ("BT", "BBT"):
+        br = xr.load_dataset(clone / "results" / "branches" / key / f"orbit-{word}_vary-s.nc")
+        assert br.attrs["status"] != "failed", br.attrs.get("reason")
+        for i in (0, br.sizes["point"] // 2, br.sizes["point"] - 1):
+            p = vi.Params.from_physical(s=float(br.s[i]), beta=0.4, M=ph["M"], F=ph["F"], omega=ph["omega"],
+                                        r=0.6, g=ph["g"])
+            o = vi.find_orbit(p, word, float(br.phase[i, 0]), float(br.v_minus[i, 0]), k=int(br.attrs.get("k", 1)))
+            assert np.allclose(o.v_minus, br.v_minus[i].values, rtol=0, atol=1e-9), (word, i)
+    # the study adds its jobs only: a second run has nothing to do
+    again = run_readme(clone, readme_command("tests/test_readme.py::test_the_study_command_builds_its_figure")
+                       + " -n")
+    assert "Nothing to be done" in again.stdout + again.stderr
+
+
+@pytest.mark.slow
+def test_a_changed_impact_law_fails_the_figure_check(tmp_path):
+    """The check catches a change of the science that the other machine's libm does not make: the
+    restitution moved in its fifth digit (0.5 -> 0.50001) moves Fig 2's branches beyond the strict
+    tolerance, and checking that figure fails, naming its arrays."""
+    cfg = _copy_workflow(tmp_path)
+    cfg["physics"]["r"] = 0.50001
+    (tmp_path / "config" / "config.yaml").write_text(yaml.safe_dump(cfg))
+    res = subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", "results/checks/figures/fig2.csv"],
+                         cwd=tmp_path, capture_output=True, text=True, timeout=900)
+    out = res.stdout + res.stderr
+    assert res.returncode != 0
+    assert "fig2 differs from its reference" in out, out[-3000:]
+    assert re.search(r"\| fig2 \| a\d+_line\d+_[xy] .*\| strict .*\| fail", out), out[-3000:]
+
+
+def _slice(tmp_path, targets):
+    _copy_workflow(tmp_path)
+    res = subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", *targets], cwd=tmp_path,
+                         capture_output=True, text=True, timeout=900)
+    assert res.returncode == 0, res.stderr[-3000:]
+    return [xr.load_dataset(tmp_path / t) for t in targets]
+
+
+@pytest.mark.slow
+def test_the_same_config_gives_identical_datasets(tmp_path):
+    """Two runs of the same config on one machine write the same datasets bit for bit (a sweep with its
+    chaotic points' long runs, a branch with its located critical points), all but their creation time."""
+    targets = ["results/sweeps/beta-0.5236_r-0.5000/figBiS.nc",
+               "results/branches/beta-1.0472_r-0.5000/orbit-BBT_vary-s.nc"]
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    for x, y in zip(_slice(tmp_path / "a", targets), _slice(tmp_path / "b", targets), strict=True):
+        assert x.attrs.pop("created") and y.attrs.pop("created")
+        xr.testing.assert_identical(x, y)
+
+
+def test_the_lock_pins_every_package_with_hashes_and_the_conda_env_alike():
+    """requirements.lock: exact versions with hashes, one version per package for every Python and
+    platform; workflow/envs/pins.txt the same versions; pyproject.toml keeps ranges."""
+    lock = (ROOT / "requirements.lock").read_text()
+    pins = re.findall(r"^([A-Za-z0-9_.-]+)==(\S+?)(?: ;.*)? \\$", lock, re.M)
+    names = [n for n, _ in pins]
+    assert len(pins) > 50 and len(set(names)) == len(names)
+    for name in ("numpy", "scipy", "numba", "matplotlib", "snakemake", "heyoka", "snakemake-executor-plugin-slurm"):
+        assert name in names, name
+    lines = lock.splitlines()
+    for i, line in enumerate(lines):
+        if re.match(r"^[A-Za-z0-9]", line):
+            assert lines[i + 1].strip().startswith("--hash=sha256:"), f"{line}: no hashes"
+    env = (ROOT / "workflow" / "envs" / "pins.txt").read_text()
+    assert sorted(re.findall(r"^([A-Za-z0-9_.-]+==\S+)", env, re.M)) == sorted(f"{n}=={v}" for n, v in pins)
+    assert "-r pins.txt" in (ROOT / "workflow" / "envs" / "vibroimpact.yaml").read_text()
+    deps = (ROOT / "pyproject.toml").read_text()
+    assert '"numpy>=' in deps and "numpy==" not in deps
+
+
+def test_the_libm_switch_changes_sin_where_glibc_dispatches_it():
+    """The emulated other machine is another machine: with the switch, numpy's and numba's sin differ in
+    the last bit for some arguments (skipped on a CPU whose glibc takes one path anyway)."""
+    from vibroimpact.conditioning import LIBM_SWITCH, libm_switch_works
+
+    code = ("import math, numpy as np, numba, hashlib\n"
+            "x = np.random.default_rng(2).uniform(-50, 50, 100000)\n"
+            "f = numba.njit(lambda a: np.array([math.sin(v) for v in a]))\n"
+            "print(hashlib.sha1(f(x).tobytes()).hexdigest(), hashlib.sha1(np.sin(x).tobytes()).hexdigest())")
+    out = [subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                          env=os.environ | env).stdout.split() for env in ({}, LIBM_SWITCH)]
+    numba_differs, numpy_differs = out[0][0] != out[1][0], out[0][1] != out[1][1]
+    assert libm_switch_works() == numpy_differs == numba_differs
+    if not numpy_differs:
+        pytest.skip("glibc does not dispatch sin on FMA/AVX2 here: the switch changes nothing on this CPU")
+
+
+@pytest.mark.slow
+def test_a_study_whose_branches_cannot_start_records_why_and_still_draws(readme_clone):
+    """README's study command for a restitution where no 1:1 or 2:1 impact orbit is the attractor at the
+    branches' start (r = 0.05: the ball chatters into sticking): the branches' datasets record the failure
+    and its reason, not a traceback, and the study's sweep, energy and figure are still made."""
+    clone, first, _ = readme_clone
+    assert first.returncode == 0
+    cmd = readme_command("tests/test_readme.py::test_the_study_command_builds_its_figure")
+    res = run_readme(clone, cmd.replace("r: 0.6", "r: 0.05"))
+    assert res.returncode == 0, (res.stdout + res.stderr)[-3000:]
+    key = "beta-0.4000_r-0.0500"
+    for word in ("BT", "BBT"):
+        br = xr.load_dataset(clone / "results" / "branches" / key / f"orbit-{word}_vary-s.nc")
+        assert br.attrs["status"] == "failed" and "with sticking" in br.attrs["reason"], br.attrs
+    assert (clone / "results" / "studies" / key / "study.png").stat().st_size > 10_000
+    assert "Traceback" not in res.stderr
+
+
+@pytest.mark.slow
+def test_the_bench_target_times_the_simulator(readme_clone):
+    """README's benchmark command after the default target: the simulator's timings and accuracy against
+    the 40-digit reference, as a dataset and the table README quotes."""
+    clone, first, _ = readme_clone
+    assert first.returncode == 0
+    res = run_readme(clone, readme_command("tests/test_readme.py::test_the_bench_target_times_the_simulator"))
+    assert res.returncode == 0, (res.stdout + res.stderr)[-3000:]
+    ds = xr.load_dataset(clone / "results" / "bench" / "simulator.nc")
+    assert len(ds.data_vars) >= 3
+    table = (clone / "results" / "tables" / "bench_simulator.md").read_text()
+    assert "exact simulator" in table and "solve_ivp" in table

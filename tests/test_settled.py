@@ -1,0 +1,125 @@
+"""What is well-posed about a simulated attractor (vibroimpact.settled): the exact cycle of a periodic
+motion, whatever run reached it, and the long-run statistics of an aperiodic one."""
+
+import math
+
+import numpy as np
+import pytest
+from conftest import gbar_of
+
+import vibroimpact as vi
+from vibroimpact import kernels as K
+from vibroimpact.settled import (
+    SETTLE_MATCH,
+    batch_means,
+    canonical_start,
+    long_run,
+    long_statistics,
+    polish_cycle,
+)
+from vibroimpact.sweeps import settle, sweep
+
+
+def _cycle(run):
+    """The last period of a run stopped when periodic: its events and its span."""
+    lag = int(run.attrs["period_events"])
+    n = run.sizes["impact"]
+    ev = [run[v].values[n - lag:n] for v in ("t", "wall", "v_minus", "phase", "kind")]
+    return ev, float(run.t.values[n - 1] - run.t.values[n - 1 - lag])
+
+
+def test_the_polished_cycle_is_the_newton_orbit_from_its_canonical_first_impact():
+    """Fig BiS (e): the 2:1 orbit; the run's last period, solved, equals find_orbit's orbit (another code
+    path: it simulates the word from a guess) to rounding, starting at its bottom impact of least phase."""
+    p = vi.Params(d=0.14, gbar=gbar_of(math.pi / 6), r=0.5)
+    run = vi.simulate(p, 5.855, 0.4185, n_impacts=10_000, stop_when_periodic=True)
+    ev, span = _cycle(run)
+    res = polish_cycle(p.d, p.gbar, p.r, *ev, span=span)
+    assert res["status"] == "newton" and res["settled"]
+    bottom = np.flatnonzero(res["wall"] == 1)
+    assert res["wall"][0] == 1 and res["phase"][0] == res["phase"][bottom].min()
+    o = vi.find_orbit(p, "".join("B" if w == 1 else "T" for w in res["wall"]), res["phase"][0], res["v_minus"][0])
+    assert np.allclose(res["v_minus"], o.v_minus, rtol=0, atol=1e-13)
+    assert np.allclose(res["phase"], o.phase, rtol=0, atol=1e-13)
+    assert np.allclose(res["t"], o.t, rtol=0, atol=1e-13)
+
+
+def test_two_runs_stopped_at_different_places_give_the_same_cycle():
+    """The recorded cycles of two runs of one orbit differ by their convergence (the periodicity
+    tolerance over the orbit's contraction); the polished cycles agree to rounding.  Near the period
+    doubling B of the pi/3 2:1 orbit (|lambda| near 1) convergence is slow."""
+    p = vi.Params(d=0.159, gbar=gbar_of(math.pi / 3), r=0.5)  # B at d = 0.1582
+    runs = [vi.simulate(p, phi, v0, n_impacts=200_000, stop_when_periodic=True) for phi, v0 in ((1.21, 0.2164),
+                                                                                                (1.1, 0.25))]
+    assert all(r.attrs["status"] == "periodic" for r in runs)
+    cycles = [polish_cycle(p.d, p.gbar, p.r, *_cycle(r)[0], span=_cycle(r)[1]) for r in runs]
+    assert all(c["settled"] for c in cycles)
+    raw = [np.sort(_cycle(r)[0][2]) for r in runs]
+    assert np.max(np.abs(raw[0] - raw[1])) > 1e-12  # the recorded cycles differ ...
+    assert np.allclose(cycles[0]["v_minus"], cycles[1]["v_minus"], rtol=0, atol=1e-13)  # ... the exact ones do not
+
+
+def test_a_cycle_too_far_from_its_orbit_or_with_a_grazing_contact_is_not_settled():
+    p = vi.Params(d=0.14, gbar=gbar_of(math.pi / 6), r=0.5)
+    run = vi.simulate(p, 5.855, 0.4185, n_impacts=10_000, stop_when_periodic=True)
+    (t, wall, vm, phase, kind), span = _cycle(run)
+    off = polish_cycle(p.d, p.gbar, p.r, t, wall, vm + 10 * SETTLE_MATCH, phase, kind, span=span)
+    assert not off["settled"] and "lies" in off["status"]
+    grazing = kind.copy()
+    grazing[1] = K.GRAZING
+    g = polish_cycle(p.d, p.gbar, p.r, t, wall, vm, phase, grazing, span=span)
+    assert not g["settled"] and "grazing" in g["status"]
+
+
+def test_a_sticking_cycle_is_kept_as_recorded_and_not_called_exact():
+    """A cycle that sticks is its orbit (every state that sticks leaves the wall at the release phase), but
+    only to its summed chatter's accuracy: recorded as sticking, not settled; its chatter's last bounces are
+    grazing contacts, which do not make it unsettled for another reason."""
+    sw = sweep("s", [0.3, 0.5], beta=math.pi / 2, F=1.4, max_periods=60, long_impacts=0)
+    sticky = np.char.find(sw.label.values.astype(str), "sticking") >= 0
+    assert sticky.any()
+    assert set(sw.settle_status.values.astype(str)[sticky]) == {"sticking"}
+    assert not sw.settled.values[sticky].any()
+    assert np.isfinite(sw.cycle_v_minus.values[sticky]).any(axis=-1).all()
+
+
+def test_canonical_start_is_the_bottom_impact_of_least_phase():
+    wall = np.array([-1, 1, 1, -1, 1])
+    kind = np.zeros(5, np.int8)
+    phase = np.array([0.1, 5.0, 0.3, 0.2, 1.0])
+    assert canonical_start(wall, kind, phase) == 2
+    assert canonical_start(np.array([-1, -1]), np.zeros(2, np.int8), np.array([3.0, 2.0])) == 1
+
+
+def test_batch_means_match_closed_forms():
+    v = np.repeat([1.0, 2.0, 3.0, 4.0], 5)
+    mean, se = batch_means(v, 4)
+    assert mean == 2.5 and se == pytest.approx(np.std([1, 2, 3, 4], ddof=1) / 2, rel=1e-15)
+    assert np.isnan(batch_means(np.ones(3), 4)[0])
+
+
+def test_the_long_run_of_a_chaotic_motion_and_of_a_transient_that_settles():
+    """pi/3 at d = 0.235 (the chaotic scene of the benchmarks): aperiodic for 4000 impacts, with batch
+    means whose standard error is small; a periodic point's continuation settles and gives no statistics."""
+    p = vi.Params(d=0.235, gbar=gbar_of(math.pi / 3), r=0.5)
+    run = long_run(p.d, p.gbar, p.r, 0.42, 0.87, impacts=4000)
+    assert run["status"] == "aperiodic"
+    mean, se = long_statistics(run)
+    assert 0.05 < mean < 2.0 and 0 < se < 0.05 * mean
+    q = vi.Params(d=0.16, gbar=gbar_of(math.pi / 6), r=0.5)
+    settled = long_run(q.d, q.gbar, q.r, 1.015, 0.1924, impacts=4000)
+    assert settled["status"] == "settles" and np.isnan(long_statistics(settled)[0])
+
+
+def test_a_sweep_settles_every_periodic_point_and_runs_the_aperiodic_ones_long():
+    sw = sweep("s", np.linspace(0.3, 0.45, 8), beta=math.pi / 3, phi=0.42, v0=0.87, long_impacts=500)
+    per = sw.period_events.values > 0
+    assert sw.settled.values[per].all()
+    assert set(sw.long_status.values[~per].astype(str)) <= {"aperiodic", "settles", "no restart"}
+    # a settled cycle holds one period: as many events as the period, NaN after
+    n = np.isfinite(sw.cycle_v_minus.values).sum(axis=-1)
+    assert np.array_equal(n[per], sw.period_events.values[per])
+    again = settle(sw.drop_vars([v for v in sw.data_vars if v.startswith(("cycle_", "long_", "abs_v"))]
+                                + ["settled", "settle_status"]), sw.d.values[None, :], sw.gbar.values[None, :],
+                   0.5, long_impacts=500)
+    np.testing.assert_array_equal(again.cycle_v_minus.values, sw.cycle_v_minus.values)

@@ -121,7 +121,7 @@ rule figure_conditioning:
     log:
         "logs/checks/figure_conditioning.log",
     benchmark:
-        "benchmarks/checks/figure_conditioning.tsv"
+        "benchmarks/figure_conditioning/figure_conditioning.tsv"
     conda:
         "../envs/vibroimpact.yaml"
     params:

@@ -11,7 +11,7 @@ import xarray as xr
 import yaml
 from conftest import ROOT, _copy_workflow, readme_command
 
-from vibroimpact.conditioning import PERTURBATIONS, perturbed_config, spreads
+from vibroimpact.conditioning import LIBM_SWITCH, PERTURBATIONS, perturbed_config, regenerate, spreads
 
 
 def _ds(**arrays):
@@ -46,7 +46,53 @@ def test_the_mass_moves_by_the_given_number_of_ulps_and_nothing_else():
         assert (m1 - m0) == pytest.approx(k * math.ulp(m0), abs=0.5 * math.ulp(m0))
         out["physics"]["M"] = m0
         assert out == cfg
-    assert set(PERTURBATIONS) == {"libm", "mass +2 ulp", "libm, mass -2 ulp"}
+    # each perturbation: the other libm, the inputs moved, and both (the other way)
+    assert PERTURBATIONS == {"libm": (LIBM_SWITCH, 0), "mass +2 ulp": ({}, 2), "libm, mass -2 ulp": (LIBM_SWITCH, -2)}
+    assert LIBM_SWITCH == {"GLIBC_TUNABLES": "glibc.cpu.hwcaps=-AVX2,-FMA"}
+
+
+def test_a_move_between_one_and_two_tolerances_is_a_move():
+    ref = _ds(a=[1.0], b=[2.0])
+    new = _ds(a=[1.0 + 1.5 * (1e-12 + 1e-9)], b=[2.0 + 1.0e-12])
+    df = spreads(ref, {"p": new}, rtol=1e-9, atol=1e-12).set_index("variable")
+    assert df.loc["a", "conditioning"] == "ill-conditioned" and df.loc["b", "conditioning"] == "strict"
+    empty = spreads(_ds(e=[]), {"p": _ds(e=[])}, rtol=1e-9, atol=1e-12)
+    assert list(empty.conditioning) == ["strict"] and list(empty.moved_by) == [""]
+
+
+def test_the_image_spread_and_the_ill_conditioned_variables_of_a_figure():
+    from vibroimpact.conditioning import ill_conditioned, image_spread
+
+    ref = _ds(a=[1.0])
+    ref.attrs["png_phash"] = "f" * 64
+    copies = {"p": ref.copy(), "q": ref.copy()}
+    copies["p"].attrs["png_phash"] = "e" + "f" * 63  # one hex digit: 1 bit
+    copies["q"].attrs["png_phash"] = "0" + "f" * 63  # 4 bits
+    assert image_spread(ref, copies) == 4
+    assert image_spread(_ds(a=[1.0]), copies) == 0  # no hash in the reference
+    table = pd.DataFrame([dict(figure="f", variable="a", conditioning="ill-conditioned"),
+                          dict(figure="f", variable="b", conditioning="strict"),
+                          dict(figure="g", variable="c", conditioning="ill-conditioned")])
+    assert ill_conditioned(table, "f") == {"a"} and ill_conditioned(None, "f") == set()
+
+
+def test_a_perturbed_regeneration_runs_the_workflow_in_a_copy_with_the_switch_and_the_moved_mass(tmp_path):
+    """regenerate() on a workflow of one rule that writes what it was run with: the libm switch in its
+    environment, the config's mass moved by -2 ulps, in the scratch copy, the original untouched."""
+    root = tmp_path / "root"
+    (root / "config").mkdir(parents=True)
+    (root / "config" / "config.yaml").write_text("physics: {M: 0.1245}\n")
+    (root / "Snakefile").write_text(
+        'configfile: "config/config.yaml"\n\n\nrule probe:\n    output:\n        "out.txt",\n    run:\n'
+        '        import os\n\n        with open(output[0], "w") as fh:\n'
+        '            fh.write(f"{os.environ.get(\'GLIBC_TUNABLES\', \'\')} {config[\'physics\'][\'M\']!r}")\n')
+    out = regenerate(root, tmp_path / "scratch", "libm, mass -2 ulp", ["out.txt"], cores=1)
+    env, mass = (out / "out.txt").read_text().split()
+    assert env == LIBM_SWITCH["GLIBC_TUNABLES"]
+    assert float(mass) == math.nextafter(math.nextafter(0.1245, 0), 0)
+    assert not (root / "out.txt").exists() and "0.1245" in (root / "config" / "config.yaml").read_text()
+    with pytest.raises(RuntimeError, match="(?s)under perturbation 'libm' failed.*no-such-target"):
+        regenerate(root, tmp_path / "scratch", "libm", ["no-such-target"], cores=1)
 
 
 @pytest.mark.slow

@@ -172,7 +172,139 @@ def test_the_image_allowance_is_twice_the_measured_spread_and_at_least_one_point
 
     cond = pd.DataFrame([dict(figure="f", variable=IMAGE_ROW, conditioning="ill-conditioned", spread=3.0),
                          dict(figure="f", variable="a0_line0_y", conditioning="ill-conditioned", spread=1.0),
-                         dict(figure="g", variable=IMAGE_ROW, conditioning="strict", spread=0.0)])
-    assert image_allowance(cond, "f", 0)[0] == 6
-    assert image_allowance(cond, "g", 0)[0] == 2
+                         dict(figure="f", variable="a0_line1_y", conditioning="ill-conditioned", spread=1.0),
+                         dict(figure="g", variable=IMAGE_ROW, conditioning="strict", spread=0.0),
+                         dict(figure="h", variable="a0_line0_y", conditioning="strict", spread=0.0)])
+    assert image_allowance(cond, "f", 0)[0] == 6 and "2 ill-conditioned arrays" in image_allowance(cond, "f", 0)[1]
+    assert image_allowance(cond, "g", 0)[0] == 2 and "0 ill-conditioned arrays" in image_allowance(cond, "g", 0)[1]
+    assert image_allowance(cond, "h", 0) == (2, "image: <= 2 bits (twice the 0 measured, at least 2; "
+                                                 "0 ill-conditioned arrays)")
     assert image_allowance(None, "g", 0)[0] == 0
+
+
+def _texts(x, step):
+    fig, ax = plt.subplots()
+    ax.set_xlim(0, 10)
+    wellposed(ax.text(x, 0.9, "2:1 T=2"), "run", step=step)
+    ds = figure_data(fig)
+    plt.close(fig)
+    return ds
+
+
+def test_a_run_s_name_may_move_by_one_sweep_step_and_no_more():
+    """The motion named over a sweep, at the middle of its run: each end of the run is known to one
+    point, so the name moves by up to one step; the step travels with the figure data."""
+    ref = _texts(5.0, 0.25)
+    assert ref["a0_text0_xy"].attrs["wp_step"] == 0.25
+    ill = ("a0_text0_xy",)
+    assert set(compare(_texts(5.2, 0.25), ref, rtol=RTOL, atol=ATOL, ill=ill).status) == {"pass"}
+    assert set(compare(_texts(5.3, 0.25), ref, rtol=RTOL, atol=ATOL, ill=ill).status) == {"fail"}
+    assert set(compare(_texts(5.2, 0.25), ref, rtol=RTOL, atol=ATOL).status) == {"fail"}  # pointwise
+
+
+def _events(points, n=200, s=None):
+    """A curve (a circle's arc, sampled at n points, or at ``s``) and event markers on it."""
+    fig, ax = plt.subplots()
+    s = np.linspace(0.0, 1.0, n) if s is None else s
+    wellposed(ax.plot(np.cos(3 * s), np.sin(3 * s), "-")[0], "curve")
+    ax.plot(np.cos(3 * s), 0.5 + 0 * s, ":")  # another line of the axes: not a curve the events lie on
+    p = np.asarray(points, float)
+    wellposed(ax.plot(np.cos(3 * p), np.sin(3 * p), "x", ls="")[0], "on curve")
+    ax.plot([1.0], [1.0])  # the axes' extent is the curves' and the events' together
+    ds = figure_data(fig)
+    plt.close(fig)
+    return ds
+
+
+def test_points_on_a_sampled_curve_may_move_within_their_segment_and_no_more():
+    ref = _events([0.2, 0.7])
+    ill = ("a0_line2_x", "a0_line2_y")
+    step = 1.0 / 199
+
+    def status(new, old=ref):
+        return set(compare(new, old, rtol=RTOL, atol=ATOL, ill=ill).set_index("variable").loc[list(ill), "status"])
+
+    assert status(_events([0.2 + 0.5 * step, 0.7])) == {"pass"}
+    df = compare(_events([0.2 + 0.5 * step, 0.7]), ref, rtol=RTOL, atol=ATOL, ill=ill).set_index("variable")
+    assert df.loc["a0_line2_x", "max_difference"] < 0.01  # of the axes extent
+    assert status(_events([0.2 + 3 * step, 0.7])) == {"fail"}
+    assert status(_events([0.2])) == {"fail"}
+    nan = _events([np.nan, 0.7])
+    assert status(nan, nan) == {"pass"}
+    assert status(_events([0.2, 0.7]), nan) == {"fail"}
+
+
+def test_a_curve_with_no_finite_point_matches_only_another_such():
+    def empty(values):
+        fig, ax = plt.subplots()
+        wellposed(ax.plot(values, values, "-")[0], "curve")
+        ds = figure_data(fig)
+        plt.close(fig)
+        return ds
+
+    ill = ("a0_line0_x", "a0_line0_y")
+    nan = empty([np.nan, np.nan])
+    assert set(compare(empty([np.nan, np.nan]), nan, rtol=RTOL, atol=ATOL, ill=ill).status) == {"pass"}
+    assert set(compare(empty([0.0, 1.0]), nan, rtol=RTOL, atol=ATOL, ill=ill).status) == {"fail"}
+
+
+def test_a_coexisting_motion_reaches_two_cells_diagonally_and_no_further():
+    """A start in a multistable region goes to whichever basin holds it: a cell may take a motion whose
+    region lies within two cells (any direction), not one further away."""
+    lab = np.full((4, 6), "A")
+    lab[3, 5] = "B"
+    ref = _map(lab)
+    ill = ("a0_points0_c", "a0_points0_x", "a0_points0_y")
+    near = lab.copy()
+    near[2, 3] = "B"  # two cells from (5, 3) along x, one along y: not a neighbour, within reach
+    assert set(compare(_map(near), ref, rtol=RTOL, atol=ATOL, ill=ill).status) == {"pass"}
+    far = lab.copy()
+    far[1, 2] = "B"  # three cells away
+    assert "fail" in set(compare(_map(far), ref, rtol=RTOL, atol=ATOL, ill=ill).status)
+
+
+def test_what_a_figure_records_as_well_posed_survives_its_netcdf_file_and_does_not_count_as_drawn(tmp_path):
+    """The per-element fields and the rule's scalars are written with the figure data (netCDF3, as the
+    workflow writes it) and read back; they are not arrays the figure draws: a reference without them
+    still passes, and they are not compared on their own."""
+    import xarray as xr
+
+    from vibroimpact.datasets import write_netcdf
+
+    ds = _variant()
+    runs = _texts(5.0, 0.25)
+    both = xr.merge([ds, runs.rename({k: k.replace("a0_", "a1_") for k in runs.data_vars})])
+    write_netcdf(both, tmp_path / "f.nc", fmt="NETCDF3_64BIT")
+    back = xr.load_dataset(tmp_path / "f.nc")
+    assert back["a1_text0_xy"].attrs["wp_step"] == 0.25 and back["a0_line0_y"].attrs["wellposed"] == "motions"
+    assert list(back["a0_line0_wp_motion"].values.astype(str)) == list(ds["a0_line0_wp_motion"].values.astype(str))
+    assert "wp_rule" not in back["a0_line0_y"].attrs and "wp_motion" not in back["a0_line0_y"].attrs
+    bare = back.drop_vars([v for v in back.data_vars if "_wp_" in v])
+    df = compare(back, bare, rtol=RTOL, atol=ATOL)
+    assert set(df.status) == {"pass"} and not df.variable.str.contains("_wp_").any()
+
+
+def test_an_event_is_allowed_the_length_of_the_segment_it_lies_on():
+    """On a curve sampled with growing steps (continuation doubles its step after each success), an event
+    may move by its own segment's length, not by its shorter neighbour's."""
+    lengths = 0.01 * 1.5 ** np.arange(8)
+    s = np.concatenate([[0.0], np.cumsum(lengths)])
+    k = 5
+    at = s[k] + 0.4 * lengths[k]  # nearer the segment's start, whose other segment is 1.5 times shorter
+    ill = ("a0_line2_x", "a0_line2_y")
+    ref = _events([at], s=s)
+    new = _events([at + 0.8 * lengths[k]], s=s)  # within its own segment's length, beyond the shorter one
+    got = compare(new, ref, rtol=RTOL, atol=ATOL, ill=ill).set_index("variable").loc[list(ill), "status"]
+    assert set(got) == {"pass"}
+
+
+def test_a_line_that_changed_length_fails_with_its_shapes():
+    def line(n):
+        fig, ax = plt.subplots()
+        ax.plot(np.arange(n, dtype=float), np.arange(n, dtype=float))
+        ds = figure_data(fig)
+        plt.close(fig)
+        return ds
+
+    df = compare(line(3), line(2), rtol=RTOL, atol=ATOL).set_index("variable")
+    assert list(df.status) == ["fail: shape (3,) != reference (2,)"] * 2

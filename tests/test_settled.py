@@ -123,3 +123,54 @@ def test_a_sweep_settles_every_periodic_point_and_runs_the_aperiodic_ones_long()
                                 + ["settled", "settle_status"]), sw.d.values[None, :], sw.gbar.values[None, :],
                    0.5, long_impacts=500)
     np.testing.assert_array_equal(again.cycle_v_minus.values, sw.cycle_v_minus.values)
+
+
+def test_a_cycle_a_hundredth_off_its_orbit_is_another_orbit_s():
+    """Newton from a cycle 0.01 off converges to the orbit, but an orbit that far from the recorded cycle
+    is not the cycle's own (SETTLE_MATCH = 1e-3)."""
+    p = vi.Params(d=0.14, gbar=gbar_of(math.pi / 6), r=0.5)
+    run = vi.simulate(p, 5.855, 0.4185, n_impacts=10_000, stop_when_periodic=True)
+    (t, wall, vm, phase, kind), span = _cycle(run)
+    assert polish_cycle(p.d, p.gbar, p.r, t, wall, vm + 2e-4, phase, kind, span=span)["settled"]
+    off = polish_cycle(p.d, p.gbar, p.r, t, wall, vm + 1e-2, phase, kind, span=span)
+    assert not off["settled"] and "lies 1.0e-02" in off["status"]
+
+
+def test_a_sticking_output_is_known_to_its_chatter_accuracy_and_no_worse():
+    """delivered() gives a sticking point its value with the chatter sum's accuracy: a change of 1e-7
+    (relative) is far beyond it, in units of the check's combined standard errors."""
+    from vibroimpact.energy import Membrane, delivered, sweep_energy
+    from vibroimpact.figcheck import Z_CRIT
+    from vibroimpact.settled import STICK_REL
+
+    from test_energy import M, OMEGA, PAPER
+
+    sw = sweep("s", [0.3, 0.5], beta=math.pi / 2, F=1.4, max_periods=60, long_impacts=0)
+    value, se = delivered(sweep_energy(sw, Membrane(**PAPER), M=M, omega=OMEGA), "U_T")
+    assert np.all(value > 0) and np.allclose(se, STICK_REL * value, rtol=1e-15)
+    assert 1e-7 / (math.sqrt(2) * STICK_REL) > Z_CRIT
+
+
+def test_the_critical_z_is_student_s_t_of_the_batches_at_one_in_a_million():
+    from scipy.stats import t
+
+    from vibroimpact.figcheck import Z_CRIT
+    from vibroimpact.settled import LONG_BATCHES
+
+    assert Z_CRIT == pytest.approx(t.ppf(1 - 0.5e-6, LONG_BATCHES - 1), abs=0.005)
+
+
+def test_batch_means_of_one_value_per_batch_and_of_impacts_only():
+    mean, se = batch_means(np.arange(4.0), 4)
+    assert mean == 1.5 and se == pytest.approx(np.std(np.arange(4.0), ddof=1) / 2, rel=1e-15)
+    events = dict(status="aperiodic", kind=np.array([0, 2, 3, 1] * 10, np.int8),
+                  v_minus=np.array([1.0, 0.0, 0.0, -3.0] * 10), t=np.arange(40.0))
+    mean, se = long_statistics(events, batches=4)  # |Zdot-| of the 20 impacts and grazing contacts: 1, 3, 1, ...
+    assert mean == pytest.approx(2.0, rel=1e-15)
+    assert se == pytest.approx(np.std([1.8, 2.2, 1.8, 2.2], ddof=1) / 2, rel=1e-12)
+
+
+def test_a_sweep_runs_its_aperiodic_points_long_by_default():
+    sw = sweep("s", [0.235 / 0.6225 * 1.0], beta=math.pi / 3, phi=0.42, v0=0.87)
+    assert str(sw.long_status.values[0, 0]) == "aperiodic" and sw.attrs["long_impacts"] > 1000
+    assert np.isfinite(sw.abs_v_mean.values).all() and (sw.abs_v_se.values > 0).all()

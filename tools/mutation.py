@@ -79,12 +79,15 @@ TESTS = {
     "settled": ["tests/test_settled.py", "tests/test_energy.py"],
     "figcheck": ["tests/test_figcheck.py"],
     "figdata": ["tests/test_figdata.py", "tests/test_figcheck.py"],
-    # its unit tests (the workflow-level test regenerates figures in scratch copies: minutes a mutant)
-    "conditioning": ["tests/test_conditioning.py::test_an_array_is_ill_conditioned_when_any_perturbation_moves_it_"
-                     "beyond_the_strict_tolerance",
-                     "tests/test_conditioning.py::test_timings_and_optional_peers_are_excluded_as_in_the_check",
-                     "tests/test_conditioning.py::test_the_mass_moves_by_the_given_number_of_ulps_and_nothing_else",
-                     "tests/test_readme.py::test_the_libm_switch_changes_sin_where_glibc_dispatches_it"],
+    # its unit tests (the workflow-level test regenerates the whole figure set: minutes a mutant)
+    "conditioning": [f"tests/test_conditioning.py::{t}" for t in (
+        "test_an_array_is_ill_conditioned_when_any_perturbation_moves_it_beyond_the_strict_tolerance",
+        "test_timings_and_optional_peers_are_excluded_as_in_the_check",
+        "test_the_mass_moves_by_the_given_number_of_ulps_and_nothing_else",
+        "test_a_move_between_one_and_two_tolerances_is_a_move",
+        "test_the_image_spread_and_the_ill_conditioned_variables_of_a_figure",
+        "test_a_perturbed_regeneration_runs_the_workflow_in_a_copy_with_the_switch_and_the_moved_mass")]
+    + ["tests/test_readme.py::test_the_libm_switch_changes_sin_where_glibc_dispatches_it"],
 }
 NUMBA_MODULES = {"events", "kernels"}
 

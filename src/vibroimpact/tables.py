@@ -158,12 +158,19 @@ def design_table(energies: list[xr.Dataset]) -> pd.DataFrame:
 
 
 def design_markdown(df: pd.DataFrame) -> str:
+    """The design table as Markdown; an average the long run gives (no period found) with its standard
+    error."""
     names = {90.0: "π/2", 60.0: "π/3", 45.0: "π/4", 30.0: "π/6"}
     lines = ["| β | vary | maximises | at | d | Ū_T (V) | Ū_I (V) | motion |", "|---|---|---|---|---|---|---|---|"]
+
+    def value(x, se):
+        return f"{x:.4g} ± {se:.2g}" if np.isfinite(se) and se > 0 else f"{x:.4g}"
+
     for _, r in df.iterrows():
         at = f"s = {r.best:.3f} m (F = {r.F:g} N)" if r.vary == "s" else f"F = {r.best:.2f} N (s = {r.s:g} m)"
         lines.append(f"| {names.get(r.beta_deg, f'{r.beta:.4f}')} | {r.vary} | {r.maximise} | {at} | {r.d:.4f} | "
-                     f"{r.U_T:.4g} | {r.U_I:.4g} | {r.motion} |")
+                     f"{value(r.U_T, r.get('U_T_se', np.nan))} | {value(r.U_I, r.get('U_I_se', np.nan))} | "
+                     f"{r.motion} |")
     return "\n".join(lines) + "\n"
 
 

@@ -25,6 +25,7 @@ def test_an_array_is_ill_conditioned_when_any_perturbation_moves_it_beyond_the_s
     same = _ds(a=[1.0, 2.0], b=[1.0, 2.0], c=[1.0, 2.0], d=[1.0, 5.0])
     df = spreads(ref, {"p": near, "q": same}, rtol=1e-9, atol=1e-12).set_index("variable")
     assert df.loc["a", "conditioning"] == "strict" and df.loc["a", "spread"] == pytest.approx(1e-12, rel=1e-3)
+    assert df.loc["a", "ratio"] == pytest.approx(1e-12 / (1e-12 + 1e-9), rel=1e-3)  # a fraction of the tolerance
     assert df.loc["b", "conditioning"] == "ill-conditioned" and df.loc["b", "moved_by"] == "p"
     assert df.loc["b", "ratio"] == pytest.approx(1e-6 / (1e-12 + 2e-9), rel=1e-6)
     assert df.loc["c", "spread"] == math.inf and df.loc["c", "moved_by"] == "p"  # changed shape
@@ -40,7 +41,7 @@ def test_timings_and_optional_peers_are_excluded_as_in_the_check():
 
 def test_the_mass_moves_by_the_given_number_of_ulps_and_nothing_else():
     cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
-    for k in (2, -2, 0):
+    for k in (2, -2, 1, -1, 0):
         out = perturbed_config(cfg, k)
         m0, m1 = cfg["physics"]["M"], out["physics"]["M"]
         assert (m1 - m0) == pytest.approx(k * math.ulp(m0), abs=0.5 * math.ulp(m0))

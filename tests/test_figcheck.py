@@ -81,7 +81,8 @@ def test_motions_accepts_a_changed_motion_at_a_boundary_or_a_transient_longer_th
     # point 1, inside the 2:1 region, may only change where one of the two is an unsettled transient
     flip = dict(motions=_at(1, "4:1", BASE["motions"]), settled=_at(1, False, BASE["settled"]))
     assert set(_check(_variant(**flip), ref).status) == {"fail"}
-    assert set(_check(_variant(**flip, unsettled=_at(1, True, [False] * 7)), ref).status) == {"pass"}
+    df = _check(_variant(**flip, unsettled=_at(1, True, [False] * 7)), ref)
+    assert set(df.status) == {"pass"} and "boundary, 1 at a transient longer than the cap" in df.detail.iloc[0]
 
 
 def test_motions_fails_when_the_sweep_points_move():
@@ -95,7 +96,8 @@ def test_motions_fails_when_the_sweep_points_move():
     for k, v in ref.data_vars.items():
         if "_wp_" in k:
             new[k] = v
-    assert "the points moved" in _check(new, ref).detail.iloc[0]
+    df = _check(new, ref)
+    assert "the points moved" in df.detail.iloc[0] and set(df.status) == {"fail"}
 
 
 def test_an_ill_conditioned_array_without_a_rule_is_compared_pointwise_and_a_well_conditioned_one_always():
@@ -136,13 +138,14 @@ def test_curve_fails_a_moved_or_a_shortened_curve():
 
 
 def _map(labels, extra=()):
+    """A 6 x 4 map of motions at x = 0 .. 5, y = 10 .. 13, and boundary markers at ``extra`` (x, y - 10)."""
     fig, ax = plt.subplots()
-    xs, ys = np.arange(6.0), np.arange(4.0)
+    xs, ys = np.arange(6.0), 10.0 + np.arange(4.0)
     codes = np.zeros((4, 6))
     mesh = ax.pcolormesh(xs, ys, codes, shading="nearest")
     wellposed(mesh, "motions", motion=np.asarray(labels).ravel())
     if len(extra):
-        wellposed(ax.plot(*np.asarray(extra, float).T, ".", ls="")[0], "boundary")
+        wellposed(ax.plot(*(np.asarray(extra, float) + [0.0, 10.0]).T, ".", ls="")[0], "boundary")
     ds = figure_data(fig)
     plt.close(fig)
     return ds
@@ -308,3 +311,217 @@ def test_a_line_that_changed_length_fails_with_its_shapes():
 
     df = compare(line(3), line(2), rtol=RTOL, atol=ATOL).set_index("variable")
     assert list(df.status) == ["fail: shape (3,) != reference (2,)"] * 2
+
+
+def test_a_statistic_known_exactly_passes_only_within_the_strict_tolerance():
+    """A value with a standard error of 0 (a sticking cycle known exactly, say) still passes within the
+    strict tolerance of its mean, and fails beyond it."""
+    base = dict(settled=_at(4, False, BASE["settled"]), se=_at(4, 0.0, BASE["se"]))
+    ref = _variant(**base)
+    mean = BASE["mean"][4]
+    ok = _variant(**base, mean=_at(4, mean * (1 + 0.5e-9), BASE["mean"]))
+    bad = _variant(**base, mean=_at(4, mean * (1 + 2.5e-9), BASE["mean"]))
+    assert set(_check(ok, ref).status) == {"pass"} and set(_check(bad, ref).status) == {"fail"}
+
+
+def test_the_detail_counts_points_of_the_same_motion_with_nothing_else_to_compare():
+    same = dict(settled=_at(4, False, BASE["settled"]), mean=_at(4, np.nan, BASE["mean"]),
+                se=_at(4, np.nan, BASE["se"]))
+    df = _check(_variant(**same), _variant(**same))
+    assert "1 same motion" in df.detail.iloc[0]
+
+
+def _curve_of(points_per_piece):
+    fig, ax = plt.subplots()
+    xs, ys = [], []
+    for angles in points_per_piece:
+        a = np.asarray(angles, float)
+        xs += [*np.cos(a), np.nan]
+        ys += [*np.sin(a), np.nan]
+    wellposed(ax.plot(xs[:-1], ys[:-1], "-")[0], "curve")
+    ds = figure_data(fig)
+    plt.close(fig)
+    return ds
+
+
+def test_a_curve_in_pieces_and_a_piece_of_three_points():
+    """Pieces separated by NaN (admissible stretches) are compared piece by piece; on a piece of three
+    points a point of the true curve lies within the chord error of a middle segment."""
+    ill = ("a0_line0_x", "a0_line0_y")
+    ref = _curve_of([np.linspace(0, 1, 40), np.linspace(2, 3, 40)])
+    assert set(compare(_curve_of([np.linspace(0, 1, 31), np.linspace(2, 3, 37)]), ref, rtol=RTOL, atol=ATOL,
+                       ill=ill).status) == {"pass"}
+    short = _curve_of([[0.7, 0.8, 0.9]])
+    assert set(compare(_curve_of([[0.72, 0.8, 0.88]]), short, rtol=RTOL, atol=ATOL, ill=ill).status) == {"pass"}
+
+
+def test_an_event_near_a_segment_s_end_is_allowed_that_segment_s_length():
+    lengths = 0.01 * 1.5 ** np.arange(8)
+    s = np.concatenate([[0.0], np.cumsum(lengths)])
+    k = 5
+    at = s[k] + 0.6 * lengths[k]  # nearer the segment's end, whose next segment is 1.5 times longer
+    ill = ("a0_line2_x", "a0_line2_y")
+    ref = _events([at], s=s)
+    new = _events([at + 1.2 * lengths[k]], s=s)  # beyond its own segment's length, within the next one's
+    got = compare(new, ref, rtol=RTOL, atol=ATOL, ill=ill).set_index("variable").loc[list(ill), "status"]
+    assert set(got) == {"fail"}
+
+
+def test_boundary_markers_with_no_map_in_their_axes_pass_when_unchanged_and_fail_when_moved():
+    def markers(points):
+        fig, ax = plt.subplots()
+        wellposed(ax.plot(*np.asarray(points, float).T, ".", ls="")[0], "boundary")
+        ds = figure_data(fig)
+        plt.close(fig)
+        return ds
+
+    ill = ("a0_line0_x", "a0_line0_y")
+    ref = markers([(0.5, 1.0), (1.5, 2.0)])
+    same = compare(markers([(0.5, 1.0), (1.5, 2.0)]), ref, rtol=RTOL, atol=ATOL, ill=ill)
+    assert set(same.status) == {"pass"} and set(same.max_difference) == {0.0}
+    assert set(compare(markers([(0.5, 1.0), (2.5, 2.0)]), ref, rtol=RTOL, atol=ATOL, ill=ill).status) == {"fail"}
+
+
+def test_a_cell_beside_another_motion_on_either_side_is_on_a_boundary():
+    """A single column of B in a map of A: the cells on both sides of it are on a boundary and may take a
+    motion seen nowhere else; a cell two columns away may not."""
+    lab = np.full((4, 6), "A")
+    lab[:, 3] = "B"
+    ref = _map(lab)
+    ill = ("a0_points0_c", "a0_points0_x", "a0_points0_y")
+    for x, ok in ((2, True), (4, True), (0, False)):
+        new = lab.copy()
+        new[1, x] = "C"
+        assert ("fail" not in set(compare(_map(new), ref, rtol=RTOL, atol=ATOL, ill=ill).status)) == ok, x
+
+
+def test_strict_close_requires_the_same_shape_and_nan_pattern():
+    from vibroimpact.figcheck import strict_close
+
+    assert strict_close([1.0, np.nan], [1.0 + 1e-12, np.nan], RTOL, ATOL)
+    assert not strict_close([1.0, 2.0], [1.0, np.nan], RTOL, ATOL)
+    assert not strict_close([1.0, np.nan], [1.0, 2.0], RTOL, ATOL)
+    assert not strict_close([1.0], [1.0, 1.0], RTOL, ATOL)
+
+
+def test_a_curve_moved_off_by_more_than_its_chord_error_fails():
+    """A 200-point arc moved outward by 2e-4 of its radius: more than the chord error of its segments
+    (L theta / 4), so off the curve."""
+    ref = _curve(200)
+    fig, ax = plt.subplots()
+    s = np.linspace(0.0, 1.0, 200)
+    wellposed(ax.plot(1.0002 * np.cos(3 * s), 1.0002 * np.sin(3 * s), "-")[0], "curve")
+    moved = figure_data(fig)
+    plt.close(fig)
+    assert "fail" in set(compare(moved, ref, rtol=RTOL, atol=ATOL, ill=("a0_line0_x", "a0_line0_y")).status)
+
+
+def test_events_with_no_finite_point_anywhere_pass_when_both_have_none():
+    def nothing():
+        fig, ax = plt.subplots()
+        wellposed(ax.plot([np.nan], [np.nan], "x", ls="")[0], "on curve")
+        ds = figure_data(fig)
+        plt.close(fig)
+        return ds
+
+    assert set(compare(nothing(), nothing(), rtol=RTOL, atol=ATOL, ill=("a0_line0_x", "a0_line0_y")).status) == {"pass"}
+
+
+def test_a_curve_s_first_and_lone_points_get_no_more_than_their_own_allowance():
+    """Only beyond a piece's end is a point allowed a whole segment; inside the first segment, or on a
+    piece of one point, it is held to the chord error."""
+    ill = ("a0_line0_x", "a0_line0_y")
+    ref = _curve(200)
+    fig, ax = plt.subplots()
+    s = np.linspace(0.0, 1.0, 200)
+    radius = np.ones(200)
+    radius[1] = 1.0 + 0.1 * 3 / 199  # the second point moved outward by a tenth of a segment
+    wellposed(ax.plot(radius * np.cos(3 * s), radius * np.sin(3 * s), "-")[0], "curve")
+    bent = figure_data(fig)
+    plt.close(fig)
+    assert "fail" in set(compare(bent, ref, rtol=RTOL, atol=ATOL, ill=ill).status)
+    lone = _curve_of([np.linspace(0, 1, 40), [2.0]])
+    moved = _curve_of([np.linspace(0, 1, 40), [2.05]])
+    assert "fail" in set(compare(moved, lone, rtol=RTOL, atol=ATOL, ill=ill).status)
+
+
+def test_the_detail_names_five_failures_and_counts_the_rest():
+    values = [[0.1 * i + 0.5] for i in range(8)]
+    base = dict(values=values, motions=["1:1"] * 8, settled=[True] * 8)
+    moved = dict(base, values=[[v[0] + 1e-6] for v in values])
+    detail = _check(_cloud(**moved), _cloud(**base)).detail.iloc[0]
+    assert detail.count("values differ") == 5 and detail.endswith("; and 3 more")
+    six = dict(base, values=[[v[0] + (1e-6 if i < 6 else 0.0)] for i, v in enumerate(values)])
+    detail = _check(_cloud(**six), _cloud(**base)).detail.iloc[0]
+    assert detail.endswith("; and 1 more")
+    five = dict(base, values=[[v[0] + (1e-6 if i < 5 else 0.0)] for i, v in enumerate(values)])
+    assert "more" not in _check(_cloud(**five), _cloud(**base)).detail.iloc[0]
+
+
+@pytest.mark.parametrize("row, flip, ok", [(1, (2, 2), True), (1, (2, 0), True), (1, (2, 3), False)])
+def test_a_cell_above_or_below_another_motion_is_on_a_boundary(row, flip, ok):
+    lab = np.full((4, 6), "A")
+    lab[row, :] = "B"
+    new = lab.copy()
+    new[flip[1], flip[0]] = "C"
+    ill = ("a0_points0_c", "a0_points0_x", "a0_points0_y")
+    assert ("fail" not in set(compare(_map(new), _map(lab), rtol=RTOL, atol=ATOL, ill=ill).status)) == ok
+
+
+def test_a_coexisting_motion_reaches_two_cells_along_a_row():
+    lab = np.full((4, 6), "A")
+    lab[1, 5] = "B"
+    new = lab.copy()
+    new[1, 3] = "B"
+    ill = ("a0_points0_c", "a0_points0_x", "a0_points0_y")
+    assert set(compare(_map(new), _map(lab), rtol=RTOL, atol=ATOL, ill=ill).status) == {"pass"}
+
+
+def test_a_boundary_marker_more_than_a_cell_from_a_changed_cell_fails():
+    lab = np.array([["A"] * 3 + ["B"] * 3] * 4)
+    edge = lab.copy()
+    edge[1, 3] = "A"
+    ill = ("a0_points0_c", "a0_points0_x", "a0_points0_y", "a0_line0_x", "a0_line0_y")
+    ref = _map(lab, extra=[(2.5, y) for y in range(4)])
+    far = _map(edge, extra=[(2.5, 0), (4.5, 1), (2.5, 2), (2.5, 3)])  # 1.5 cells from the changed cell
+    assert "fail" in set(compare(far, ref, rtol=RTOL, atol=ATOL, ill=ill).status)
+
+
+def test_a_piece_of_one_segment_may_end_a_step_further_on_either_side():
+    ill = ("a0_line0_x", "a0_line0_y")
+    ref = _curve_of([np.linspace(0, 1, 40), [2.0, 2.1]])
+    for tail in ([2.0, 2.15], [1.95, 2.1]):
+        new = _curve_of([np.linspace(0, 1, 40), tail])
+        assert set(compare(new, ref, rtol=RTOL, atol=ATOL, ill=ill).status) == {"pass"}, tail
+
+
+def test_a_vertical_curve_is_compared_along_its_one_extent():
+    def vertical(ys):
+        fig, ax = plt.subplots()
+        wellposed(ax.plot(np.full(len(ys), 0.3), ys, "-")[0], "curve")
+        ds = figure_data(fig)
+        plt.close(fig)
+        return ds
+
+    ill = ("a0_line0_x", "a0_line0_y")
+    ref = vertical(np.linspace(0, 1, 50))
+    assert set(compare(vertical(np.linspace(0, 1, 41)), ref, rtol=RTOL, atol=ATOL, ill=ill).status) == {"pass"}
+
+
+def test_a_horizontal_curve_and_a_bent_middle_of_a_short_piece():
+    def line(xs, ys):
+        fig, ax = plt.subplots()
+        wellposed(ax.plot(xs, ys, "-")[0], "curve")
+        ds = figure_data(fig)
+        plt.close(fig)
+        return ds
+
+    ill = ("a0_line0_x", "a0_line0_y")
+    ref = line(np.linspace(0, 1, 50), np.full(50, 0.3))
+    assert set(compare(line(np.linspace(0, 1, 41), np.full(41, 0.3)), ref, rtol=RTOL, atol=ATOL,
+                       ill=ill).status) == {"pass"}
+    # the middle of a piece of three points is no piece's end: held to the chord error there
+    short = _curve_of([[0.7, 0.8, 0.9]])
+    a = np.array([0.7, 0.8, 0.9])
+    bent = line(np.cos(a) * [1.0, 1.03, 1.0], np.sin(a) * [1.0, 1.03, 1.0])
+    assert "fail" in set(compare(bent, short, rtol=RTOL, atol=ATOL, ill=ill).status)

@@ -205,11 +205,12 @@ def _pieces(x, y):
 
 
 def _segments(pieces):
-    """Segments of the pieces: start, end, length, chord error allowance, and whether at a piece's end."""
+    """Segments of the pieces: start, end, length, chord error allowance, and which of its ends is a
+    piece's end (-1 its start, 1 its end, 2 both, 0 neither)."""
     rows = []
     for p in pieces:
         if len(p) == 1:
-            rows.append((p[0], p[0], 0.0, 0.0, True))
+            rows.append((p[0], p[0], 0.0, 0.0, 2))
             continue
         d = np.diff(p, axis=0)
         L = np.hypot(d[:, 0], d[:, 1])
@@ -219,13 +220,16 @@ def _segments(pieces):
             ang[1:-1] = np.arccos(np.clip(c, -1.0, 1.0))
         for i in range(len(d)):
             theta = max(ang[i], ang[i + 1])
-            rows.append((p[i], p[i + 1], L[i], L[i] * theta / 4.0, i == 0 or i == len(d) - 1))
+            end = 2 if len(d) == 1 else -1 if i == 0 else 1 if i == len(d) - 1 else 0
+            # a piece of one segment shows no turning: its points are known to a step
+            sag = L[i] if len(d) == 1 else L[i] * theta / 4.0
+            rows.append((p[i], p[i + 1], L[i], sag, end))
     return rows
 
 
 def _distance_ok(points, segs, atol):
-    """Whether each point lies within the allowance of its nearest segment: the chord error, or the
-    segment's length next to a piece's end."""
+    """Whether each point lies within the allowance of a segment: the chord error, or the segment's
+    length beyond a piece's end (where the continuation stopped, known to one step)."""
     if not segs:
         return np.zeros(len(points), bool), np.full(len(points), np.inf)
     a = np.array([s[0] for s in segs])
@@ -240,7 +244,8 @@ def _distance_ok(points, segs, atol):
         t = np.clip(np.sum((p - a) * ab, axis=1) / np.maximum(np.sum(ab * ab, axis=1), 1e-300), 0.0, 1.0)
         q = a + t[:, None] * ab
         dd = np.hypot(*(p - q).T)
-        allow = sag + atol + np.where(end & ((t <= 0.0) | (t >= 1.0)), L, 0.0)
+        beyond = (((end == -1) | (end == 2)) & (t <= 0.0)) | (((end == 1) | (end == 2)) & (t >= 1.0))
+        allow = sag + atol + np.where(beyond, L, 0.0)
         ok[k] = bool(np.any(dd <= allow))
         dist[k] = float(dd.min())
     return ok, dist

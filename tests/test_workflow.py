@@ -99,6 +99,13 @@ def test_bad_config_fails_before_any_job(tmp_path, key, value, words):
     # the bifurcation set's own planes are non-dimensional, and take their fixed parameter from the physics
     (lambda c: c["bifurcation"]["maps"]["d_gbar"].update(x="s"), ["bifurcation.maps.d_gbar.x", "'s'", "one of d, gbar, r"]),
     (lambda c: c["bifurcation"]["maps"]["d_r"].update(beta=0.3), ["bifurcation.maps.d_r.beta", "0.3", "bifurcation.beta"]),
+    # reversed or empty ranges, wherever a range is given
+    (lambda c: c["branch_scenes"]["fig2"]["s_ranges"].__setitem__(0, [0.37, 0.27]),
+     ["branch_scenes.fig2.s_ranges[0]", "[0.37, 0.27]", "s_min < s_max"]),
+    (lambda c: c["branches"]["force"].update(F_range=[22.0, 22.0]), ["branches.force.F_range", "[22.0, 22.0]"]),
+    (lambda c: c["basins"]["figBiS"].update(v0_range=[1.2, 0.02]), ["basins.figBiS.v0_range", "[1.2, 0.02]"]),
+    # figure_checks.figures names figures the workflow draws
+    (lambda c: c["figure_checks"].update(figures=["fig9"]), ["figure_checks.figures", "fig9", "'all' or a list"]),
     # checks.known names an item the check produces
     (lambda c: c["checks"]["known"].update({"G3: no such point": "a reason long enough for the schema to accept it"}), ["checks.known", "G3: no such point", "an item of the paper-value check"]),
 ])

@@ -178,3 +178,20 @@ def test_a_sweep_runs_its_aperiodic_points_long_by_default():
     sw = sweep("s", [0.235 / 0.6225 * 1.0], beta=math.pi / 3, phi=0.42, v0=0.87)
     assert str(sw.long_status.values[0, 0]) == "aperiodic" and sw.attrs["long_impacts"] > 1000
     assert np.isfinite(sw.abs_v_mean.values).all() and (sw.abs_v_se.values > 0).all()
+
+
+def test_a_sample_at_an_impact_s_instant_is_the_post_impact_state_on_either_side_of_rounding():
+    """A trajectory sampled where an impact happens reads the state after it, whether rounding puts the
+    impact a hair before or after the sample; a sample a microsecond before reads the state before it.
+    The orbit's Newton-solved run and its simulated run agree on both."""
+    from vibroimpact.orbits import orbit_run
+
+    p = vi.Params(d=0.14, gbar=gbar_of(math.pi / 6), r=0.5)
+    o = vi.find_orbit(p, "BBT", 5.855, 0.4185)
+    runs = (orbit_run(o, periods=2), vi.simulate(p, o.phi, float(o.v_minus[0]), n_impacts=7))
+    after, before = float(-o.params.r * o.v_minus[0]), float(o.v_minus[0])
+    for run in runs:
+        t2 = float(run.t.values[3])  # the return to the first impact, one period later
+        for t in (t2, np.nextafter(t2, 0), np.nextafter(t2, 4), t2 - 1e-13):
+            assert float(vi.trajectory(run, [t]).Zdot[0]) == pytest.approx(after, abs=1e-9), t
+        assert float(vi.trajectory(run, [t2 - 1e-6]).Zdot[0]) == pytest.approx(before, abs=1e-5)

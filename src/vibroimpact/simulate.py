@@ -237,8 +237,11 @@ def simulate_batch(d, gbar, r, phi, v0, *, n_impacts, t_end=None, stop_when_peri
 
 #: a sample this close to an event (absolute, or relative beyond t = 1) is read just after it: rounding
 #: decides on which side of an impact a sample at the impact's instant falls, so without this rule the
-#: same figure could show the pre-impact velocity on one machine and the post-impact one on another
-SNAP = 1e-9
+#: same figure could show the pre-impact velocity on one machine and the post-impact one on another.
+#: Rounding moves an impact time by ~1e-15 (1e-13 for a slow impact, polished in double-double); the
+#: shortest recorded flight (a chattering bounce at the 1e-9 cut-off speed) lasts ~1e-9, so a sample
+#: inside a flight is never snapped out of it
+SNAP = 1e-12
 
 
 @njit(cache=True)
@@ -266,7 +269,7 @@ def trajectory(ds: xr.Dataset, times) -> xr.Dataset:
     ``X*(t) = -cos(pi t + phi) / pi^2`` is the zero-mean periodic cylinder motion (``X*'' = cos``);
     ``x* = X* - Z``.  Times must lie within the run: from its first event to its last, or to
     ``t_end`` when the run stopped there (no impact happened in between).  The state is right-continuous
-    at events, and a time within :data:`SNAP` (1e-9, relative beyond t = 1) before an event is read after it,
+    at events, and a time within :data:`SNAP` (1e-12, relative beyond t = 1) before an event is read after it,
     so a sample at an impact's instant is the post-impact state whichever side rounding puts it.
 
     Parameters

@@ -6,7 +6,7 @@ The workflow target `snakemake --cores 2 bench` runs the same and saves results/
 """
 import sys
 
-from vibroimpact.bench import report, simulator_benchmark
+from vibroimpact.benchmarks.bench import report, simulator_benchmark
 
 if __name__ == "__main__":
     args = [int(a) for a in sys.argv[1:]] + [1_000_000, 2000, 200][len(sys.argv) - 1:]

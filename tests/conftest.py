@@ -128,9 +128,9 @@ def run_readme(cwd, command, env=None, timeout=3600):
 @pytest.fixture(scope="session")
 def readme_clone(tmp_path_factory):
     """A scratch clone set up and run by README.md's first command, as on another machine: under glibc's
-    other libm code path (vibroimpact.conditioning.LIBM_SWITCH) for the whole process tree.  Returns the
+    other libm code path (vibroimpact.outputs.conditioning.LIBM_SWITCH) for the whole process tree.  Returns the
     clone, the first command's result and the result of README's check command run after it."""
-    from vibroimpact.conditioning import LIBM_SWITCH
+    from vibroimpact.outputs.conditioning import LIBM_SWITCH
 
     clone = scratch_clone(tmp_path_factory.mktemp("clone"))
     first = run_readme(clone, readme_command("tests/test_readme.py::test_the_first_command_sets_up_and_runs_the_default_target"),

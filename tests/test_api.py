@@ -27,7 +27,7 @@ def test_entry_point_is_importable_from_the_top_level_with_a_numpydoc_docstring(
 
 
 def test_docstring_examples_run():
-    from vibroimpact import orbits
+    from vibroimpact.analysis import orbits
 
     assert doctest.testmod(orbits, raise_on_error=False).failed == 0
 

@@ -5,8 +5,8 @@ import math
 import numpy as np
 
 import vibroimpact as vi
-from vibroimpact.bench import report, simulator_benchmark
-from vibroimpact.methods import run_ivp
+from vibroimpact.benchmarks.bench import report, simulator_benchmark
+from vibroimpact.benchmarks.methods import run_ivp
 
 
 def test_ivp_baseline_follows_the_same_orbit_on_a_stable_2_1():

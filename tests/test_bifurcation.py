@@ -1,4 +1,4 @@
-"""Codimension-one points followed in two parameters (vibroimpact.bifurcation)."""
+"""Codimension-one points followed in two parameters (vibroimpact.analysis.bifurcation)."""
 
 import math
 
@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import vibroimpact as vi
-from vibroimpact.bifurcation import follow_point
-from vibroimpact.continuation import continue_orbit
-from vibroimpact.orbits import find_orbit, orbit_from_vector
+from vibroimpact.analysis.bifurcation import follow_point
+from vibroimpact.analysis.continuation import continue_orbit
+from vibroimpact.analysis.orbits import find_orbit, orbit_from_vector
 
 
 def _ball_orbit(g, r):
@@ -38,7 +38,7 @@ def test_bouncing_ball_curves_in_gbar_and_r_are_the_closed_forms(kind):
 
 
 def _z(br, j):
-    """The unknowns of point ``j`` of a continued branch (as vibroimpact.bifurcation.curve_set reads them)."""
+    """The unknowns of point ``j`` of a continued branch (as vibroimpact.analysis.bifurcation.curve_set reads them)."""
     return np.concatenate([[float(br.phase[j, 0])], np.roll(br.dt.values[j], -1), br.v_minus.values[j]])
 
 
@@ -87,7 +87,7 @@ def test_curve_set_follows_each_located_point_and_records_the_ones_it_cannot(tmp
     """From a continued 2:1 branch: every admissible, refined B, fold or grazing point becomes a curve
     (its first point the branch's own critical s, to 1e-9), and a point that cannot be followed is a
     curve without points whose reason is kept, never dropped."""
-    from vibroimpact.bifurcation import curve_set
+    from vibroimpact.analysis.bifurcation import curve_set
 
     p = vi.Params.from_physical(s=0.1385 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
     br = continue_orbit(find_orbit(p, "BBT", 5.855, 0.4185), vary="s", d_range=(0.13, 0.23), step=2e-3)
@@ -114,7 +114,7 @@ def test_the_bistable_band_at_pi_6_is_g1_and_g2_of_the_branches():
     """G1 (2:1 grazing) and G2 (3:1 fold) followed in (s, beta) from the pi/6 branches: at pi/6 the band
     is exactly the branches' own located points (0.137600 and 0.141954 in d: the paper's 0.1378 and
     0.1419), to 1e-9 in s, and it stays open over a range of inclines around it."""
-    from vibroimpact.bifurcation import bistable_band, curve_set
+    from vibroimpact.analysis.bifurcation import bistable_band, curve_set
 
     ref = vi.Params.from_physical(s=1.0, beta=math.pi / 6)
     p = vi.Params.from_physical(s=0.1385 / ref.d, beta=math.pi / 6)
@@ -163,7 +163,7 @@ def test_the_bouncing_balls_period_doubling_cascade_approaches_feigenbaums_const
     of twice as many impacts (B, BB, BBBB, ...) is continued in gbar to its own doubling.  The ratios
     of successive intervals tend to Feigenbaum's 4.6692: each nearer than the one before, the third
     within 0.5 %."""
-    from vibroimpact.simulate import identify_attractor, simulate
+    from vibroimpact.dynamics.simulate import identify_attractor, simulate
 
     r, feigenbaum = 0.5, 4.669201609
     points = [1 / _gamma_pd(r)]
@@ -190,7 +190,7 @@ def test_the_bouncing_balls_period_doubling_cascade_approaches_feigenbaums_const
 
 def test_plane_cusps_finds_where_a_projection_turns_back():
     """The semicubical cusp (t^2, t^3) turns back once, at t = 0; a parabola and a circle arc never."""
-    from vibroimpact.bifurcation import plane_cusps
+    from vibroimpact.analysis.bifurcation import plane_cusps
 
     t = np.linspace(-1, 1, 41)
     assert list(plane_cusps(np.c_[t**2, t**3])) == [20]
@@ -221,7 +221,7 @@ def _synthetic_set(curves):
 
 def test_curve_crossings_are_the_segment_intersections():
     """Two lines crossing once at a known point, a third crossing neither."""
-    from vibroimpact.bifurcation import curve_crossings
+    from vibroimpact.analysis.bifurcation import curve_crossings
 
     x = np.linspace(0, 1, 11)
     ds = _synthetic_set({("BBT", "grazing"): (x, x), ("BBBT", "fold"): (x, 1 - x), ("BT", "B"): (x, x + 5)})
@@ -246,7 +246,7 @@ def test_map_boundaries_are_on_a_curve_or_named_by_their_cause():
     3:1 boundary between columns 3 and 4 on no curve (a jump); a no-period cell (aperiodic)."""
     import xarray as xr
 
-    from vibroimpact.bifurcation import map_boundaries
+    from vibroimpact.analysis.bifurcation import map_boundaries
 
     s, beta = np.arange(6.0), np.arange(4.0)
     lab = np.array([["1:1 period-2"] * 2 + ["2:1 period-2"] * 2 + ["3:1 period-2"] * 2] * 4, dtype=object)

@@ -11,8 +11,9 @@ from conftest import CAPTIONS, flight_state, gbar_of
 from scipy.optimize import brentq
 
 import vibroimpact as vi
-from vibroimpact import checks
-from vibroimpact.grazing import interior_clearance
+from vibroimpact.outputs import portraits
+from vibroimpact.outputs import checks
+from vibroimpact.analysis.grazing import interior_clearance
 
 
 @pytest.mark.parametrize("name", sorted(CAPTIONS))
@@ -33,10 +34,10 @@ def test_caption_values_pass_the_check_or_are_explained_by_the_printed_d(name):
     orbit (two independent methods, to 1e-9)."""
     beta, d, v, phi, *_, k = CAPTIONS[name][:7]
     force = CAPTIONS[name][7:]
-    ds = vi.portraits.orbit_dataset(vi.Params(d=d, gbar=gbar_of(beta, *force), r=0.5), phi, v, t_show=0.5,
+    ds = portraits.orbit_dataset(vi.Params(d=d, gbar=gbar_of(beta, *force), r=0.5), phi, v, t_show=0.5,
                                     samples_per_unit=10, name=name)
     assert ds.attrs["orbit_status"] == "solved" and ds.attrs["orbit_deviation"] <= checks.ORBIT_AGREEMENT
-    rows = checks.caption_rows(vi.portraits.caption_summary({name: ds}, {name: ds.attrs["motion"].split(" ")[0]}))
+    rows = checks.caption_rows(portraits.caption_summary({name: ds}, {name: ds.attrs["motion"].split(" ")[0]}))
     status = {r["item"].split(": ")[1]: r["status"] for r in rows}
     assert "fail" not in status.values()
     assert status == EXPECTED.get(name, {"motion": "pass", "Zdot(t0)": "pass", "phi": "pass"})
@@ -100,9 +101,9 @@ def test_grazing_captions_are_also_drawn_where_the_orbit_does_graze(name):
     continued from a different orbit (Fig BiS (e), d = 0.14)."""
     beta, d, v, phi, *_, force = (*CAPTIONS[name], 5.0)[:8]
     p = vi.Params(d=d, gbar=gbar_of(beta, force), r=0.5)
-    ds = vi.portraits.orbit_dataset(p, phi, v, t_show=2.0, samples_per_unit=400)
+    ds = portraits.orbit_dataset(p, phi, v, t_show=2.0, samples_per_unit=400)
     assert ds.attrs["orbit_clearance"] > 1e-3 * d  # the caption's own d does not touch
-    ds = vi.portraits.add_located_grazing(ds, p, samples_per_unit=4000)
+    ds = portraits.add_located_grazing(ds, p, samples_per_unit=4000)
     assert ds.attrs["grazing_status"] == "located" and abs(ds.attrs["grazing_clearance"]) < 1e-12
     dg = ds.attrs["grazing_d"]
     # the loop's extremum: where Zdot passes through zero continuously (at an impact it jumps)

@@ -5,8 +5,8 @@ import math
 import pandas as pd
 import pytest
 
-from vibroimpact import checks
-from vibroimpact.paper import agreement_tolerance, printed_unit
+from vibroimpact.outputs import checks
+from vibroimpact.outputs.paper import agreement_tolerance, printed_unit
 
 
 @pytest.mark.parametrize("x, unit", [(0.22, 1e-2), (0.1378, 1e-4), (5.88, 1e-2), (0.4185, 1e-4), (61.0, 1.0), (0.205, 1e-3)])
@@ -83,9 +83,9 @@ def test_zdot_order_of_the_2to1_orbit_is_its_voltage_order():
     Fig 5 give as P3, P2, P1."""
     import numpy as np
 
-    from vibroimpact.energy import Membrane, speed_si, voltage_gain
-    from vibroimpact.orbits import find_orbit
-    from vibroimpact.params import Params
+    from vibroimpact.analysis.energy import Membrane, speed_si, voltage_gain
+    from vibroimpact.analysis.orbits import find_orbit
+    from vibroimpact.dynamics.params import Params
 
     p = Params.from_physical(s=0.19 * 5.0 * math.pi**2 / (0.1245 * (5 * math.pi) ** 2), beta=math.pi / 3)
     assert p.d == pytest.approx(0.19, rel=1e-12)
@@ -132,14 +132,14 @@ def test_check_summaries_per_figure():
 
 def test_the_model_document_states_the_papers_values_the_code_compares_with():
     """docs/model.md carries the paper's reference values itself: every stable interval, G1, G2 and d_B
-    of vibroimpact.paper and every caption orbit of the config the document lists appear in it as
+    of vibroimpact.outputs.paper and every caption orbit of the config the document lists appear in it as
     printed; and nothing in the repository's documents points outside it."""
     import re
 
     import yaml
     from conftest import ROOT
 
-    from vibroimpact import paper
+    from vibroimpact.outputs import paper
 
     doc = (ROOT / "docs" / "model.md").read_text()
     for lo, hi in paper.STABLE_2TO1.values():

@@ -1,4 +1,4 @@
-"""Each figure array's measured conditioning (vibroimpact.conditioning), and accepting references with it."""
+"""Each figure array's measured conditioning (vibroimpact.outputs.conditioning), and accepting references with it."""
 
 import math
 import subprocess
@@ -11,7 +11,7 @@ import xarray as xr
 import yaml
 from conftest import ROOT, _copy_workflow, readme_command
 
-from vibroimpact.conditioning import LIBM_SWITCH, PERTURBATIONS, perturbed_config, regenerate, spreads
+from vibroimpact.outputs.conditioning import LIBM_SWITCH, PERTURBATIONS, perturbed_config, regenerate, spreads
 
 
 def _ds(**arrays):
@@ -62,7 +62,7 @@ def test_a_move_between_one_and_two_tolerances_is_a_move():
 
 
 def test_the_image_spread_and_the_ill_conditioned_variables_of_a_figure():
-    from vibroimpact.conditioning import ill_conditioned, image_spread
+    from vibroimpact.outputs.conditioning import ill_conditioned, image_spread
 
     ref = _ds(a=[1.0])
     ref.attrs["png_phash"] = "f" * 64

@@ -1,4 +1,4 @@
-"""Design under multistability (vibroimpact.design): shares, outputs and the tolerance analysis against
+"""Design under multistability (vibroimpact.analysis.design): shares, outputs and the tolerance analysis against
 the basins, the analytic orbits, a run with more starts, closed forms and synthetic curves."""
 
 import math
@@ -9,7 +9,7 @@ import xarray as xr
 import yaml
 from conftest import ROOT
 
-from vibroimpact.design import (
+from vibroimpact.analysis.design import (
     best_designs,
     box_minimum,
     check_design,
@@ -21,10 +21,10 @@ from vibroimpact.design import (
     summarise,
     tolerance_analysis,
 )
-from vibroimpact.energy import Membrane, orbit_energy
-from vibroimpact.orbits import find_orbit
-from vibroimpact.params import Params
-from vibroimpact.sweeps import basins
+from vibroimpact.analysis.energy import Membrane, orbit_energy
+from vibroimpact.analysis.orbits import find_orbit
+from vibroimpact.dynamics.params import Params
+from vibroimpact.analysis.sweeps import basins
 
 CFG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 PH = CFG["physics"]
@@ -288,7 +288,7 @@ def test_tolerance_analysis_and_best_design_on_a_synthetic_plane():
 
 
 def test_a_beta_axis_gets_a_row_for_each_table_incline():
-    from vibroimpact.design import grid_axes
+    from vibroimpact.analysis.design import grid_axes
 
     spec = {"x": "s", "x_range": [0.2, 0.7], "y": "beta", "y_range": [0.05, math.pi / 2]}
     xs, ys = grid_axes(spec, [6, 4], table_betas=[math.pi / 6, math.pi / 2, 0.01])
@@ -314,7 +314,7 @@ def test_the_longest_device_at_pi_3_mostly_switches_on_into_a_motion_that_never_
     """At beta = pi/3, s = 0.72 m (the sweeps' best design) most starts at rest settle on a motion with
     sticking that never hits the top membrane, beside the 1:1: the design point says so, and the event
     simulator (a second code path) run from the same starts over 2000 forcing periods agrees start by start."""
-    from vibroimpact.simulate import simulate
+    from vibroimpact.dynamics.simulate import simulate
 
     phi, v0 = start_states(16, seed=16)
     p = design_map("s", [0.72], "beta", [math.pi / 3], phi=phi, v0=v0, membrane=MB, M=PH["M"], omega=PH["omega"],
@@ -334,7 +334,7 @@ def test_the_longest_device_at_pi_3_mostly_switches_on_into_a_motion_that_never_
 def test_a_device_too_weakly_driven_to_lift_the_ball_rests_and_delivers_nothing():
     """||F|| = 0.5 N at beta = pi/2: gbar = M g / F > 1, the forcing never lifts the ball off the bottom
     membrane from any start, so one attractor, at rest, with U_T = 0 and no U_I."""
-    from vibroimpact.design import AT_REST
+    from vibroimpact.analysis.design import AT_REST
 
     phi, v0 = start_states(8, distribution="box", seed=2, v0_range=(0.0, 0.5))
     p = design_map("s", [0.5], "F", [0.5], phi=phi, v0=v0, membrane=MB, M=PH["M"], omega=PH["omega"], g=PH["g"],

@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 import vibroimpact as vi
-from vibroimpact.continuation import branch_from_simulation
-from vibroimpact.energy import (
+from vibroimpact.dynamics import kernels
+from vibroimpact.analysis.continuation import branch_from_simulation
+from vibroimpact.analysis.energy import (
     Membrane,
     averages,
     branch_energy,
@@ -16,8 +17,8 @@ from vibroimpact.energy import (
     sweep_energy,
     voltage_gain,
 )
-from vibroimpact.orbits import find_orbit
-from vibroimpact.sweeps import sweep
+from vibroimpact.analysis.orbits import find_orbit
+from vibroimpact.analysis.sweeps import sweep
 
 PAPER = dict(h=2.6, K=4.0847e5, R=6.3e-3, r_b=5.0e-3, U_in=2000.0, m=4.11e-3)
 #: membrane constants the claims must survive (docs/model.md: "whatever the membrane constants")
@@ -246,7 +247,7 @@ def test_ball_resting_on_the_bottom_for_good_gives_no_output():
     """gbar >= 1 (here F = 1 N at beta = pi/2): the ball comes to rest on the bottom and never leaves;
     in the long run there is no impact: U_T = 0, and no impact to average U_I over."""
     sw = sweep("s", [0.3, 0.5], beta=math.pi / 2, F=1.0, max_periods=60)
-    assert set(sw.status.values.ravel()) == {vi.kernels.STUCK_FOREVER}
+    assert set(sw.status.values.ravel()) == {kernels.STUCK_FOREVER}
     e = sweep_energy(sw, Membrane(**PAPER), M=M, omega=OMEGA)
     assert np.all(e.U_T.values == 0.0) and np.all(np.isnan(e.U_I.values)) and np.all(np.isinf(e.window_time.values))
 
@@ -256,7 +257,7 @@ def test_deflection_takes_up_the_kinetic_energy(consts):
     """The work of the restoring force K x^h up to the deflection (quadrature) equals m v^2 / 2."""
     from scipy.integrate import quad
 
-    from vibroimpact.energy import deflection
+    from vibroimpact.analysis.energy import deflection
 
     mb = Membrane(**consts)
     for v in (0.05, 0.5, 2.0):

@@ -1,4 +1,4 @@
-"""The rules of the figure regeneration check (vibroimpact.figcheck), on figures drawn for the purpose:
+"""The rules of the figure regeneration check (vibroimpact.outputs.figcheck), on figures drawn for the purpose:
 each rule passes what is well-posed and fails what is not."""
 
 import matplotlib
@@ -8,9 +8,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from vibroimpact.figcheck import Z_CRIT
-from vibroimpact.figdata import compare, figure_data, image_allowance
-from vibroimpact.plots._common import wellposed
+from vibroimpact.outputs.figcheck import Z_CRIT
+from vibroimpact.outputs.figdata import compare, figure_data, image_allowance
+from vibroimpact.outputs.plots._common import wellposed
 
 RTOL, ATOL = 1e-9, 1e-12
 
@@ -171,7 +171,7 @@ def test_a_map_of_motions_changes_only_at_boundaries_and_its_boundary_markers_wi
 def test_the_image_allowance_is_twice_the_measured_spread_and_at_least_one_point():
     import pandas as pd
 
-    from vibroimpact.checks import IMAGE_ROW
+    from vibroimpact.outputs.checks import IMAGE_ROW
 
     cond = pd.DataFrame([dict(figure="f", variable=IMAGE_ROW, conditioning="ill-conditioned", spread=3.0),
                          dict(figure="f", variable="a0_line0_y", conditioning="ill-conditioned", spread=1.0),
@@ -396,7 +396,7 @@ def test_a_cell_beside_another_motion_on_either_side_is_on_a_boundary():
 
 
 def test_strict_close_requires_the_same_shape_and_nan_pattern():
-    from vibroimpact.figcheck import strict_close
+    from vibroimpact.outputs.figcheck import strict_close
 
     assert strict_close([1.0, np.nan], [1.0 + 1e-12, np.nan], RTOL, ATOL)
     assert not strict_close([1.0, 2.0], [1.0, np.nan], RTOL, ATOL)

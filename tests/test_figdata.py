@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from vibroimpact import plots
-from vibroimpact.figdata import compare, compare_image, figure_data, hash_distance, image_hash
+from vibroimpact.outputs import plots
+from vibroimpact.outputs.figdata import compare, compare_image, figure_data, hash_distance, image_hash
 
 
 def _figure(shift=0.0, extra=False):
@@ -87,7 +87,7 @@ def test_fig2_marks_and_names_every_admissible_critical_point():
     """Fig 2's data, read back from the drawn figure: a diamond at each located admissible critical
     point in range on each impact's curve, named once per panel (A1, A2, ... by increasing d)."""
     import vibroimpact as vi
-    from vibroimpact.continuation import continue_orbit
+    from vibroimpact.analysis.continuation import continue_orbit
 
     p = vi.Params.from_physical(s=0.14 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
     br = continue_orbit(vi.find_orbit(p, "BBT", 5.855, 0.4185), vary="s", d_range=(0.13, 0.21), step=2e-3)
@@ -144,7 +144,7 @@ def _branch(word, d, stable, crit):
 
 
 def test_energy_figures_mark_d_graz_on_the_1to1_branch_and_G1_where_grazing_ends_the_2to1():
-    from vibroimpact.plots.energy import grazing_marks
+    from vibroimpact.outputs.plots.energy import grazing_marks
 
     d = np.round(np.arange(0.130, 0.221, 0.001), 6)
     bt = _branch("BT", d, d > 0.16, [("grazing", 0.1579, True), ("grazing", 0.1201, True), ("grazing", 0.19, False)])

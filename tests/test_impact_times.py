@@ -8,8 +8,8 @@ import pytest
 from conftest import TOL_T
 
 import vibroimpact as vi
-from vibroimpact.events import next_impact
-from vibroimpact.reference import _bracketed_root, first_impact, gap, grazing_state, velocity
+from vibroimpact.dynamics.events import next_impact
+from vibroimpact.dynamics.reference import _bracketed_root, first_impact, gap, grazing_state, velocity
 
 
 def random_states(n, seed):
@@ -79,7 +79,7 @@ def test_tangency_at_rounding_level_is_decided_by_the_exact_sign(wall, phases):
     """A state rounded from an exactly tangent flight passes ~1e-17 inside or outside the wall; the
     hit/miss decision must follow the sign of the exact (40-digit) gap at the extremum, on both
     walls (a maximum at the bottom, a minimum at the top)."""
-    from vibroimpact.reference import velocity
+    from vibroimpact.dynamics.reference import velocity
 
     d, gbar = 0.3, 0.2
     outcomes = set()
@@ -249,7 +249,7 @@ def test_a_short_step_propagates_the_state_as_the_closed_form():
     (``state_step``) instead of sines and cosines. From states at random phases, steps from 1e-12 up
     to the largest allowed (``NEAR_STEP``), both directions: displacement, velocity, acceleration and
     jerk against the 40-digit closed form, to TOL_T."""
-    from vibroimpact.flight import NEAR_STEP, state3, state_step
+    from vibroimpact.dynamics.flight import NEAR_STEP, state3, state_step
 
     rng = np.random.default_rng(7)
     for _ in range(200):

@@ -7,7 +7,7 @@ import pytest
 from conftest import TOL_T
 
 import vibroimpact as vi
-from vibroimpact import kernels as K
+from vibroimpact.dynamics import kernels as K
 
 
 def test_period_one_bouncing_orbit_is_the_closed_form():
@@ -127,7 +127,7 @@ def test_sliding_window_run_equals_one_long_run(d, gbar, pmax, expected):
 
 def test_batch_runs_equal_single_runs_event_for_event():
     """simulate_batch and attractor_batch (parallel) against simulate, including the event count."""
-    from vibroimpact.sweeps import attractor_batch
+    from vibroimpact.analysis.sweeps import attractor_batch
 
     d = np.array([0.3, 0.235, 0.2])
     gbar = np.array([0.9, 0.21216, 0.0311])
@@ -148,7 +148,7 @@ def test_acceleration_zero_comes_with_the_sign_of_the_sine_there():
     """events.accel_zero: the next time after tau where cos(theta + pi t) = -gbar, with no zero in
     between, and the sign of sin(theta + pi t) there (+1 at the phase alpha, -1 at 2 pi - alpha); the
     piece ends take their sine and cosine from it, without a trigonometric call."""
-    from vibroimpact.events import accel_zero, next_accel_zero
+    from vibroimpact.dynamics.events import accel_zero, next_accel_zero
 
     rng = np.random.default_rng(11)
     for _ in range(400):

@@ -19,12 +19,12 @@ def test_the_mutation_tool_samples_mutants_and_reports_them(tmp_path):
     run = cmd.split("#")[0].strip()
     assert "run events --n 40" in run
     small = run.replace("run events --n 40", "run energy --n 3")
-    before = (clone / "src" / "vibroimpact" / "energy.py").read_bytes()
+    before = (clone / "src" / "vibroimpact" / "analysis" / "energy.py").read_bytes()
     res = run_readme(clone, small, timeout=900)
     assert res.returncode == 0, (res.stdout + res.stderr)[-3000:]
     rows = [json.loads(line) for line in (clone / "results" / "mutation" / "results_energy.jsonl").read_text().split("\n")
             if line]
     assert len(rows) == 3 and {r["status"] for r in rows} <= {"killed", "survived", "timeout", "invalid"}
-    assert (clone / "src" / "vibroimpact" / "energy.py").read_bytes() == before
+    assert (clone / "src" / "vibroimpact" / "analysis" / "energy.py").read_bytes() == before
     report = run_readme(clone, ".venv/bin/python tools/mutation.py report energy")
     assert report.returncode == 0 and "energy: tried 3" in report.stdout, report.stdout + report.stderr

@@ -7,8 +7,8 @@ import pytest
 from conftest import CAPTIONS, gbar_of
 
 import vibroimpact as vi
-from vibroimpact.continuation import continue_orbit
-from vibroimpact.orbits import OrbitError, find_orbit
+from vibroimpact.analysis.continuation import continue_orbit
+from vibroimpact.analysis.orbits import OrbitError, find_orbit
 
 
 def simulated_cycle(p, phi, v0, n=20_000):
@@ -201,7 +201,7 @@ def test_paper_stable_interval_discrepancies_settled_by_simulation(beta, d, expe
 
 
 def test_simulation_agrees_with_the_branch_wherever_it_is_stable(pi6_2to1):
-    from vibroimpact.continuation import simulate_along
+    from vibroimpact.analysis.continuation import simulate_along
 
     sims = simulate_along(pi6_2to1, 6)
     assert sims.sizes["sim"] == 6
@@ -216,7 +216,7 @@ def test_simulation_agrees_with_the_branch_wherever_it_is_stable(pi6_2to1):
 
 def test_1to1_branch_period_doubles_and_grazes():
     """beta = pi/3 (Fig 0): the 1:1 motion loses stability by period doubling as d decreases."""
-    from vibroimpact.continuation import branch_from_simulation
+    from vibroimpact.analysis.continuation import branch_from_simulation
 
     p = vi.Params.from_physical(s=0.40 / 0.6225, beta=math.pi / 3)
     br = branch_from_simulation(p, "BT", vary="s", d_range=(0.12, 0.45), step=2e-3, phi=0.42, v0=0.87)
@@ -230,7 +230,7 @@ def test_1to1_branch_period_doubles_and_grazes():
 
 
 def test_failed_start_is_recorded_not_raised():
-    from vibroimpact.continuation import branch_from_simulation
+    from vibroimpact.analysis.continuation import branch_from_simulation
 
     p = vi.Params.from_physical(s=0.40 / 0.6225, beta=math.pi / 3)
     br = branch_from_simulation(p, "BBT", vary="s", d_range=(0.12, 0.45), step=2e-3, phi=0.42, v0=0.87)
@@ -275,7 +275,7 @@ def _central_difference(f, x, h=FD_STEP):
 def test_orbit_equations_jacobian_agrees_with_finite_differences(name, word):
     """Newton converges with an approximate Jacobian too, so its exactness is checked directly, at a
     point off the orbit."""
-    from vibroimpact.orbits import _residual_and_jacobian, parse_word
+    from vibroimpact.analysis.orbits import _residual_and_jacobian, parse_word
 
     beta, d, v, phi, *_ = CAPTIONS[name]
     p = vi.Params(d=d, gbar=gbar_of(beta), r=0.5)
@@ -291,8 +291,8 @@ def test_orbit_equations_jacobian_agrees_with_finite_differences(name, word):
 def test_branch_equations_derivative_in_d_agrees_with_finite_differences(vary):
     """The column d/dd of the continuation's equations, with gbar fixed (vary s) or moving with d
     (vary F: gbar = (gbar/d) d)."""
-    from vibroimpact.continuation import _augmented, branch_parameters
-    from vibroimpact.orbits import parse_word
+    from vibroimpact.analysis.continuation import _augmented, branch_parameters
+    from vibroimpact.analysis.orbits import parse_word
 
     p = vi.Params.from_physical(s=0.14 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
     o = find_orbit(p, "BBT", 5.855, 0.4185)
@@ -350,7 +350,7 @@ def test_bistability_portraits_are_closed_orbits_of_the_physical_stretch(pi6_2to
     """Fig BiS (d)-(g): the 2:1 orbit just above G1, both at d = 0.14, the 3:1 just below G2.  The
     2:1 branch also passes G1 on its wall-crossing stretch; the portrait must be the admissible
     orbit, which the simulator then follows around one whole period back to its start."""
-    from vibroimpact.portraits import bistability_dataset
+    from vibroimpact.outputs.portraits import bistability_dataset
 
     # the workflow's branch: over its whole d range, where a point of the upper (saddle, wall-crossing)
     # stretch lies nearer to G1 than any point of the physical one
@@ -366,7 +366,7 @@ def test_bistability_portraits_are_closed_orbits_of_the_physical_stretch(pi6_2to
 
 
 def test_every_located_critical_point_is_a_zero_of_its_test_function(pi6_2to1, pi6_3to1):
-    from vibroimpact.orbits import _assemble, parse_word, solve_orbit
+    from vibroimpact.analysis.orbits import _assemble, parse_word, solve_orbit
 
     """Re-solved at its located d, each critical point's orbit has its test function at zero:
     1 + Tr + Det (B, lambda = -1), Delta (A) or the clearance (grazing); a fold is where d turns
@@ -401,7 +401,7 @@ def test_every_located_critical_point_is_a_zero_of_its_test_function(pi6_2to1, p
 def test_unrefined_critical_point_is_kept_with_a_linear_estimate(monkeypatch):
     """When the refinement fails, the point is kept: between the two branch points that bracket it,
     at the linear zero of its test function, with the reason and the bracket in its note."""
-    from vibroimpact import continuation
+    from vibroimpact.analysis import continuation
 
     def failing(*args, **kwargs):
         raise ValueError("refinement disabled by the test")
@@ -427,8 +427,8 @@ def test_branch_equations_derivative_in_any_parameter_agrees_with_finite_differe
     """The column d/dlam of the continuation's equations for every parameter (ParameterMap): d enters
     through the walls, gbar through the flights, r through the rebounds, the physical ones through
     the paper's scaling."""
-    from vibroimpact.continuation import ParameterMap, _augmented
-    from vibroimpact.orbits import parse_word
+    from vibroimpact.analysis.continuation import ParameterMap, _augmented
+    from vibroimpact.analysis.orbits import parse_word
 
     p = vi.Params.from_physical(s=0.14 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
     o = find_orbit(p, "BBT", 5.855, 0.4185)
@@ -525,7 +525,7 @@ def test_an_orbit_with_an_impact_at_zero_speed_has_no_eigenvalues_rather_than_an
     """On a grazing curve through a zero-speed impact the map's Jacobian grows as 1 / v; where v is 0.0
     exactly it is infinite. The orbit is still built (a bifurcation curve keeps its point) with NaN
     eigenvalues, determinant and an "undefined" stability, not a LinAlgError."""
-    import vibroimpact.orbits as orbits
+    import vibroimpact.analysis.orbits as orbits
 
     beta, d, v, phi, *_ = CAPTIONS["fig4_a"]
     good = find_orbit(vi.Params(d=d, gbar=gbar_of(beta), r=0.5), "BBT", phi, v)

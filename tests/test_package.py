@@ -47,8 +47,8 @@ def wheel(tmp_path_factory):
 def test_the_wheel_holds_the_package_and_its_data_not_the_workflow(wheel):
     whl, _ = wheel
     names = zipfile.ZipFile(whl).namelist()
-    assert "vibroimpact/__init__.py" in names and "vibroimpact/plots/vibroimpact.mplstyle" in names
-    assert any(n.startswith("vibroimpact/_siconos/") for n in names)
+    assert "vibroimpact/__init__.py" in names and "vibroimpact/outputs/plots/vibroimpact.mplstyle" in names
+    assert any(n.startswith("vibroimpact/benchmarks/_siconos/") for n in names)
     assert not any(n.startswith(("workflow/", "config/", "tests/")) or n == "Snakefile" for n in names)
     assert f"vibroimpact-{vibroimpact.__version__}.dist-info/entry_points.txt" in names
 
@@ -60,7 +60,7 @@ def test_the_wheel_runs_the_api_outside_the_repository(wheel, tmp_path):
     _, site = wheel
     code = (
         "import math, vibroimpact as vi\n"
-        "from vibroimpact import plots\n"
+        "from vibroimpact.outputs import plots\n"
         "import matplotlib.pyplot as plt\n"
         "print(vi.__file__)\n"
         "p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)\n"
@@ -78,3 +78,32 @@ def test_the_wheel_runs_the_api_outside_the_repository(wheel, tmp_path):
     cmd = subprocess.run([sys.executable, "-m", "vibroimpact"], cwd=tmp_path, env=env, capture_output=True,
                          text=True, timeout=120)
     assert cmd.returncode == 0 and "workflow: none here" in cmd.stdout, cmd.stdout + cmd.stderr
+
+
+def test_each_layer_imports_only_the_layers_below_it():
+    """dynamics < analysis < benchmarks < outputs: no module imports a layer above its own (the base
+    modules datasets, _progress, _version and _numba_cache serve every layer), and the public names stay
+    importable from the package itself."""
+    import ast
+
+    order = ["dynamics", "analysis", "benchmarks", "outputs"]
+    pkg = ROOT / "src" / "vibroimpact"
+    bad = []
+    for layer in order:
+        for f in (pkg / layer).rglob("*.py"):
+            here = f.relative_to(pkg).with_suffix("").parts[:-1]
+            for node in ast.walk(ast.parse(f.read_text())):
+                if isinstance(node, ast.ImportFrom):
+                    if node.level:
+                        base = list(here[:len(here) - node.level + 1])
+                        target = [*base, *(node.module.split(".") if node.module else [])]
+                    elif node.module and node.module.startswith("vibroimpact."):
+                        target = node.module.split(".")[1:]
+                    else:
+                        continue
+                    names = [a.name for a in node.names] if not node.module and node.level else []
+                    top = target[0] if target else (names[0] if names else "")
+                    if top in order and order.index(top) > order.index(layer):
+                        bad.append(f"{f.relative_to(pkg)}: {ast.unparse(node)}")
+    assert not bad, bad
+    assert {"simulate", "find_orbit", "continue_orbit", "sweep", "design_map", "curve_set"} <= set(vibroimpact.__all__)

@@ -1,4 +1,4 @@
-"""heyoka as a benchmark peer against the 40-digit reference (vibroimpact.peer_heyoka)."""
+"""heyoka as a benchmark peer against the 40-digit reference (vibroimpact.benchmarks.peer_heyoka)."""
 
 import math
 
@@ -9,9 +9,9 @@ import pytest
 hy = pytest.importorskip("heyoka", reason="heyoka is not importable (optional peer: pip install heyoka)",
                          exc_type=ImportError)
 
-from vibroimpact import peer_heyoka as H  # noqa: E402
-from vibroimpact.params import Params  # noqa: E402
-from vibroimpact.reference import first_impact, trajectory  # noqa: E402
+from vibroimpact.benchmarks import peer_heyoka as H  # noqa: E402
+from vibroimpact.dynamics.params import Params  # noqa: E402
+from vibroimpact.dynamics.reference import first_impact, trajectory  # noqa: E402
 
 EPS = float(np.finfo(float).eps)
 
@@ -115,7 +115,7 @@ def test_stepping_cost_times_the_same_equations_as_the_event_loop():
     last of three timed repeats: each starts again from the impact)."""
     import mpmath as mp
 
-    from vibroimpact.reference import gap, velocity
+    from vibroimpact.dynamics.reference import gap, velocity
 
     beta, d, phi, v0 = SCENES["2:1"]
     p = _params(beta, d)

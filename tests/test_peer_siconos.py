@@ -1,7 +1,7 @@
-"""Siconos as a benchmark peer (vibroimpact.peer_siconos, src/vibroimpact/_siconos/siconos_peer.py).
+"""Siconos as a benchmark peer (vibroimpact.benchmarks.peer_siconos, src/vibroimpact/_siconos/siconos_peer.py).
 
 Skipped as a whole unless the system interpreter imports Debian's python3-siconos
-(``tools/install_siconos.sh``).  Compared with the 40-digit reference (vibroimpact.reference).
+(``tools/install_siconos.sh``).  Compared with the 40-digit reference (vibroimpact.dynamics.reference).
 """
 
 import math
@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from conftest import flight_state, gbar_of
 
-from vibroimpact import peer_siconos as ps
-from vibroimpact.params import Params
-from vibroimpact.reference import first_impact, trajectory, velocity
+from vibroimpact.benchmarks import peer_siconos as ps
+from vibroimpact.dynamics.params import Params
+from vibroimpact.dynamics.reference import first_impact, trajectory, velocity
 
 if not ps.available():
     pytest.skip(f"Siconos peer unavailable: {ps.unavailable_reason()}", allow_module_level=True)

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from scipy.optimize import brentq
 
 import vibroimpact as vi
-from vibroimpact.kernels import GRAZING, IMPACT, RELEASE, STICK
+from vibroimpact.dynamics.kernels import GRAZING, IMPACT, RELEASE, STICK
 
 pytestmark = pytest.mark.filterwarnings("ignore:gbar = .* >= 1")
 

@@ -69,7 +69,7 @@ def test_the_check_passes_under_another_libm(readme_clone):
     """README's check command, run after the first under glibc's other libm code path, passes: every
     published value reproduced or a listed discrepancy, every figure's arrays by the rule its measured
     conditioning calls for, with the ill-conditioned ones compared by what is well-posed about them."""
-    from vibroimpact.conditioning import libm_switch_works
+    from vibroimpact.outputs.conditioning import libm_switch_works
 
     if not libm_switch_works():
         pytest.skip("glibc does not dispatch sin on FMA/AVX2 here: the libm switch emulates nothing on this CPU")
@@ -184,7 +184,7 @@ def test_the_lock_pins_every_package_with_hashes_and_the_conda_env_alike():
 def test_the_libm_switch_changes_sin_where_glibc_dispatches_it():
     """The emulated other machine is another machine: with the switch, numpy's and numba's sin differ in
     the last bit for some arguments (skipped on a CPU whose glibc takes one path anyway)."""
-    from vibroimpact.conditioning import LIBM_SWITCH, libm_switch_works
+    from vibroimpact.outputs.conditioning import LIBM_SWITCH, libm_switch_works
 
     code = ("import math, numpy as np, numba, hashlib\n"
             "x = np.random.default_rng(2).uniform(-50, 50, 100000)\n"

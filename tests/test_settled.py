@@ -1,4 +1,4 @@
-"""What is well-posed about a simulated attractor (vibroimpact.settled): the exact cycle of a periodic
+"""What is well-posed about a simulated attractor (vibroimpact.analysis.settled): the exact cycle of a periodic
 motion, whatever run reached it, and the long-run statistics of an aperiodic one."""
 
 import math
@@ -8,8 +8,8 @@ import pytest
 from conftest import gbar_of
 
 import vibroimpact as vi
-from vibroimpact import kernels as K
-from vibroimpact.settled import (
+from vibroimpact.dynamics import kernels as K
+from vibroimpact.analysis.settled import (
     SETTLE_MATCH,
     batch_means,
     canonical_start,
@@ -17,7 +17,7 @@ from vibroimpact.settled import (
     long_statistics,
     polish_cycle,
 )
-from vibroimpact.sweeps import settle, sweep
+from vibroimpact.analysis.sweeps import settle, sweep
 
 
 def _cycle(run):
@@ -143,9 +143,9 @@ def test_a_cycle_a_hundredth_off_its_orbit_is_another_orbit_s():
 def test_a_sticking_output_is_known_to_its_chatter_accuracy_and_no_worse():
     """delivered() gives a sticking point its value with the chatter sum's accuracy: a change of 1e-7
     (relative) is far beyond it, in units of the check's combined standard errors."""
-    from vibroimpact.energy import Membrane, delivered, sweep_energy
-    from vibroimpact.figcheck import Z_CRIT
-    from vibroimpact.settled import STICK_REL
+    from vibroimpact.analysis.energy import Membrane, delivered, sweep_energy
+    from vibroimpact.outputs.figcheck import Z_CRIT
+    from vibroimpact.analysis.settled import STICK_REL
 
     from test_energy import M, OMEGA, PAPER
 
@@ -158,8 +158,8 @@ def test_a_sticking_output_is_known_to_its_chatter_accuracy_and_no_worse():
 def test_the_critical_z_is_student_s_t_of_the_batches_at_one_in_a_million():
     from scipy.stats import t
 
-    from vibroimpact.figcheck import Z_CRIT
-    from vibroimpact.settled import LONG_BATCHES
+    from vibroimpact.outputs.figcheck import Z_CRIT
+    from vibroimpact.analysis.settled import LONG_BATCHES
 
     assert Z_CRIT == pytest.approx(t.ppf(1 - 0.5e-6, LONG_BATCHES - 1), abs=0.005)
 
@@ -184,7 +184,7 @@ def test_a_sample_at_an_impact_s_instant_is_the_post_impact_state_on_either_side
     """A trajectory sampled where an impact happens reads the state after it, whether rounding puts the
     impact a hair before or after the sample; a sample a microsecond before reads the state before it.
     The orbit's Newton-solved run and its simulated run agree on both."""
-    from vibroimpact.orbits import orbit_run
+    from vibroimpact.analysis.orbits import orbit_run
 
     p = vi.Params(d=0.14, gbar=gbar_of(math.pi / 6), r=0.5)
     o = vi.find_orbit(p, "BBT", 5.855, 0.4185)

@@ -1,6 +1,6 @@
 """Chattering, sticking and release (docs/model.md), against a bounce-by-bounce reference.
 
-The reference (:func:`vibroimpact.reference.bounce_by_bounce`) chains every bounce of every
+The reference (:func:`vibroimpact.dynamics.reference.bounce_by_bounce`) chains every bounce of every
 chattering sequence as an exact flight in 60-digit arithmetic, down to rebound speeds of 1e-25,
 and finds the release as a sampled root of the acceleration: it uses neither the accumulation
 rule nor the release formula of the simulator.  Everything the simulator records with a speed
@@ -14,8 +14,8 @@ import pytest
 from conftest import TOL_T
 
 import vibroimpact as vi
-from vibroimpact import kernels as K
-from vibroimpact.reference import bounce_by_bounce
+from vibroimpact.dynamics import kernels as K
+from vibroimpact.dynamics.reference import bounce_by_bounce
 
 #: bounces with |Zdot-| above this are never summed by the rule (rebound r |Zdot-| >> v_chatter = 1e-9)
 V_SUMMED = 1e-8

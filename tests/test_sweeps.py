@@ -7,9 +7,10 @@ import pytest
 import xarray as xr
 
 import vibroimpact as vi
-from vibroimpact.continuation import continue_orbit
-from vibroimpact.orbits import find_orbit
-from vibroimpact.sweeps import (
+from vibroimpact.analysis import sweeps
+from vibroimpact.analysis.continuation import continue_orbit
+from vibroimpact.analysis.orbits import find_orbit
+from vibroimpact.analysis.sweeps import (
     basins,
     bistable_intervals,
     locate_transitions,
@@ -122,7 +123,7 @@ def synthetic(up, down, d, transitions):
 
 def test_bistable_interval_with_an_aperiodic_side_ends_on_the_grid():
     d = np.array([0.1, 0.2, 0.3, 0.4])
-    gone = vi.sweeps.APERIODIC
+    gone = sweeps.APERIODIC
     sw, tr = synthetic(["A", "A", "A", "B"], ["A", gone, gone, "B"], d, [("up", 0.35, "A", "B")])
     (row,) = bistable_intervals(sw, tr).to_dataframe().itertuples()
     assert (row.d_lo, row.lo_source, row.d_lo_width) == (pytest.approx(0.15), "grid", pytest.approx(0.1))
@@ -131,7 +132,7 @@ def test_bistable_interval_with_an_aperiodic_side_ends_on_the_grid():
 
 def test_bistable_interval_with_an_aperiodic_upper_side_ends_on_the_grid():
     d = np.array([0.1, 0.2, 0.3, 0.4])
-    gone = vi.sweeps.APERIODIC
+    gone = sweeps.APERIODIC
     sw, tr = synthetic(["A", "B", "B", gone], ["A", "A", "A", gone], d, [("down", 0.15, "A", "B")])
     (row,) = bistable_intervals(sw, tr).to_dataframe().itertuples()
     assert (row.d_lo, row.lo_source) == (0.15, "located")
@@ -183,14 +184,14 @@ def test_no_bistability_gives_an_empty_table():
     ("2:0 period-2 with sticking", "2:1 period-2", "other"),
 ])
 def test_transition_kinds(before, after, kind):
-    assert vi.sweeps.transition_kind(before, after) == kind
+    assert sweeps.transition_kind(before, after) == kind
 
 
 def test_bad_window_is_rejected_before_running():
     with pytest.raises(ValueError, match="window = 64; allowed: >= pmax \\+ 1 = 65"):
         sweep("s", [0.3], beta=math.pi / 6, window=64)
     with pytest.raises(ValueError, match="window = 10"):
-        vi.sweeps.attractor_batch(0.2, 0.1, 0.5, 0.0, 0.5, window=10, pmax=16)
+        sweeps.attractor_batch(0.2, 0.1, 0.5, 0.0, 0.5, window=10, pmax=16)
     with pytest.raises(ValueError, match="axes"):
         regime_map("s", [0.3], "s", [0.4])
 
@@ -263,7 +264,7 @@ def test_regime_map_on_non_dimensional_axes_runs_the_parameters_it_names():
     with a physical axis is refused."""
     import math
 
-    from vibroimpact.sweeps import regime_map
+    from vibroimpact.analysis.sweeps import regime_map
 
     g = 0.1245 * 9.8 * math.sin(math.pi / 6) / 5.0
     m = regime_map("d", [0.16, 0.40], "gbar", [g], phi=1.015, v0=0.1924)

@@ -195,10 +195,10 @@ def test_a_study_adds_only_its_own_jobs(tmp_path):
 
 def test_every_benchmark_file_is_attributed_to_the_rule_that_writes_it():
     """The workflow-cost table's per-rule rows: each rule's ``benchmark:`` path, with its wildcards
-    filled in, maps back to that rule's name (vibroimpact.tables.rule_of_benchmark)."""
+    filled in, maps back to that rule's name (vibroimpact.outputs.tables.rule_of_benchmark)."""
     import re
 
-    from vibroimpact.tables import rule_of_benchmark
+    from vibroimpact.outputs.tables import rule_of_benchmark
 
     root = ROOT
     seen = 0

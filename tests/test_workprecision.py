@@ -6,10 +6,10 @@ import math
 import numpy as np
 
 import vibroimpact as vi
-from vibroimpact import methods as M
-from vibroimpact.reference import trajectory
-from vibroimpact.tables import workflow_cost
-from vibroimpact.workprecision import failure_map, work_precision
+from vibroimpact.benchmarks import methods as M
+from vibroimpact.dynamics.reference import trajectory
+from vibroimpact.outputs.tables import workflow_cost
+from vibroimpact.benchmarks.workprecision import failure_map, work_precision
 
 P21 = vi.Params(d=0.16, gbar=0.1245 * 9.8 * 0.5 / 5, r=0.5)
 
@@ -93,7 +93,7 @@ def _wp(err, cost, family, setting):
 def test_matched_accuracy_takes_the_cheapest_setting_that_reaches_the_target():
     """Per family and scene the cheapest setting with error <= 1e-12; none: "cannot reach" (a finer
     setting that misses the target, or one on the wrong walls, never counts); ratios to exact."""
-    from vibroimpact.workprecision import matched_accuracy
+    from vibroimpact.benchmarks.workprecision import matched_accuracy
 
     wp = _wp(err=[[1e-15, 1e-15], [1e-9, 1e-9], [1e-13, np.inf], [5e-13, 2e-12], [1e-6, 1e-6]],
              cost=[[1.0, 2.0], [5.0, 5.0], [40.0, 40.0], [20.0, 10.0], [3.0, 3.0]],
@@ -108,8 +108,9 @@ def test_matched_accuracy_takes_the_cheapest_setting_that_reaches_the_target():
 
 
 def test_absent_peers_are_recorded_not_dropped_silently(monkeypatch):
-    from vibroimpact import peer_heyoka, peer_siconos
-    from vibroimpact.workprecision import method_ladder, peer_status
+    from vibroimpact.benchmarks import peer_heyoka
+    from vibroimpact.benchmarks import peer_siconos
+    from vibroimpact.benchmarks.workprecision import method_ladder, peer_status
 
     monkeypatch.setattr(peer_heyoka, "available", lambda: False)
     monkeypatch.setattr(peer_heyoka, "heyoka_version", lambda: None)

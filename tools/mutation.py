@@ -49,6 +49,17 @@ REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ROOT = os.path.join(REPO, "results", "mutation", "tree")  # the private copy the mutants live in
 OUT = os.path.join(REPO, "results", "mutation")
 PKG = os.path.join(ROOT, "src", "vibroimpact")
+#: the layer of the package each module lives in
+LAYER = {**{m: "dynamics" for m in ("params", "flight", "events", "kernels", "simulate", "reference")},
+         **{m: "analysis" for m in ("orbits", "grazing", "continuation", "bifurcation", "settled", "sweeps", "energy",
+                                    "design")},
+         **{m: "benchmarks" for m in ("methods", "peer_heyoka", "peer_siconos", "workprecision", "bench")},
+         **{m: "outputs" for m in ("tables", "checks", "paper", "portraits", "figdata", "figcheck", "conditioning")}}
+
+
+def module_path(mod):
+    """The module's file in the private copy."""
+    return os.path.join(PKG, LAYER.get(mod, ""), mod + ".py")
 PY = os.environ.get("MUT_PYTHON", sys.executable)
 
 
@@ -65,7 +76,7 @@ def make_tree(fresh=False):
     shutil.copy(os.path.join(REPO, "pyproject.toml"), ROOT)
     os.makedirs(os.path.join(ROOT, "pristine"))
     for mod in TESTS:
-        shutil.copy(os.path.join(PKG, mod + ".py"), os.path.join(ROOT, "pristine", mod + ".py"))
+        shutil.copy(module_path(mod), os.path.join(ROOT, "pristine", mod + ".py"))
 
 TESTS = {
     "events": ["tests/test_impact_times.py", "tests/test_properties.py", "tests/test_sticking.py"],
@@ -240,7 +251,8 @@ CLEAN_CACHE = os.path.join(OUT, "numba_cache_clean")
 def run_tests(module, timeout, cache=None):
     env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "src"), NUMBA_NUM_THREADS="1", OMP_NUM_THREADS="1",
                OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1", PYTHONDONTWRITEBYTECODE="1")
-    shutil.rmtree(os.path.join(PKG, "__pycache__"), ignore_errors=True)
+    for sub in ("", *set(LAYER.values())):
+        shutil.rmtree(os.path.join(PKG, sub, "__pycache__"), ignore_errors=True)
     shutil.rmtree(os.path.join(ROOT, ".hypothesis"), ignore_errors=True)
     keep = cache is not None
     if cache is None:
@@ -280,7 +292,7 @@ def main():
     ap.add_argument("--fresh", action="store_true", help="remake the private copy from the working tree")
     a = ap.parse_args()
     make_tree(a.fresh)
-    path = os.path.join(PKG, a.module + ".py")
+    path = module_path(a.module)
     # mutants are always generated from the pristine copy (the live file may carry a mutant while a
     # run is in progress); `run` refuses to start unless the live file equals it
     pristine = os.path.join(ROOT, "pristine", a.module + ".py")
@@ -370,7 +382,8 @@ def main():
             f.write(json.dumps(rec) + "\n")
         print(f"#{mid:4d} L{m['line']:<4d} {m['kind']:<28s} {rec['status']:<9s} {rec['dt']:6.1f}s "
               f"{(rec['failed'] or [''])[0][:90]}", flush=True)
-    shutil.rmtree(os.path.join(PKG, "__pycache__"), ignore_errors=True)
+    for sub in ("", *set(LAYER.values())):
+        shutil.rmtree(os.path.join(PKG, sub, "__pycache__"), ignore_errors=True)
 
 
 if __name__ == "__main__":

@@ -21,8 +21,8 @@ warnings.simplefilter("ignore")
 
 
 def events_probe():
-    from vibroimpact.events import next_impact
-    from vibroimpact.reference import grazing_state
+    from vibroimpact.dynamics.events import next_impact
+    from vibroimpact.dynamics.reference import grazing_state
 
     rng = np.random.default_rng(12345)
     taus, walls = [], []
@@ -73,7 +73,7 @@ def events_probe():
 
 def kernels_probe():
     import vibroimpact as vi
-    from vibroimpact.sweeps import attractor_batch
+    from vibroimpact.analysis.sweeps import attractor_batch
 
     out = {}
     G6 = 0.1245 * 9.8 * math.sin(math.pi / 6) / 5.0
@@ -162,8 +162,10 @@ def survivors(mod):
     if not os.path.isdir(tree):
         shutil.copytree(os.path.join(mutation.ROOT, "src"), os.path.join(tree, "src"))
         for f in os.listdir(os.path.join(mutation.ROOT, "pristine")):
-            shutil.copy(os.path.join(mutation.ROOT, "pristine", f), os.path.join(tree, "src", "vibroimpact", f))
-    path = os.path.join(tree, "src", "vibroimpact", mod + ".py")
+            m = f.removesuffix(".py")
+            shutil.copy(os.path.join(mutation.ROOT, "pristine", f),
+                        os.path.join(tree, "src", "vibroimpact", mutation.LAYER.get(m, ""), f))
+    path = os.path.join(tree, "src", "vibroimpact", mutation.LAYER.get(mod, ""), mod + ".py")
     src, muts = mutation.mutants_of(os.path.join(mutation.ROOT, "pristine", mod + ".py"))
 
     def probe(tag):

@@ -10,9 +10,9 @@ import time
 
 import numpy as np
 
-from vibroimpact import peer_heyoka as H
-from vibroimpact.params import Params
-from vibroimpact.reference import trajectory
+from vibroimpact.benchmarks import peer_heyoka as H
+from vibroimpact.dynamics.params import Params
+from vibroimpact.dynamics.reference import trajectory
 
 SCENES = {"2:1": (math.pi / 6, 0.16, 1.015, 0.1924), "chaotic": (math.pi / 3, 0.235, 0.4, 0.6)}
 EPS = float(np.finfo(float).eps)

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from vibroimpact.checks import markdown
+from vibroimpact.outputs.checks import markdown
 
 ROOT = Path(__file__).resolve().parents[1]
 readme = ROOT / "README.md"

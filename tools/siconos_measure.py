@@ -3,7 +3,7 @@
 For two scenes (the periodic 2:1 orbit of Fig 4a and a chaotic one) and each Siconos setting:
 microseconds per impact over the first ``--n`` impacts (simulation loop only; model construction
 apart) and the largest impact-time error over the first ``--compare`` impacts against the 40-digit
-``vibroimpact.reference.trajectory``, with the first wall mismatch if any; then whether each method
+``vibroimpact.dynamics.reference.trajectory``, with the first wall mismatch if any; then whether each method
 sees a near-grazing contact (an extremum 1e-8 inside and 1e-8 beyond a wall).
 
 Usage: ``.venv/bin/python tools/siconos_measure.py [--n 100] [--compare 20]`` (needs python3-siconos:
@@ -17,10 +17,10 @@ import math
 
 import mpmath as mp
 
-from vibroimpact import peer_siconos as ps
-from vibroimpact.methods import run_exact
-from vibroimpact.params import Params
-from vibroimpact.reference import first_impact, grazing_state, trajectory
+from vibroimpact.benchmarks import peer_siconos as ps
+from vibroimpact.benchmarks.methods import run_exact
+from vibroimpact.dynamics.params import Params
+from vibroimpact.dynamics.reference import first_impact, grazing_state, trajectory
 
 M, F, G = 0.1245, 5.0, 9.8
 SCENES = {

@@ -2,15 +2,21 @@
 
 Serdukova, Kuske, Yurchenko, "Post-grazing dynamics of a vibro-impacting energy generator".
 
-The main entry points are importable from here: simulation (:func:`simulate`, :func:`trajectory`,
-:func:`identify_attractor`), periodic orbits and their branches (:func:`find_orbit`,
-:func:`continue_orbit`), sweeps (:func:`sweep`, :func:`locate_transitions`,
-:func:`bistable_intervals`, :func:`basins`, :func:`regime_map`) and the voltage per impact
-(:class:`Membrane`, :func:`voltage_gain`, :func:`speed_si`, :func:`averages`,
-:func:`orbit_energy`, :func:`branch_energy`, :func:`sweep_energy`).
+The package is in layers, each importing only the layers below it (and the base modules
+:mod:`~vibroimpact.datasets`, ``_progress``, ``_version``, ``_numba_cache``):
 
-Each is imported on first use (PEP 562), so ``import vibroimpact`` is fast and a script pays only
-for the modules it touches (scipy's optimizers, numba's compiled kernels, ...).
+* :mod:`vibroimpact.dynamics`: parameters, the closed-form flight, impact location, the jitted
+  event loop and :func:`simulate`;
+* :mod:`vibroimpact.analysis`: periodic orbits, continuation in one and two parameters, grazing,
+  settled attractors, sweeps and maps, energy, design under multistability;
+* :mod:`vibroimpact.benchmarks`: the methods compared (ours and the peers), work-precision, failure
+  map;
+* :mod:`vibroimpact.outputs`: datasets for figures, tables, the checks against the paper and the
+  figure references, and the plots.
+
+The public names (:data:`__all__`) are importable from here, each on first use (PEP 562), so
+``import vibroimpact`` is fast and a script pays only for the modules it touches (scipy's
+optimizers, numba's compiled kernels, ...).
 """
 
 import importlib
@@ -20,27 +26,37 @@ import types
 from . import _numba_cache  # noqa: F401  (first: the numba cache is keyed by the source)
 from ._version import __version__
 
-#: public name -> the submodule that defines it
+#: public name -> the module that defines it (the API reference lists them in this order)
 _WHERE = {
-    "branch_from_simulation": "continuation", "continue_orbit": "continuation", "simulate_along": "continuation",
-    "Membrane": "energy", "averages": "energy", "branch_energy": "energy", "orbit_energy": "energy",
-    "speed_si": "energy", "sweep_energy": "energy", "voltage_gain": "energy",
-    "Orbit": "orbits", "OrbitError": "orbits", "find_orbit": "orbits",
-    "Params": "params", "PhysicalScales": "params",
-    "Attractor": "simulate", "identify_attractor": "simulate", "simulate": "simulate", "simulate_batch": "simulate",
-    "trajectory": "simulate",
-    "basins": "sweeps", "bistable_intervals": "sweeps", "locate_transitions": "sweeps", "regime_map": "sweeps",
-    "sweep": "sweeps",
+    # dynamics
+    "Params": "dynamics.params", "PhysicalScales": "dynamics.params",
+    "simulate": "dynamics.simulate", "simulate_batch": "dynamics.simulate", "trajectory": "dynamics.simulate",
+    "identify_attractor": "dynamics.simulate", "Attractor": "dynamics.simulate",
+    # analysis: periodic orbits and their branches
+    "Orbit": "analysis.orbits", "OrbitError": "analysis.orbits", "find_orbit": "analysis.orbits",
+    "orbit_run": "analysis.orbits",
+    "continue_orbit": "analysis.continuation", "branch_from_simulation": "analysis.continuation",
+    "simulate_along": "analysis.continuation",
+    "follow_point": "analysis.bifurcation", "curve_set": "analysis.bifurcation",
+    # analysis: attractors, sweeps and maps
+    "polish_cycle": "analysis.settled", "long_run": "analysis.settled",
+    "sweep": "analysis.sweeps", "attractor_batch": "analysis.sweeps", "locate_transitions": "analysis.sweeps",
+    "bistable_intervals": "analysis.sweeps", "basins": "analysis.sweeps", "regime_map": "analysis.sweeps",
+    # analysis: energy and design
+    "Membrane": "analysis.energy", "voltage_gain": "analysis.energy", "speed_si": "analysis.energy",
+    "averages": "analysis.energy", "orbit_energy": "analysis.energy", "branch_energy": "analysis.energy",
+    "sweep_energy": "analysis.energy", "delivered": "analysis.energy",
+    "design_map": "analysis.design", "start_states": "analysis.design", "tolerance_analysis": "analysis.design",
+    "best_designs": "analysis.design",
 }
-_SUBMODULES = ("portraits",)
 
-__all__ = ["__version__", *_WHERE, *_SUBMODULES]
+__all__ = ["__version__", *_WHERE]
 
 
 def __getattr__(name):
     if name in _WHERE:
         value = getattr(importlib.import_module(f".{_WHERE[name]}", __name__), name)
-    elif name in _SUBMODULES:
+    elif name in _LAYERS:
         value = importlib.import_module(f".{name}", __name__)
     else:
         raise AttributeError(f"module 'vibroimpact' has no attribute {name!r}")
@@ -48,17 +64,22 @@ def __getattr__(name):
     return value
 
 
+#: the layers, importable as attributes (``vibroimpact.analysis``)
+_LAYERS = ("dynamics", "analysis", "benchmarks", "outputs", "datasets")
+
+
 def __dir__():
-    return sorted(set(globals()) | set(__all__))
+    """The public names and the layers: no helper the package imports itself."""
+    return sorted({*__all__, *_LAYERS})
 
 
 class _Package(types.ModuleType):
-    """The package, with one rule: the submodule :mod:`vibroimpact.simulate` does not shadow the
+    """The package, with one rule: the submodule :mod:`vibroimpact.dynamics.simulate` does not shadow the
     function :func:`simulate` (importing a submodule sets it as the package's attribute; the eager
     ``from .simulate import simulate`` used to rebind the name, which a lazy import never does)."""
 
     def __setattr__(self, name, value):
-        if isinstance(value, types.ModuleType) and _WHERE.get(name) == name:
+        if isinstance(value, types.ModuleType) and name in _WHERE:
             return  # the submodule stays in sys.modules; the name resolves to the function on use
         super().__setattr__(name, value)
 

@@ -49,7 +49,7 @@ def report(start: Path | None = None) -> str:
                   "  targets besides the default: check, bench, bifurcation, update_figure_references"]
     siconos = "unknown"
     try:
-        from .peer_siconos import available
+        from .benchmarks.peer_siconos import available
 
         siconos = "available" if available() else "not installed (tools/install_siconos.sh, root)"
     except Exception as err:  # the probe itself failed: say so, do not fail the report

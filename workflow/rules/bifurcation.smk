@@ -1,5 +1,5 @@
 # Bifurcation set: the branches' period doublings, folds and grazing points followed as curves in the
-# regime maps' parameter planes and in non-dimensional planes (vibroimpact.bifurcation), drawn over
+# regime maps' parameter planes and in non-dimensional planes (vibroimpact.analysis.bifurcation), drawn over
 # brute-force maps of the same planes.
 
 if not set(config["bifurcation"]["words"]) <= set(WORDS):
@@ -69,7 +69,7 @@ rule fig_bifurcation_set:
             category="Beyond the paper",
         ),
         data="results/figures/data/bifurcation_set_{map}.nc",
-        # the map's simulated boundaries, each on a curve or not and why (vibroimpact.bifurcation.map_boundaries)
+        # the map's simulated boundaries, each on a curve or not and why (vibroimpact.analysis.bifurcation.map_boundaries)
         boundaries="results/bifurcation/{map}-boundaries.nc",
     log:
         "logs/figures/bifurcation_set_{map}.log",

@@ -110,7 +110,7 @@ rule check_figures:
 
 # How well each figure array is determined: the figure data recomputed in scratch copies under
 # perturbations that stand for another machine (another libm; the inputs moved by a few ulps), and
-# each array's spread (vibroimpact.conditioning).  Slow (three whole regenerations): run it before
+# each array's spread (vibroimpact.outputs.conditioning).  Slow (three whole regenerations): run it before
 # accepting new references.
 rule figure_conditioning:
     input:

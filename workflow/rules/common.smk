@@ -379,7 +379,7 @@ def sweep_scene(wc):
 
 # ---- checks: the known discrepancies must name items the check produces -------------------------
 def _check_items():
-    from vibroimpact.checks import item_names
+    from vibroimpact.outputs.checks import item_names
 
     betas = sorted({b for sc in BRANCH_SCENES.values() for b in sc["betas"]})
     return item_names(list(CAPTIONS), betas)
@@ -424,7 +424,7 @@ def figure_reference(fig):
 def _check_summaries():
     import pandas as pd
 
-    from vibroimpact.checks import check_summaries
+    from vibroimpact.outputs.checks import check_summaries
 
     read = lambda f: pd.read_csv(f) if os.path.exists(f) else None
     return check_summaries(
@@ -443,7 +443,7 @@ def figure_formats(stem):
 
 
 # ---- design under multistability: value ranges and cross-key conditions, before any job --------------
-from vibroimpact.design import check_design
+from vibroimpact.analysis.design import check_design
 
 DESIGN = config["design"]
 try:

@@ -1,4 +1,4 @@
-# Design under multistability (vibroimpact.design): on the planes of regime maps, the attractors reached
+# Design under multistability (vibroimpact.analysis.design): on the planes of regime maps, the attractors reached
 # from the same start states at every point, their shares and outputs (in chunks of grid rows, separate
 # jobs), the tolerance margin to the bifurcation curves of the same plane, the maps and the table of the
 # best robust designs.

@@ -4,7 +4,7 @@
 rule branch:
     output:
         orbit="results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
-        # its output voltages and averages (vibroimpact.energy), in the same job: a second job would
+        # its output voltages and averages (vibroimpact.analysis.energy), in the same job: a second job would
         # cost more in start-up than the computation
         energy="results/energy/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
     log:

@@ -5,7 +5,7 @@ rule sweep:
     output:
         sweep="results/sweeps/beta-{beta}_r-{r}/{sweep}.nc",
         # its located transitions and bistable intervals, and its output voltages and averages
-        # (vibroimpact.energy), in the same job: separate jobs would cost more in start-up
+        # (vibroimpact.analysis.energy), in the same job: separate jobs would cost more in start-up
         transitions="results/sweeps/beta-{beta}_r-{r}/{sweep}-transitions.nc",
         energy="results/energy/beta-{beta}_r-{r}/{sweep}.nc",
     log:

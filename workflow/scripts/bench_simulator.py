@@ -3,7 +3,7 @@ import logging
 
 import xarray as xr
 
-from vibroimpact.bench import (
+from vibroimpact.benchmarks.bench import (
     branch_benchmark,
     curve_benchmark,
     kernel_profile,

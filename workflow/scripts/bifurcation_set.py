@@ -3,7 +3,7 @@ import logging
 
 import xarray as xr
 
-from vibroimpact.bifurcation import curve_set
+from vibroimpact.analysis.bifurcation import curve_set
 from vibroimpact.datasets import provenance, write_netcdf
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)

@@ -5,7 +5,7 @@ import numpy as np
 import xarray as xr
 
 from vibroimpact.datasets import provenance, write_netcdf
-from vibroimpact.portraits import bistability_dataset
+from vibroimpact.outputs.portraits import bistability_dataset
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 b21 = xr.load_dataset(snakemake.input.branch21, engine="netcdf4")

@@ -4,7 +4,7 @@ import math
 
 import xarray as xr
 
-from vibroimpact.bifurcation import bistable_band
+from vibroimpact.analysis.bifurcation import bistable_band
 from vibroimpact.datasets import provenance, write_netcdf
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)

@@ -3,9 +3,9 @@ import logging
 
 import xarray as xr
 
-from vibroimpact import plots
+from vibroimpact.outputs import plots
 from vibroimpact.datasets import provenance
-from vibroimpact.tables import grazing_lines
+from vibroimpact.outputs.tables import grazing_lines
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 scene, k_s = snakemake.params.scene, snakemake.params.k_s

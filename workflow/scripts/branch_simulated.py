@@ -3,7 +3,7 @@ import logging
 
 import xarray as xr
 
-from vibroimpact.continuation import simulate_along
+from vibroimpact.analysis.continuation import simulate_along
 from vibroimpact.datasets import provenance, write_netcdf
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)

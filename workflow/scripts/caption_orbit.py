@@ -2,15 +2,16 @@
 import logging
 
 import vibroimpact as vi
+from vibroimpact.outputs import portraits
 from vibroimpact.datasets import provenance, write_netcdf
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 for p, out in zip(snakemake.params.p, snakemake.output, strict=True):
     params = vi.Params(d=p["d"], gbar=p["gbar"], r=p["r"])
-    ds = vi.portraits.orbit_dataset(params, p["phi"], p["v0"], t_show=p["t_show"], samples_per_unit=p["samples_per_unit"],
+    ds = portraits.orbit_dataset(params, p["phi"], p["v0"], t_show=p["t_show"], samples_per_unit=p["samples_per_unit"],
                                      name=p["name"], max_events=p["max_events"], tol=p["tol"])
     if p["grazing"]:  # the caption shows "grazing behaviour": the same orbit where it does graze
-        ds = vi.portraits.add_located_grazing(ds, params, samples_per_unit=p["samples_per_unit"])
+        ds = portraits.add_located_grazing(ds, params, samples_per_unit=p["samples_per_unit"])
         logging.info("%s: located grazing %s", p["name"], {k: v for k, v in ds.attrs.items() if k.startswith("grazing")})
     ds.attrs.update(beta=p["beta"], beta_assumed=int(p["beta_assumed"]), F=p["F"], omega=p["omega"],
                     motion_stated=p["motion"], **provenance(**p))

@@ -4,7 +4,7 @@ import logging
 import xarray as xr
 
 from vibroimpact.datasets import provenance, write_netcdf
-from vibroimpact.portraits import caption_summary, summary_markdown
+from vibroimpact.outputs.portraits import caption_summary, summary_markdown
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 sets = {n: xr.load_dataset(f, engine="netcdf4") for n, f in zip(snakemake.params.names, snakemake.input, strict=True)}

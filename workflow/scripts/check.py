@@ -4,7 +4,7 @@ import logging
 import pandas as pd
 import xarray as xr
 
-from vibroimpact import checks
+from vibroimpact.outputs import checks
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 load = lambda f: xr.load_dataset(f, engine="netcdf4")

@@ -1,13 +1,13 @@
 """One figure's data against its committed reference, each array by the rule its measured conditioning
-calls for (vibroimpact.figcheck); fails, naming the arrays, if the figure moved."""
+calls for (vibroimpact.outputs.figcheck); fails, naming the arrays, if the figure moved."""
 import logging
 from pathlib import Path
 
 import pandas as pd
 import xarray as xr
 
-from vibroimpact.conditioning import ill_conditioned
-from vibroimpact.figdata import compare, compare_image, image_allowance
+from vibroimpact.outputs.conditioning import ill_conditioned
+from vibroimpact.outputs.figdata import compare, compare_image, image_allowance
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 p = snakemake.params

@@ -4,7 +4,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from vibroimpact.checks import figure_check_markdown
+from vibroimpact.outputs.checks import figure_check_markdown
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 p = snakemake.params

@@ -3,9 +3,9 @@ import logging
 
 import xarray as xr
 
-from vibroimpact import plots
+from vibroimpact.outputs import plots
 from vibroimpact.datasets import provenance
-from vibroimpact.tables import design_markdown, design_table
+from vibroimpact.outputs.tables import design_markdown, design_table
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 s_sets = [xr.load_dataset(f, engine="netcdf4") for f in snakemake.input.s]

@@ -4,8 +4,8 @@ import logging
 import pandas as pd
 import xarray as xr
 
-from vibroimpact.design import table_designs
-from vibroimpact.tables import design_cost_markdown, design_robust_markdown, design_robust_table
+from vibroimpact.analysis.design import table_designs
+from vibroimpact.outputs.tables import design_cost_markdown, design_robust_markdown, design_robust_table
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 rows, sizes, seconds = {}, {}, {}

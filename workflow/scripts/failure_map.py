@@ -2,8 +2,8 @@
 import logging
 
 from vibroimpact.datasets import provenance, write_netcdf
-from vibroimpact.tables import failure_markdown
-from vibroimpact.workprecision import failure_map
+from vibroimpact.outputs.tables import failure_markdown
+from vibroimpact.benchmarks.workprecision import failure_map
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 p = dict(snakemake.params)

@@ -4,8 +4,8 @@ import logging
 import numpy as np
 import xarray as xr
 
-from vibroimpact import plots
-from vibroimpact.bifurcation import map_boundaries
+from vibroimpact.outputs import plots
+from vibroimpact.analysis.bifurcation import map_boundaries
 from vibroimpact.datasets import provenance, write_netcdf
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)

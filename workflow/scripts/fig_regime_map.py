@@ -3,7 +3,7 @@ import logging
 
 import xarray as xr
 
-from vibroimpact import plots
+from vibroimpact.outputs import plots
 from vibroimpact.datasets import provenance
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)

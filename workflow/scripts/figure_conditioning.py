@@ -1,12 +1,12 @@
-"""Each figure array's spread under perturbations that stand for another machine (vibroimpact.conditioning)."""
+"""Each figure array's spread under perturbations that stand for another machine (vibroimpact.outputs.conditioning)."""
 import logging
 from pathlib import Path
 
 import pandas as pd
 import xarray as xr
 
-from vibroimpact.checks import IMAGE_ROW
-from vibroimpact.conditioning import PERTURBATIONS, image_spread, libm_switch_works, regenerate, spreads
+from vibroimpact.outputs.checks import IMAGE_ROW
+from vibroimpact.outputs.conditioning import PERTURBATIONS, image_spread, libm_switch_works, regenerate, spreads
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 p = snakemake.params

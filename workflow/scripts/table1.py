@@ -3,7 +3,7 @@ import logging
 
 import xarray as xr
 
-from vibroimpact.tables import table1, table1_markdown
+from vibroimpact.outputs.tables import table1, table1_markdown
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 branches = [xr.load_dataset(f, engine="netcdf4") for f in snakemake.input[: len(snakemake.params.betas)]]

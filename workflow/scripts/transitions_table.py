@@ -3,7 +3,7 @@ import logging
 
 import xarray as xr
 
-from vibroimpact.tables import transitions_markdown
+from vibroimpact.outputs.tables import transitions_markdown
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 named = {n: xr.load_dataset(f, engine="netcdf4") for n, f in zip(snakemake.params.names, snakemake.input, strict=True)}

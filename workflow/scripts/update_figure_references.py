@@ -8,7 +8,7 @@ from pathlib import Path
 import pandas as pd
 import xarray as xr
 
-from vibroimpact.figdata import compare, compare_image
+from vibroimpact.outputs.figdata import compare, compare_image
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 ref_dir = Path(snakemake.params.reference_dir)

@@ -2,8 +2,8 @@
 import logging
 
 from vibroimpact.datasets import provenance, write_netcdf
-from vibroimpact.tables import matched_accuracy_markdown, work_precision_markdown
-from vibroimpact.workprecision import matched_accuracy, work_precision
+from vibroimpact.outputs.tables import matched_accuracy_markdown, work_precision_markdown
+from vibroimpact.benchmarks.workprecision import matched_accuracy, work_precision
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 p = dict(snakemake.params)

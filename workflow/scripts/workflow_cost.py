@@ -1,7 +1,7 @@
 """Each figure's cost from the Snakemake benchmark files."""
 import logging
 
-from vibroimpact.tables import workflow_cost, workflow_cost_markdown
+from vibroimpact.outputs.tables import workflow_cost, workflow_cost_markdown
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 jobs, per_fig = workflow_cost(snakemake.params.bench_dir)

@@ -1,0 +1,359 @@
+"""Periodic impact orbits from impact maps, for any word of walls (paper §3, eqs. ``zdotj_p1``,
+``zj_p1``; stability: eq. ``Lin2`` and the appendix).
+
+A word such as ``"BBT"`` lists the walls of the impacts over ``k`` forcing periods (``k`` given, or
+1).  Impact ``j`` happens at wall ``w_j`` with pre-impact velocity ``v_j``; the flight from impact
+``j`` to ``j + 1`` (cyclically) lasts ``tau_j`` and starts at phase ``theta_j = theta_0 + pi sum_{i<j}
+tau_i`` with velocity ``-r v_j``.  Each flight gives a position condition (eq. ``zj_p1``: it ends on
+wall ``w_{j+1}``) and a velocity relation (eq. ``zdotj_p1``); periodicity adds ``sum tau_j = 2k``.
+The ``2N + 1`` equations in ``(theta_0, tau, v)`` are solved by Newton's method with an analytic
+Jacobian.
+
+The equations know nothing of the walls between impacts: :func:`admissibility` checks every flight
+against the exact simulator (its first impact must be the orbit's next one) and measures the
+clearance of every interior extremum from the walls.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..dynamics.flight import INV_PI, INV_PI2, PI, TWO_PI, one_minus_cos, sin_minus_x
+from ..dynamics.params import Params
+
+__all__ = ["Orbit", "OrbitError", "find_orbit", "parse_word", "solve_orbit"]
+
+WALLS = {"B": 1, "T": -1}
+
+
+class OrbitError(RuntimeError):
+    """Newton's method did not converge, or the guess does not follow the word."""
+
+
+def parse_word(word: str) -> np.ndarray:
+    """``"BBT"`` -> array([1, 1, -1]); rejects anything but B and T, and words without a B."""
+    if not isinstance(word, str) or not word or set(word) - set(WALLS):
+        raise ValueError(f"word = {word!r}; allowed: a non-empty string of 'B' (bottom) and 'T' (top)")
+    if "B" not in word:
+        raise ValueError(f"word = {word!r}: an orbit in the paper's convention needs a bottom impact 'B'")
+    return np.array([WALLS[c] for c in word], dtype=np.int64)
+
+
+# --------------------------------------------------------------------------------------------
+# One flight: displacement, velocity and their partial derivatives (closed form, docs/model.md)
+# --------------------------------------------------------------------------------------------
+
+
+def _flight(tau, theta, u, gbar):
+    """Displacement, velocity, and partials d/dtau, d/dtheta, d/du of both."""
+    x = PI * tau
+    c, s = math.cos(theta), math.sin(theta)
+    omc, smx = one_minus_cos(x), sin_minus_x(x)
+    sx = math.sin(x)
+    disp = u * tau + 0.5 * gbar * tau * tau + (c * omc + s * smx) * INV_PI2
+    vel = u + gbar * tau + (c * sx - s * omc) * INV_PI
+    acc = math.cos(theta + x) + gbar
+    disp_th = (-s * omc + c * smx) * INV_PI2
+    vel_th = (-s * sx - c * omc) * INV_PI
+    return disp, vel, acc, disp_th, vel_th
+
+
+def _residual_and_jacobian(z, walls, d, gbar, r, k):
+    """Equations of the orbit in unknowns z = (theta_0, tau_0..tau_{N-1}, v_0..v_{N-1})."""
+    n = walls.shape[0]
+    theta0 = z[0]
+    tau = z[1:n + 1]
+    v = z[n + 1:]
+    F = np.empty(2 * n + 1)
+    J = np.zeros((2 * n + 1, 2 * n + 1))
+    theta = theta0
+    for j in range(n):
+        jn = (j + 1) % n
+        u = -r * v[j]
+        disp, vel, acc, disp_th, vel_th = _flight(tau[j], theta, u, gbar)
+        # position: w_j d/2 + disp = w_{j+1} d/2   (eq. zj_p1)
+        F[2 * j] = disp - (walls[jn] - walls[j]) * 0.5 * d
+        # velocity: v_{j+1} = vel               (eq. zdotj_p1)
+        F[2 * j + 1] = vel - v[jn]
+        rows = (2 * j, 2 * j + 1)
+        for row, f_th, f_tau, f_u in ((rows[0], disp_th, vel, tau[j]), (rows[1], vel_th, acc, 1.0)):
+            J[row, 0] += f_th
+            for i in range(j):  # theta_j depends on the earlier flight times
+                J[row, 1 + i] += PI * f_th
+            J[row, 1 + j] += f_tau
+            J[row, n + 1 + j] += -r * f_u
+        J[2 * j + 1, n + 1 + jn] -= 1.0
+        theta += PI * tau[j]
+    F[2 * n] = tau.sum() - 2.0 * k
+    J[2 * n, 1:n + 1] = 1.0
+    return F, J
+
+
+def solve_orbit(z0, walls, d, gbar, r, k, *, tol=1e-13, max_iter=50):
+    """Newton's method on the orbit equations from the guess ``z0``; returns the solution vector."""
+    z = np.array(z0, dtype=float)
+    n = walls.shape[0]
+    for it in range(max_iter):
+        F, J = _residual_and_jacobian(z, walls, d, gbar, r, k)
+        try:
+            step = np.linalg.solve(J, -F)
+        except np.linalg.LinAlgError as err:
+            raise OrbitError(f"singular Jacobian at iteration {it}") from err
+        # keep flight times positive: damp a step that would make one negative
+        tau, dtau = z[1:n + 1], step[1:n + 1]
+        lam = 1.0
+        neg = dtau < 0
+        if np.any(neg):
+            lam = min(1.0, 0.9 * float(np.min(tau[neg] / -dtau[neg])))
+        z = z + lam * step
+        if lam == 1.0 and np.max(np.abs(step)) < tol * max(1.0, np.max(np.abs(z))):
+            F, _ = _residual_and_jacobian(z, walls, d, gbar, r, k)
+            if np.max(np.abs(F)) < 1e-11:
+                z[0] %= TWO_PI
+                return z
+    raise OrbitError(f"Newton did not converge in {max_iter} iterations (residual {np.max(np.abs(F)):.2e})")
+
+
+# --------------------------------------------------------------------------------------------
+# Linear stability: the composed impact map (paper eq. Lin2 and appendix, any word)
+# --------------------------------------------------------------------------------------------
+
+
+def map_jacobian(z, walls, gbar, r):
+    """2x2 Jacobian of the map (t_k, Zdot_k) -> (t_{k+N}, Zdot_{k+N}) over one period (eq. Lin2).
+
+    Each flight's map is defined implicitly by its position condition ``disp(tau; theta_j, u_j) =
+    const`` with ``theta_j = pi t_j + phi`` and ``u_j = -r Zdot_j``.  Differentiating it (the
+    appendix's eqs. EntrP1-EntrP3, for any pair of walls), with ``v'`` and ``a'`` the velocity and
+    acceleration at the next impact:
+
+        dtau = (-pi dZ/dtheta dt_j + r tau dZdot_j) / v'
+        t'   = t_j + tau,      Zdot' = Zdot(tau; theta_j, u_j)
+        dZdot' = a' dtau + pi dZdot/dtheta dt_j - r dZdot_j
+    """
+    n = walls.shape[0]
+    theta = z[0]
+    tau = z[1:n + 1]
+    v = z[n + 1:]
+    DP = np.eye(2)
+    for j in range(n):
+        u = -r * v[j]
+        _, vel, acc, disp_th, vel_th = _flight(tau[j], theta, u, gbar)
+        # implicit flight time: disp(tau; theta_j, u_j) = const, theta_j = pi t_j + phi, u_j = -r v_j
+        dtau_dt = -PI * disp_th / vel
+        dtau_dv = r * tau[j] / vel
+        dt_dt = 1.0 + dtau_dt
+        dt_dv = dtau_dv
+        dv_dt = acc * dtau_dt + PI * vel_th
+        dv_dv = acc * dtau_dv - r
+        DP = np.array([[dt_dt, dt_dv], [dv_dt, dv_dv]]) @ DP
+        theta += PI * tau[j]
+    return DP
+
+
+# --------------------------------------------------------------------------------------------
+# The orbit object
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass
+class Orbit:
+    """A periodic impact orbit.
+
+    Impact ``j`` (``j = 0 .. N-1``) is at wall ``wall[j]`` at time ``t[j]`` (``t[0] = 0``) with phase
+    ``phase[j] = mod(pi t_j + phi, 2 pi)`` and pre-impact velocity ``v_minus[j]``; ``dt[j] = t_j -
+    t_{j-1}`` is the flight arriving at it (cyclically, paper's ``Delta t``).  ``jacobian`` is the
+    2x2 linearised map over one period in ``(t, Zdot)`` at impact 0 (paper eq. Lin2).
+    """
+
+    params: Params
+    word: str
+    k: int
+    z: np.ndarray = field(repr=False)
+    jacobian: np.ndarray = field(repr=False)
+    eigenvalues: np.ndarray
+    admissible: bool
+    reason: str
+    clearance: float
+
+    @property
+    def walls(self):
+        return parse_word(self.word)
+
+    @property
+    def n(self):
+        return len(self.word)
+
+    @property
+    def tau(self):
+        return self.z[1:self.n + 1]
+
+    @property
+    def v_minus(self):
+        return self.z[self.n + 1:]
+
+    @property
+    def t(self):
+        return np.concatenate([[0.0], np.cumsum(self.tau)[:-1]])
+
+    @property
+    def phase(self):
+        return (self.z[0] + PI * self.t) % TWO_PI
+
+    @property
+    def dt(self):
+        return np.roll(self.tau, 1)
+
+    @property
+    def phi(self):
+        """Phase of impact 0 (the paper's phi with t0 = 0)."""
+        return float(self.z[0])
+
+    @property
+    def trace(self):
+        return float(np.trace(self.jacobian))
+
+    @property
+    def det(self):
+        J = self.jacobian
+        return float(np.linalg.det(J)) if np.all(np.isfinite(J)) else math.nan
+
+    @property
+    def discriminant(self):
+        """Delta = Tr^2 - 4 Det (paper eq. Lambda)."""
+        return self.trace**2 - 4.0 * self.det
+
+    @property
+    def stable(self):
+        return bool(np.max(np.abs(self.eigenvalues)) < 1.0)
+
+    @property
+    def stability(self):
+        """'stable node', 'unstable focus', ... (paper Table 1); 'saddle' when one |lambda| > 1 > other."""
+        mods = np.abs(self.eigenvalues)
+        if not np.all(np.isfinite(mods)):
+            return "undefined (zero-speed impact)"
+        kind = "focus" if self.discriminant < 0 else "node"
+        if np.all(mods < 1):
+            return f"stable {kind}"
+        if np.all(mods > 1):
+            return f"unstable {kind}"
+        return "saddle"
+
+
+def _assemble(params, word, k, z):
+    walls = parse_word(word)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        J = map_jacobian(z, walls, params.gbar, params.r)
+    # an impact at exactly zero speed (on a grazing curve) makes the map's Jacobian infinite (it grows as
+    # 1 / v): no eigenvalues there, NaN rather than an error
+    ev = np.linalg.eigvals(J) if np.all(np.isfinite(J)) else np.full(2, complex(math.nan, math.nan))
+    from .grazing import admissibility  # late import: grazing builds on this module
+
+    ok, reason, clearance = admissibility(z, walls, params.d, params.gbar, params.r)
+    return Orbit(params=params, word=word, k=k, z=z, jacobian=J, eigenvalues=ev, admissible=ok,
+                 reason=reason, clearance=clearance)
+
+
+def orbit_from_vector(params: Params, word: str, k: int, z) -> Orbit:
+    """Build an :class:`Orbit` from an already solved unknown vector."""
+    return _assemble(params, word, k, np.asarray(z, dtype=float))
+
+
+def orbit_run(orbit: Orbit, periods: int = 1):
+    """The orbit's impacts over ``periods`` periods as a run, in the form :func:`~vibroimpact.dynamics.simulate`
+    returns (events ``t``, ``wall``, ``v_minus``, ``v_plus``, ``phase``, ``z``, ``kind``; ``t = 0`` at
+    impact 0, the last event the return to it), for :func:`~vibroimpact.trajectory`.
+
+    The exact state along the orbit, with no simulation: at a grazing point the loop touches a wall,
+    and whether a simulator registers that touch as an impact is decided by rounding; the Newton
+    orbit's flights are the orbit itself.
+    """
+    from ..dynamics import kernels as K
+    from ..dynamics.simulate import _events_dataset
+
+    if int(periods) < 1:
+        raise ValueError(f"periods = {periods!r}; allowed: an integer >= 1")
+    n, m = orbit.n, orbit.n * int(periods) + 1
+    idx = np.arange(m) % n
+    t = np.concatenate([orbit.t + 2.0 * orbit.k * p for p in range(int(periods))] + [[2.0 * orbit.k * int(periods)]])
+    walls = orbit.walls[idx]
+    vm = orbit.v_minus[idx]
+    bufs = (t, walls.astype(np.int8), vm, -orbit.params.r * vm, orbit.phase[idx],
+            np.full(m, K.IMPACT, np.int8), 0.5 * orbit.params.d * walls)
+    ds = _events_dataset(bufs, m)
+    ds.attrs.update(d=orbit.params.d, gbar=orbit.params.gbar, r=orbit.params.r, phi=orbit.phi,
+                    v0=float(orbit.v_minus[0]), t0=0.0, start=f"periodic orbit {orbit.word} (k = {orbit.k})",
+                    status="n_events", t_valid=float(t[-1]))
+    return ds
+
+
+def find_orbit(params: Params, word: str, phi: float, v0: float, *, k: int = 1) -> Orbit:
+    """Solve the periodic orbit ``word`` (over ``k`` forcing periods) near a guess.
+
+    The guess is in the paper's convention: a bottom impact at phase ``phi`` with pre-impact
+    velocity ``v0`` (e.g. a caption, or an impact of a simulated attractor).  The exact simulator
+    follows it for ``len(word)`` impacts; the walls it meets must be a rotation of ``word`` starting
+    with this bottom impact, and its flight times and velocities are Newton's starting point.
+
+    Parameters
+    ----------
+    params : Params
+        Non-dimensional parameters ``d``, ``gbar``, ``r`` (from ``Params.from_physical`` when the
+        orbit is to be continued in ``s`` or ``F``).
+    word : str
+        Walls met over one period, ``"B"`` (bottom) and ``"T"`` (top), e.g. ``"BBT"`` for 2:1.
+    phi, v0 : float
+        Guess: phase (rad) and pre-impact velocity of a bottom impact on the orbit.
+    k : int
+        Forcing periods per orbit period.
+
+    Returns
+    -------
+    Orbit
+        The orbit: impacts (``wall``, ``t``, ``phase``, ``v_minus``, ``dt``), its monodromy
+        ``jacobian``, ``eigenvalues`` and stability, ``admissible`` and ``clearance``.
+
+    Examples
+    --------
+    >>> import vibroimpact as vi
+    >>> o = vi.find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+    >>> o.word, len(o.v_minus)
+    ('BBT', 3)
+
+    Raises
+    ------
+    ValueError
+        Bad word or k.
+    OrbitError
+        The guess does not follow the word, or Newton's method fails.
+    """
+    from ..dynamics.simulate import simulate
+
+    walls = parse_word(word)
+    if int(k) != k or k < 1:
+        raise ValueError(f"k = {k!r}; allowed: an integer >= 1 (forcing periods of the orbit)")
+    n = len(word)
+    run = simulate(params, phi, v0, n_impacts=n + 1)
+    seen = "".join("B" if w == 1 else "T" for w in run["wall"].values[:n])
+    if run.sizes["impact"] < n + 1 or not np.all(run["kind"].values[: n + 1] <= 1):
+        raise OrbitError(f"the guess (phi={phi!r}, v0={v0!r}) sticks or ends before {n} impacts")
+    rot = next((i for i in range(n) if word[i:] + word[:i] == seen), None)
+    if rot is None:
+        raise OrbitError(f"the guess (phi={phi!r}, v0={v0!r}) follows {seen!r}, not a rotation of {word!r}")
+    t = run["t"].values
+    tau = np.diff(t)
+    v = run["v_minus"].values[:n]
+    # scale flight times so that they close the period exactly
+    tau = tau * (2.0 * k / tau.sum())
+    z = np.concatenate([[phi % TWO_PI], tau, v])
+    z = solve_orbit(z, np.roll(walls, -rot), params.d, params.gbar, params.r, k)
+    # rotate back so that impact 0 is the word's first letter
+    if rot:
+        m = (n - rot) % n
+        theta = (z[0] + PI * np.sum(z[1:1 + m])) % TWO_PI
+        z = np.concatenate([[theta], np.roll(z[1:n + 1], -m), np.roll(z[n + 1:], -m)])
+    return _assemble(params, word, int(k), z)

@@ -1,0 +1,319 @@
+"""Speed and accuracy of the exact simulator against scipy's solve_ivp with terminal events.
+
+Both are timed in the same process, one after the other, on the same scene; accuracy is the error
+of single-flight impact times against the 40-digit reference of :mod:`vibroimpact.dynamics.reference`,
+from the same post-impact states.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from functools import partial
+
+import numpy as np
+import xarray as xr
+
+from ..datasets import annotate
+from ..dynamics.events import next_impact
+from .methods import ivp_flight, run_ivp
+from ..dynamics.params import Params
+from ..dynamics.reference import first_impact
+from ..dynamics.simulate import simulate, simulate_batch
+
+#: Benchmark scene: beta = pi/3, d = 0.235 lies in the chaotic window (paper Fig 0): every kind of flight.
+SCENE = dict(d=0.235, beta=math.pi / 3, phi=0.4, v0=0.6)
+
+
+def simulator_benchmark(n_impacts: int, n_impacts_ivp: int, n_flights_accuracy: int,
+                        rtol: float = 1e-12, atol: float = 1e-12) -> xr.Dataset:
+    """Time both methods and measure their impact-time errors; returns a one-row dataset."""
+    g = 0.1245 * 9.8 * math.sin(SCENE["beta"]) / 5.0
+    p = Params(d=SCENE["d"], gbar=g, r=0.5)
+    simulate(p, SCENE["phi"], SCENE["v0"], n_impacts=100)  # compile outside the timing
+    simulate_batch([p.d] * 2, g, 0.5, SCENE["phi"], SCENE["v0"], n_impacts=100)
+
+    ds = simulate(p, SCENE["phi"], SCENE["v0"], n_impacts=n_impacts)
+    m = 2 * 64
+    phis = np.linspace(0, 2 * np.pi, m, endpoint=False)
+    # solve_ivp, a thousand times slower, is timed once
+    best = _fastest_in_rounds({
+        "exact": partial(_seconds, partial(simulate, p, SCENE["phi"], SCENE["v0"], n_impacts=n_impacts)),
+        "batch": partial(_seconds, partial(simulate_batch, [p.d] * m, g, 0.5, phis, SCENE["v0"], n_impacts=n_impacts // m)),
+    }, REPEATS)
+    exact_s = best["exact"] / n_impacts
+    batch_s = best["batch"] / (m * (n_impacts // m))
+
+    ivp = run_ivp(p, SCENE["phi"], SCENE["v0"], n_impacts_ivp, rtol=rtol, atol=atol, max_seconds=math.inf)
+    ivp_s = ivp.seconds / n_impacts_ivp
+
+    # single-flight errors from the same exact post-impact states
+    idx = np.linspace(1, min(n_impacts, 100_000) - 2, n_flights_accuracy).astype(int)
+    err_exact, err_ivp = [], []
+    for j in idx:
+        th, z0, u = (float(ds[k].values[j]) for k in ("phase", "z", "v_plus"))
+        ref, wall, clearance = first_impact(th, z0, u, p.d, p.gbar)
+        if wall == 0 or clearance < 1e-6:
+            continue
+        tau, w = next_impact(th, z0, u, p.d, p.gbar, math.inf)
+        tau_ivp, w_ivp, _ = ivp_flight(th, z0, u, p.d, p.gbar, rtol, atol)
+        err_exact.append(abs(tau - float(ref)) if w == wall else math.inf)
+        err_ivp.append(abs(tau_ivp - float(ref)) if w_ivp == wall else math.inf)
+    out = xr.Dataset(
+        {
+            "exact_us_per_impact": ((), exact_s * 1e6, dict(units="us", long_name="exact simulator, one thread")),
+            "exact_batch_us_per_impact": ((), batch_s * 1e6, dict(units="us", long_name="exact simulator, parallel batch")),
+            "ivp_us_per_impact": ((), ivp_s * 1e6, dict(units="us", long_name=f"solve_ivp DOP853 rtol={rtol:g} atol={atol:g}")),
+            "speedup": ((), ivp_s / exact_s, dict(units="1", long_name="solve_ivp time / exact time per impact")),
+            "exact_max_err_t": ((), max(err_exact), dict(units="1", long_name="exact simulator: max impact-time error")),
+            "ivp_max_err_t": ((), max(err_ivp), dict(units="1", long_name="solve_ivp: max impact-time error")),
+            "exact_median_err_t": ((), float(np.median(err_exact)), dict(units="1", long_name="exact simulator: median impact-time error")),
+            "ivp_median_err_t": ((), float(np.median(err_ivp)), dict(units="1", long_name="solve_ivp: median impact-time error")),
+            "n_flights_checked": ((), len(err_exact), dict(units="1", long_name="flights compared with the 40-digit reference")),
+        },
+        attrs=dict(scene=str(SCENE), n_impacts=n_impacts, n_impacts_ivp=n_impacts_ivp),
+    )
+    return annotate(out)
+
+
+def report(ds: xr.Dataset) -> str:
+    v = {k: float(ds[k]) for k in ds.data_vars}
+    return (
+        "| method | time per impact | max impact-time error | median error |\n|---|---|---|---|\n"
+        f"| exact simulator (numba, 1 thread) | {v['exact_us_per_impact']:.3g} µs | {v['exact_max_err_t']:.1e} | {v['exact_median_err_t']:.1e} |\n"
+        f"| exact simulator (parallel batch, 2 cores) | {v['exact_batch_us_per_impact']:.3g} µs | | |\n"
+        f"| solve_ivp DOP853, rtol 1e-12, terminal events | {v['ivp_us_per_impact']:.4g} µs | {v['ivp_max_err_t']:.1e} | {v['ivp_median_err_t']:.1e} |\n"
+        f"\nSpeed-up per impact: **{v['speedup']:.0f}×** ({int(v['n_flights_checked'])} flights checked against a 40-digit reference).\n"
+        + (f"\nContinuation of the β = π/3 2:1 branch: {int(v['branch_points'])} points with eigenvalues, stability class, "
+           f"admissibility and {int(v['branch_critical_points'])} located critical points in {v['branch_seconds']:.2f} s.\n"
+           if "branch_points" in v else "")
+        + (f"\nTwo-parameter curve (G1, the 2:1 grazing point, followed in (s, β) at 5 N): {int(v['curve_points'])} points, "
+           f"its start located and its end points and events recorded, in {v['curve_seconds']:.2f} s.\n"
+           if "curve_points" in v else "")
+        + (f"\nSweep of d through s at β = π/3 (Fig 0 range), {int(v['sweep_points'])} points up and {int(v['sweep_points'])} down "
+           f"(≤ 200 forcing periods of transient each, {int(v['sweep_events'])} events, {int(v['sweep_no_period'])} points without a period): "
+           f"{v['sweep_seconds']:.2f} s on one core.\n" if "sweep_points" in v else "")
+    )
+
+
+def branch_benchmark(n_points: int = 1000) -> xr.Dataset:
+    """Time a continuation of the beta = pi/3 2:1 branch with about ``n_points`` points, stability
+    classification, admissibility and located critical points included."""
+    from ..analysis.continuation import continue_orbit
+    from ..analysis.orbits import find_orbit
+
+    p = Params.from_physical(s=0.184 / 0.6225, beta=math.pi / 3)
+    orbit = find_orbit(p, "BBT", 1.21, 0.2164)
+    continue_orbit(orbit, vary="s", d_range=(0.15, 0.23), step=1e-2)  # warm up the compiled parts
+    # the arclength of this branch over 0.15 < d < 0.23 is about 1.2 in (z, d): choose the step
+    trial = continue_orbit(orbit, vary="s", d_range=(0.15, 0.23), step=1e-2, locate=False)
+    step = 1e-2 * trial.sizes["point"] / n_points
+    t = time.perf_counter()
+    br = continue_orbit(orbit, vary="s", d_range=(0.15, 0.23), step=step)
+    el = time.perf_counter() - t
+    return xr.Dataset(
+        {
+            "branch_points": ((), br.sizes["point"], dict(units="1", long_name="points on the branch")),
+            "branch_seconds": ((), el, dict(units="s", long_name="continuation with stability, admissibility and critical points")),
+            "branch_critical_points": ((), br.sizes["critical"], dict(units="1", long_name="located critical and grazing points")),
+        }
+    )
+
+
+def curve_benchmark(n_points: int = 200) -> xr.Dataset:
+    """Time a two-parameter curve of about ``n_points`` points: G1, the 2:1 orbit's grazing point at
+    beta = pi/6, located from an orbit near it and followed in (s, beta) over the paper's s range and
+    0.35 < beta < 0.75, with the events along it and why each end stops
+    (:func:`~vibroimpact.analysis.bifurcation.follow_point`)."""
+    from ..analysis.bifurcation import follow_point
+    from ..analysis.orbits import find_orbit
+
+    p = Params.from_physical(s=0.1385 / Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
+    orbit = find_orbit(p, "BBT", 5.855, 0.4185)
+    box = ((0.19, 0.72), (0.35, 0.75))
+    trial = follow_point(orbit, "grazing", params=("s", "beta"), ranges=box, step=2e-2)  # also warms up
+    step = 2e-2 * trial.sizes["point"] / n_points
+    t = time.perf_counter()
+    c = follow_point(orbit, "grazing", params=("s", "beta"), ranges=box, step=step)
+    el = time.perf_counter() - t
+    return xr.Dataset(
+        {
+            "curve_points": ((), c.sizes["point"], dict(units="1", long_name="points on the two-parameter curve")),
+            "curve_seconds": ((), el, dict(units="s", long_name="two-parameter curve with its start located, events and end reasons")),
+        }
+    )
+
+
+def sweep_benchmark(n_points: int = 1000, max_periods: float = 200) -> xr.Dataset:
+    """Time a sweep of d through s at beta = pi/3 over the paper's Fig 0 range (1:1, period
+    doubling, chaos, 2:1, 3:1), up and down: ``2 n_points`` attractors, each with up to
+    ``max_periods`` forcing periods of transient."""
+    from ..analysis.sweeps import sweep
+
+    values = np.linspace(0.19, 0.72, n_points)
+    sweep("s", values[:5], beta=math.pi / 3, max_periods=max_periods)  # compile outside the timing
+    t = time.perf_counter()
+    sw = sweep("s", values, beta=math.pi / 3, phi=0.42, v0=0.87, max_periods=max_periods)
+    el = time.perf_counter() - t
+    return xr.Dataset(
+        {
+            "sweep_points": ((), n_points, dict(units="1", long_name="points per direction")),
+            "sweep_seconds": ((), el, dict(units="s", long_name="up and down sweep, one thread")),
+            "sweep_events": ((), int(sw.n_events.sum()), dict(units="1", long_name="events simulated in the sweep")),
+            "sweep_no_period": ((), int((sw.label == "no period found").sum()),
+                                dict(units="1", long_name="points with no period within max_periods")),
+        }
+    )
+
+
+#: the two scenes of the kernel's speed target: (beta, d, phi, v0)
+KERNEL_SCENES = {"2:1": (math.pi / 6, 0.16, 1.015, 0.1924), "chaotic": (math.pi / 3, 0.235, 0.4, 0.6)}
+
+
+def _count_worker(args: str) -> None:
+    """Run in a fresh interpreter with numba's JIT disabled: count, per impact, the sine/cosine calls
+    and the point evaluations of the event finder over a stretch of each scene's flights."""
+    import json
+    import types
+
+    from ..dynamics import events, flight
+
+    a = json.loads(args)
+    counts = {"trig": 0, "points": 0, "roots": 0}
+
+    def counted(name, key):
+        f = getattr(events, name)
+
+        def g(*x):
+            counts[key] += 1
+            return f(*x)
+
+        setattr(events, name, g)
+
+    for name, key in (("state3", "points"), ("state_step", "points"), ("state_from_sc", "points"), ("_rtsafe", "roots")):
+        counted(name, key)
+    fm = types.SimpleNamespace(**{k: getattr(math, k) for k in dir(math) if not k.startswith("_")})
+
+    def trig(f):
+        def g(x):
+            counts["trig"] += 1
+            return f(x)
+        return g
+
+    fm.sin, fm.cos = trig(math.sin), trig(math.cos)
+    flight.math = events.math = fm
+    out = {}
+    for name, (beta, d, phi, v0) in KERNEL_SCENES.items():
+        p = Params(d=d, gbar=0.1245 * 9.8 * math.sin(beta) / 5.0, r=0.5)
+        ds = simulate(p, phi, v0, n_impacts=a["n"] + 50)
+        th, z0, u = (ds[k].values[50:-1] for k in ("phase", "z", "v_plus"))
+        for k in counts:
+            counts[k] = 0
+        for j in range(th.size):
+            c, s = math.cos(th[j]), math.sin(th[j])  # as the event loop does, once per flight
+            events.flight_impact(th[j], c, s, math.acos(-p.gbar), z0[j], u[j], p.d, p.gbar, math.inf)
+        counts["trig"] += 2 * th.size
+        out[name] = {k: v / th.size for k, v in counts.items()}
+    print(json.dumps(out))
+
+
+#: timed runs per measurement of the kernel benchmark; the fastest counts (timeit's convention: on a
+#: shared machine the noise only ever adds time), for our kernel and heyoka's alike
+REPEATS = 9
+
+
+def _seconds(run, threads=None) -> float:
+    """Seconds of one call of ``run()`` (on ``threads`` numba threads if given)."""
+    import numba
+
+    if threads is not None:
+        numba.set_num_threads(threads)
+    t = time.perf_counter()
+    run()
+    return time.perf_counter() - t
+
+
+def _fastest_in_rounds(timers: dict, repeats: int) -> dict:
+    """The fastest of ``repeats`` seconds of each of ``timers`` (calls returning their seconds), taken
+    in rounds over all of them, so that a noisy stretch of a shared machine slows one round of each,
+    not all the runs of one of them."""
+    best = dict.fromkeys(timers, math.inf)
+    for _ in range(max(int(repeats), 1)):
+        for key, timed in timers.items():
+            best[key] = min(best[key], timed())
+    return best
+
+
+def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: int = 20_000,
+                   repeats: int = REPEATS) -> xr.Dataset:
+    """Cost of the exact kernel on the two target scenes: microseconds per impact on one thread
+    (``simulate``), impacts per second of ``simulate_batch`` on 1 and on all cores, and per impact the
+    sine/cosine calls, point evaluations and root searches of the event finder (counted over
+    ``n_counted`` flights of the same algorithm run as plain Python); in the same run, heyoka's
+    stepping cost per impact at tol = eps (:func:`~vibroimpact.benchmarks.peer_heyoka.stepping_cost`, over
+    ``n_heyoka`` impacts), NaN where heyoka is not installed.  Every timing is the fastest of
+    ``repeats`` runs (:data:`REPEATS`), taken in rounds over both scenes and all methods."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    import numba
+
+    env = dict(os.environ, NUMBA_DISABLE_JIT="1")
+    res = subprocess.run([sys.executable, "-m", "vibroimpact.benchmarks.bench", json.dumps({"n": n_counted})], env=env,
+                         capture_output=True, text=True, check=True)
+    counts = json.loads(res.stdout)
+    from . import peer_heyoka
+
+    names = list(KERNEL_SCENES)
+    cores = numba.config.NUMBA_NUM_THREADS
+    m = 64 * cores
+    phis = np.linspace(0, 2 * np.pi, m, endpoint=False)
+    timers = {}  # (scene, what) -> a call returning its seconds
+    hy_result = {}
+    for name in names:
+        beta, d, phi, v0 = KERNEL_SCENES[name]
+        p = Params(d=d, gbar=0.1245 * 9.8 * math.sin(beta) / 5.0, r=0.5)
+        if peer_heyoka.available():
+            timers[name, "heyoka"], hy_result[name] = peer_heyoka.stepping_timer(p, phi, v0, n_heyoka,
+                                                                                tol=np.finfo(float).eps)
+        simulate(p, phi, v0, n_impacts=100)
+        simulate_batch([p.d] * m, p.gbar, 0.5, phis, v0, n_impacts=10)
+        timers[name, "simulate"] = partial(_seconds, partial(simulate, p, phi, v0, n_impacts=n_impacts))
+        for threads in (1, cores):
+            timers[name, threads] = partial(_seconds, partial(simulate_batch, [p.d] * m, p.gbar, 0.5, phis, v0,
+                                                              n_impacts=n_impacts // m), threads=threads)
+    best = _fastest_in_rounds(timers, repeats)  # ours and heyoka's alike
+    numba.set_num_threads(cores)
+    us = [best[n, "simulate"] / n_impacts * 1e6 for n in names]
+    rate1 = [m * (n_impacts // m) / best[n, 1] for n in names]
+    rateall = [m * (n_impacts // m) / best[n, cores] for n in names]
+    hy = {n: hy_result[n](best[n, "heyoka"]) for n in hy_result}
+    hy_us = [hy[n]["us_per_impact"] if n in hy else math.nan for n in names]
+    hy_steps = [hy[n]["steps_per_impact"] if n in hy else math.nan for n in names]
+    per = lambda key: ("scene", [counts[n][key] for n in names])
+    ds = xr.Dataset(
+        {
+            "us_per_impact": ("scene", us, dict(units="us", long_name="simulate, one thread")),
+            "impacts_per_second_1": ("scene", rate1, dict(units="1/s", long_name="simulate_batch on one core")),
+            "impacts_per_second_all": ("scene", rateall, dict(units="1/s", long_name=f"simulate_batch on {cores} cores")),
+            "trig_per_impact": (*per("trig"), dict(units="1", long_name="sine and cosine calls per impact")),
+            "points_per_impact": (*per("points"), dict(units="1", long_name="points evaluated per impact")),
+            "roots_per_impact": (*per("roots"), dict(units="1", long_name="root searches per impact")),
+            "heyoka_stepping_us_per_impact": ("scene", hy_us, dict(
+                units="us", long_name="heyoka at tol = eps: seconds per Taylor step (one propagate_until, no "
+                "events, no Python loop) times its event loop's steps per impact")),
+            "heyoka_steps_per_impact": ("scene", hy_steps, dict(units="1", long_name="heyoka's Taylor steps per impact at tol = eps")),
+        },
+        coords={"scene": names},
+        attrs=dict(cores=cores, n_impacts=n_impacts, n_counted=n_counted, n_heyoka=n_heyoka, repeats=repeats,
+                   heyoka=peer_heyoka.heyoka_version() or "not installed"),
+    )
+    return annotate(ds)
+
+
+if __name__ == "__main__":
+    import sys
+
+    _count_worker(sys.argv[1])

@@ -1,0 +1,372 @@
+"""The event loop: impacts, chattering, sticking and release, with in-loop period detection.
+
+All functions are numba-compiled and work on flat arrays; :mod:`vibroimpact.dynamics.simulate` wraps them.
+
+Chattering rule (documented in README): after an impact at wall ``w`` the relative acceleration
+into the wall is ``a = w Z''``.  If ``a > 0`` and the rebound speed ``|Zdot+| = r |Zdot-|`` is below
+``v_chatter``, the remaining infinite sequence of bounces is summed as under constant acceleration:
+each flight lasts ``2 |Zdot+| / a`` and the speeds shrink by ``r``, so the impacts accumulate at
+
+    t_inf = t + 2 |Zdot+| / ((1 - r) a).
+
+The sum is used only where ``a`` changes by less than ``CHATTER_DRIFT`` (1e-9) of itself before
+``t_inf``: then ``w Z''`` cannot change sign before the accumulation point (it comes before the
+release), and the sum's relative error is of that order.  Near the release phase (``a`` small and
+falling) the bounces are instead followed one by one, exactly, until the sum applies or the ball
+leaves the wall.  The ball then sticks to the wall (event ``stick``) until ``w Z''`` changes sign, at
+the phase where ``cos(pi t + phi) = -gbar``, where it is released (event ``release``) with zero
+relative velocity.  With ``gbar >= 1`` a ball
+stuck on the bottom is never released, and the run ends with status ``STUCK_FOREVER``.
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .events import flight_impact
+from .flight import PI, TWO_PI
+
+# event kinds
+IMPACT = 0
+GRAZING = 1
+STICK = 2
+RELEASE = 3
+START = 4
+KIND_NAMES = ("impact", "grazing", "stick", "release", "start")
+RESUME = -1  # resume after a recorded event that needs no further action
+RESUME_IMPACT = -2  # resume right after a recorded impact or grazing contact
+
+# run status
+FULL = 0  # the requested number of events was recorded
+T_END = 1  # t_end was reached
+PERIODIC = 2  # the motion was identified as periodic (when asked to stop there)
+STUCK_FOREVER = 3  # resting on the bottom with gbar >= 1: the ball never leaves again
+NO_IMPACT = 4  # a flight with no impact within the search horizon (gbar = 0 only)
+STATUS_NAMES = ("n_events", "t_end", "periodic", "stuck_forever", "no_impact")
+
+#: |Zdot-| below which an impact is labelled grazing.
+V_GRAZING = 1e-9
+#: Largest relative change of the acceleration over a chattering sequence that is summed to its
+#: accumulation point (see ``_accumulation_time``); beyond it the bounces are followed exactly.
+CHATTER_DRIFT = 1e-9
+#: Longest single flight searched when no t_end is given (non-dimensional time).
+TAU_HORIZON = 1.0e5
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _wrap(x):
+    """``x % TWO_PI`` for ``x >= 0``, bit for bit: below ``2 TWO_PI`` one subtraction, exact by
+    Sterbenz's lemma (as the remainder is), without the library call."""
+    if x < TWO_PI:
+        return x
+    if x < 2.0 * TWO_PI:
+        return x - TWO_PI
+    return x % TWO_PI
+
+
+@njit(cache=True, error_model="numpy")
+def _phase_distance(a, b):
+    x = abs(a - b) % TWO_PI
+    return min(x, TWO_PI - x)
+
+
+@njit(cache=True, error_model="numpy")
+def period_update(i, t, wall, vm, phase, kind, counts, tol):
+    """Update the per-lag match counters with event ``i``; return the smallest lag p whose last
+    ``2p`` events all repeated the event ``p`` earlier (two full cycles), else 0.
+
+    A match needs the same wall and kind, ``|Zdot-|`` and phase within ``tol``, and a time lag
+    within ``tol`` of a positive even integer (a whole number of forcing periods).
+    """
+    pmax = counts.shape[0] - 1
+    found = 0
+    for p in range(1, pmax + 1):
+        j = i - p
+        if j < 0:
+            break
+        ok = wall[i] == wall[j] and kind[i] == kind[j]
+        if ok:
+            dv = abs(vm[i] - vm[j])
+            ok = dv <= tol or (math.isnan(vm[i]) and math.isnan(vm[j]))
+        if ok:
+            ok = _phase_distance(phase[i], phase[j]) <= tol
+        if ok:
+            lag = t[i] - t[j]
+            k = math.floor(lag / 2.0 + 0.5)
+            ok = k >= 1 and abs(lag - 2.0 * k) <= tol * max(1.0, lag)
+        if ok:
+            counts[p] += 1
+            if found == 0 and counts[p] >= 2 * p:
+                if _no_shorter_period(i, p, vm, phase, tol):
+                    found = p
+                else:
+                    # a shorter period is still converging: count again from here rather than
+                    # re-checking at every event (the check would keep failing until it matches)
+                    counts[p] = 0
+        else:
+            counts[p] = 0
+    return found
+
+
+@njit(cache=True, error_model="numpy")
+def _no_shorter_period(i, p, vm, phase, tol):
+    """False when a divisor q of p has lag-q residuals below sqrt(tol) over the last p events.
+
+    A period-q orbit whose eigenvalue is close to -1 converges slowly and alternately: its lag-2q
+    residuals fall below ``tol`` long before its lag-q residuals do.  A genuine period-p motion keeps
+    a finite lag-q splitting; a residual still below ``sqrt(tol)`` is taken as "not decided yet".
+    """
+    thresh = math.sqrt(tol)
+    for q in range(1, p):
+        if p % q != 0:
+            continue
+        worst = 0.0
+        for k in range(i - p + 1, i + 1):
+            dv = abs(vm[k] - vm[k - q]) if not math.isnan(vm[k]) else 0.0
+            worst = max(worst, dv, _phase_distance(phase[k], phase[k - q]))
+        if worst < thresh:
+            return False
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _accumulation_time(c, s, u, w, gbar, r, v_chatter):
+    """Time to the accumulation point of a chattering sequence after an impact on wall ``w`` with
+    rebound velocity ``u`` at the phase with cosine ``c`` and sine ``s``, or -1 when the rule does
+    not apply (see the module docstring).
+
+    The sum assumes a constant acceleration ``a``; it is used only where ``a`` changes by at most
+    ``CHATTER_DRIFT * a`` before the accumulation point (bounded by ``|a'| tau + |a''| tau^2 / 2``
+    with ``|a'| = pi |sin theta|``, ``|a''| <= pi^2``).  So ``w Z''`` keeps its sign up to the
+    accumulation point, which therefore comes before the release, and the relative error of the sum
+    is of order ``CHATTER_DRIFT``.  Otherwise the next bounce is computed exactly.
+    """
+    a_in = w * (c + gbar)
+    if abs(u) >= v_chatter:
+        return -1.0
+    if a_in <= 0.0:
+        # at rest exactly where the acceleration into the wall is zero and turning positive (the
+        # phase where w Z'' changes sign towards the wall): the ball stays; a flight from there would
+        # meet the wall again at once, forever at the same time
+        return 0.0 if u == 0.0 and a_in == 0.0 and w * s < 0.0 else -1.0
+    tau = 2.0 * abs(u) / ((1.0 - r) * a_in)
+    drift = PI * abs(s) * tau + 0.5 * PI * PI * tau * tau
+    if drift > CHATTER_DRIFT * a_in:
+        return -1.0
+    return tau
+
+
+@njit(cache=True, error_model="numpy")
+def run(d, gbar, r, t_start, theta_start, z_start, v_start, kind_start, wall_start,
+        i0, t_end, v_chatter, detect, tol, counts,
+        out_t, out_wall, out_vm, out_vp, out_phase, out_kind, out_z):
+    """Advance from an initial event and record events into ``out_*[i0:]``.
+
+    ``kind_start``: IMPACT (a wall impact with pre-impact velocity ``v_start``, recorded),
+    START (in flight at ``z_start`` with velocity ``v_start``, recorded), or one of RESUME,
+    RESUME_IMPACT, STICK to resume from the post-event state of an event already recorded at
+    ``i0 - 1`` (``v_start`` is then Zdot+ and ``wall_start`` its wall).
+
+    Returns ``(n, status, lag)``: events recorded up to index ``n``, the run status and, when
+    ``detect``, the detected period in events (0 if none).
+    """
+    cap = out_t.shape[0]
+    half = 0.5 * d
+    has_release = gbar < 1.0
+    alpha = math.acos(-gbar) if has_release else 0.0
+    t = t_start
+    theta = theta_start % TWO_PI
+    z = z_start
+    u = v_start
+    stuck = 0  # wall the ball rests on, 0 in flight
+    i = i0
+    lag = 0
+    pending = -1  # kind of an event to record before moving on
+    vminus = 0.0
+    if kind_start == IMPACT:
+        pending = IMPACT
+        vminus = v_start
+        z = wall_start * half
+    elif kind_start == START:
+        pending = START
+    elif kind_start == STICK:
+        stuck = wall_start
+        u = 0.0
+    chatter_wall = 0  # wall of an impact just recorded: the chattering rule is checked there
+    if kind_start == RESUME_IMPACT:
+        chatter_wall = wall_start
+    c = math.cos(theta)  # cosine and sine of the current phase, recomputed only when it changes
+    s = math.sin(theta)
+    cs_theta = theta
+    while True:
+        if cs_theta != theta:
+            c = math.cos(theta)
+            s = math.sin(theta)
+            cs_theta = theta
+        if chatter_wall != 0:
+            tau_inf = _accumulation_time(c, s, u, chatter_wall, gbar, r, v_chatter)
+            if tau_inf >= 0.0:
+                # chattering: jump to the accumulation point and stick
+                if t + tau_inf > t_end:
+                    return i, T_END, lag
+                t += tau_inf
+                theta = (theta + PI * tau_inf) % TWO_PI
+                stuck = chatter_wall
+                u = 0.0
+                pending = STICK
+            chatter_wall = 0
+        if pending >= 0:
+            if i >= cap:
+                return i, FULL, lag
+            kind = pending
+            w = 0
+            vp = u
+            if pending == IMPACT:
+                w = 1 if z > 0 else -1
+                if abs(vminus) < V_GRAZING:
+                    kind = GRAZING
+                vp = -r * vminus
+            elif pending == STICK or pending == RELEASE:
+                w = stuck if pending == STICK else (1 if z > 0 else -1)
+                vminus = 0.0
+                vp = 0.0
+            else:
+                vminus = math.nan
+            out_t[i] = t
+            out_wall[i] = w
+            out_vm[i] = vminus
+            out_vp[i] = vp
+            out_phase[i] = theta
+            out_kind[i] = kind
+            out_z[i] = z
+            if detect:
+                lag = period_update(i, out_t, out_wall, out_vm, out_phase, out_kind, counts, tol)
+            i += 1
+            if detect and lag > 0:
+                return i, PERIODIC, lag
+            if pending == IMPACT:
+                u = vp
+                chatter_wall = w
+                pending = -1
+                continue
+            if pending == RELEASE:
+                stuck = 0
+            pending = -1
+        if stuck != 0:
+            # resting on wall `stuck` while stuck*Z'' > 0; release where it changes sign
+            if stuck == 1:
+                if not has_release:
+                    return i, STUCK_FOREVER, lag
+                psi_r = alpha
+            else:
+                psi_r = TWO_PI - alpha
+            tau_r = ((psi_r - theta) % TWO_PI) / PI
+            if t + tau_r > t_end:
+                return i, T_END, lag
+            t += tau_r
+            theta = psi_r
+            z = stuck * half
+            u = 0.0
+            pending = RELEASE
+            continue
+        # flight
+        tau_max = t_end - t if t_end < math.inf else TAU_HORIZON
+        tau, w, vminus = flight_impact(theta, c, s, alpha, z, u, d, gbar, tau_max)
+        if w == 0:
+            return i, T_END if t_end < math.inf else NO_IMPACT, lag
+        t += tau
+        theta = _wrap(theta + PI * tau)
+        z = w * half
+        pending = IMPACT
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def run_batch(d, gbar, r, theta0, v0, n_events, t_end, v_chatter, detect, tol, pmax,
+              out_t, out_wall, out_vm, out_vp, out_phase, out_kind, out_z, out_n, out_status, out_lag):
+    """Run many independent simulations in parallel, each from a bottom impact (paper convention).
+
+    All inputs of length ``m`` (one per run); outputs of shape ``(m, n_events)``.
+    """
+    m = d.shape[0]
+    for k in prange(m):
+        counts = np.zeros(pmax + 1, dtype=np.int64)
+        n, status, lag = run(d[k], gbar[k], r[k], 0.0, theta0[k], 0.5 * d[k], v0[k], IMPACT, 1,
+                             0, t_end, v_chatter, detect, tol, counts,
+                             out_t[k], out_wall[k], out_vm[k], out_vp[k], out_phase[k], out_kind[k], out_z[k])
+        out_n[k] = n
+        out_status[k] = status
+        out_lag[k] = lag
+
+
+@njit(cache=True, error_model="numpy")
+def _resume_code(kind):
+    if kind == STICK:
+        return STICK
+    if kind == IMPACT or kind == GRAZING:
+        return RESUME_IMPACT
+    return RESUME
+
+
+@njit(cache=True, error_model="numpy")
+def run_window(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, cap,
+               win_t, win_wall, win_vm, win_phase, win_kind):
+    """Run from a bottom impact at t = 0 until the motion is periodic, ``t_end`` or ``max_events``,
+    keeping only a sliding buffer of ``cap`` events; copy the last ``len(win_t)`` events out.
+
+    Returns ``(status, lag, n_total, n_window)``.
+    """
+    bt = np.zeros(cap)
+    bw = np.zeros(cap, dtype=np.int8)
+    bvm = np.zeros(cap)
+    bvp = np.zeros(cap)
+    bph = np.zeros(cap)
+    bk = np.zeros(cap, dtype=np.int8)
+    bz = np.zeros(cap)
+    counts = np.zeros(pmax + 1, dtype=np.int64)
+    keep = 3 * pmax + 1
+    # a run-time flag, not the literal True: `run` is then the very specialisation `simulate` calls,
+    # compiled once, so the two give the same events to the last bit
+    detect = tol == tol
+    n, status, lag = run(d, gbar, r, 0.0, theta0, 0.5 * d, v0, IMPACT, 1, 0, t_end, v_chatter, detect, tol,
+                         counts, bt, bw, bvm, bvp, bph, bk, bz)
+    total = n
+    while status == FULL and total < max_events:
+        # slide: keep the last `keep` events (enough for the period test), continue after them
+        shift = n - keep
+        for j in range(keep):
+            bt[j] = bt[j + shift]
+            bw[j] = bw[j + shift]
+            bvm[j] = bvm[j + shift]
+            bvp[j] = bvp[j + shift]
+            bph[j] = bph[j + shift]
+            bk[j] = bk[j + shift]
+            bz[j] = bz[j + shift]
+        last = keep - 1
+        room = min(cap, keep + max_events - total)
+        n, status, lag = run(d, gbar, r, bt[last], bph[last], bz[last], bvp[last], _resume_code(bk[last]),
+                             bw[last], keep, t_end, v_chatter, detect, tol, counts,
+                             bt[:room], bw[:room], bvm[:room], bvp[:room], bph[:room], bk[:room], bz[:room])
+        total += n - keep
+    m = min(win_t.shape[0], n)
+    for j in range(m):
+        src = n - m + j
+        win_t[j] = bt[src]
+        win_wall[j] = bw[src]
+        win_vm[j] = bvm[src]
+        win_phase[j] = bph[src]
+        win_kind[j] = bk[src]
+    return status, lag, total, m
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def window_batch(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, cap,
+                 win_t, win_wall, win_vm, win_phase, win_kind, out_status, out_lag, out_total, out_n):
+    """:func:`run_window` for many runs in parallel (numba prange); outputs of shape (m, window)."""
+    for k in prange(d.shape[0]):
+        st, lag, tot, nw = run_window(d[k], gbar[k], r[k], theta0[k], v0[k], max_events, t_end, v_chatter, tol,
+                                      pmax, cap, win_t[k], win_wall[k], win_vm[k], win_phase[k], win_kind[k])
+        out_status[k] = st
+        out_lag[k] = lag
+        out_total[k] = tot
+        out_n[k] = nw

@@ -1,0 +1,383 @@
+"""Public simulation API: exact event-driven runs returned as xarray datasets."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+from numba import njit
+
+from . import kernels as K
+from ..datasets import annotate
+from .flight import INV_PI2, PI, TWO_PI, displacement, velocity
+from .params import Params
+
+__all__ = ["simulate", "simulate_batch", "trajectory", "identify_attractor", "Attractor"]
+
+_KIND_ATTRS = {
+    "flag_values": np.arange(len(K.KIND_NAMES), dtype=np.int8),
+    "flag_meanings": " ".join(K.KIND_NAMES),
+}
+_STATUS_ATTRS = {
+    "flag_values": np.arange(len(K.STATUS_NAMES), dtype=np.int8),
+    "flag_meanings": " ".join(K.STATUS_NAMES),
+}
+
+
+def _finite(name, x):
+    try:
+        x = float(x)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} = {x!r} is not a number; allowed: a finite real") from None
+    if not math.isfinite(x):
+        raise ValueError(f"{name} = {x!r} is not finite; allowed: a finite real")
+    return x
+
+
+def _limits(n_impacts, t_end, stop_when_periodic, max_events):
+    if n_impacts is None and t_end is None and not stop_when_periodic:
+        raise ValueError("give n_impacts, t_end or stop_when_periodic=True: the run needs an end")
+    if n_impacts is not None:
+        if int(n_impacts) != n_impacts or n_impacts < 1:
+            raise ValueError(f"n_impacts = {n_impacts!r}; allowed: an integer >= 1")
+        n_impacts = int(n_impacts)
+    t_end = math.inf if t_end is None else float(t_end)
+    cap = n_impacts if n_impacts is not None else int(max_events)
+    return cap, t_end
+
+
+def simulate(
+    params: Params,
+    phi: float,
+    v0: float,
+    *,
+    Z0: float | None = None,
+    t0: float = 0.0,
+    n_impacts: int | None = None,
+    t_end: float | None = None,
+    stop_when_periodic: bool = False,
+    tol: float = 1e-9,
+    max_period_events: int = 64,
+    v_chatter: float = 1e-9,
+    max_events: int = 10_000_000,
+) -> xr.Dataset:
+    """Follow the ball exactly from impact to impact.
+
+    Parameters
+    ----------
+    params : Params
+        Model parameters.
+    phi : float
+        Forcing phase at ``t0`` (the forcing is ``cos(pi t + phi)`` with t measured from 0).
+    v0 : float
+        With ``Z0=None``: pre-impact velocity (``>= 0``) of a bottom impact at ``t0``, the paper's
+        convention (docs/model.md).  Otherwise the velocity ``Zdot(t0)`` in flight.
+    Z0 : float, optional
+        Start in flight at ``Z(t0) = Z0`` (``|Z0| <= d/2``) instead of at a bottom impact.
+    t0 : float
+        Start time.
+    n_impacts : int, optional
+        Number of events to record (impacts, grazing contacts, stick and release events; the
+        initial impact or start counts as one).
+    t_end : float, optional
+        Stop at this time.
+    stop_when_periodic : bool
+        Stop as soon as the motion is identified as periodic (two full cycles repeat to ``tol``).
+    tol : float
+        Tolerance of the periodicity test (velocity, phase and time lag).
+    max_period_events : int
+        Longest period, in events, that the periodicity test looks for.
+    v_chatter : float
+        Rebound speed below which a chattering sequence is summed to its accumulation point
+        (see :mod:`vibroimpact.dynamics.kernels`).
+    max_events : int
+        Hard cap on events when only ``t_end`` or ``stop_when_periodic`` bounds the run.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimension ``impact``; variables ``t``, ``wall``, ``v_minus``, ``v_plus``, ``phase``, ``z``,
+        ``dt``, ``kind``; attributes with the parameters, the run ``status`` (why it stopped) and
+        ``period_events`` when the motion was identified as periodic.
+    """
+    if not isinstance(params, Params):
+        raise TypeError(f"params must be a vibroimpact.Params, got {type(params).__name__}")
+    phi = _finite("phi", phi)
+    v0 = _finite("v0", v0)
+    t0 = _finite("t0", t0)
+    cap_total, t_end = _limits(n_impacts, t_end, stop_when_periodic, max_events)
+    if t_end <= t0:
+        raise ValueError(f"t_end = {t_end!r} must be later than t0 = {t0!r}")
+    half = 0.5 * params.d
+    if Z0 is None:
+        if v0 < 0:
+            raise ValueError(
+                f"v0 = {v0!r}: the pre-impact velocity of a bottom impact points into the wall; allowed: v0 >= 0"
+            )
+        kind0, z0, wall0 = K.IMPACT, half, 1
+    else:
+        Z0 = _finite("Z0", Z0)
+        if abs(Z0) > half:
+            raise ValueError(f"Z0 = {Z0!r} is outside the cylinder; allowed: |Z0| <= d/2 = {half!r}")
+        kind0, z0, wall0 = K.START, Z0, 0
+
+    theta0 = (PI * t0 + phi) % TWO_PI
+    counts = np.zeros(int(max_period_events) + 1, dtype=np.int64)
+    cap = min(cap_total, 4096) if n_impacts is None else cap_total
+    bufs = _alloc(cap)
+    n, status, lag = K.run(params.d, params.gbar, params.r, t0, theta0, z0, v0, kind0, wall0,
+                           0, t_end, v_chatter, stop_when_periodic, tol, counts, *bufs)
+    while status == K.FULL and n < cap_total:
+        # grow the buffers and resume from the last recorded event
+        new_cap = min(2 * cap, cap_total)
+        bufs = tuple(np.concatenate([b, np.zeros(new_cap - cap, b.dtype)]) for b in bufs)
+        cap = new_cap
+        j = n - 1
+        resume = {K.STICK: K.STICK, K.IMPACT: K.RESUME_IMPACT, K.GRAZING: K.RESUME_IMPACT}.get(int(bufs[5][j]), K.RESUME)
+        n, status, lag = K.run(params.d, params.gbar, params.r, bufs[0][j], bufs[4][j], bufs[6][j],
+                               bufs[3][j], resume, bufs[1][j],
+                               n, t_end, v_chatter, stop_when_periodic, tol, counts, *bufs)
+    if status == K.STUCK_FOREVER:
+        warnings.warn(
+            f"gbar = {params.gbar:.6g} >= 1: the ball rests on the bottom wall and the forcing can never "
+            "lift it off again; the run ends there (status 'stuck_forever')",
+            stacklevel=2,
+        )
+    ds = _events_dataset(bufs, n)
+    ds.attrs.update(_param_attrs(params))
+    ds.attrs.update(phi=phi, v0=v0, t0=t0, start="bottom impact" if Z0 is None else f"flight at Z0={Z0!r}",
+                    status=K.STATUS_NAMES[status], period_events=int(lag), tol=tol, v_chatter=v_chatter,
+                    t_valid=float(t_end) if status == K.T_END else float(bufs[0][n - 1]))
+    if status == K.STUCK_FOREVER:
+        ds.attrs["note"] = "gbar >= 1: the ball never leaves the bottom wall after it sticks"
+    return ds
+
+
+def _alloc(n, runs=None):
+    """Event buffers ``(t, wall, v_minus, v_plus, phase, kind, z)`` of length ``n`` (with a leading axis of
+    ``runs`` if given), as rows of one float block (with a sixth row, for ``dt``, reached as the
+    buffers' common base) and one int8 block.  One allocation each rather than seven: a block of several
+    MB gets transparent huge pages, so the kernel's first writes fault a few times instead of once per
+    4 kB page, which on this project's virtual machines costs more than computing the impact.  Not
+    zeroed: the kernel writes every entry it reports."""
+    lead = () if runs is None else (runs,)
+    f = np.empty((6, *lead, n))
+    i = np.empty((2, *lead, n), dtype=np.int8)
+    return (f[0], i[0], f[1], f[2], f[3], i[1], f[4])
+
+
+def _param_attrs(params: Params) -> dict:
+    out = dict(d=params.d, gbar=params.gbar, r=params.r)
+    for key, val in params.physical.items():
+        out[key] = val
+    return out
+
+
+def _events_dataset(bufs, n, dim="impact") -> xr.Dataset:
+    t, wall, vm, vp, phase, kind, z = (b[..., :n] for b in bufs)
+    base = bufs[0].base
+    # the block's spare row when the buffers are still the block's rows, else a new array
+    dt = base[5][..., :n] if base is not None and base.shape[0] == 6 and bufs[4].base is base else np.empty_like(t)
+    dt[..., 0] = np.nan
+    np.subtract(t[..., 1:], t[..., :-1], out=dt[..., 1:])
+    dims = bufs[0].shape[:-1] and ("run", dim) or (dim,)
+    ds = xr.Dataset(
+        {
+            "t": (dims, t), "wall": (dims, wall), "v_minus": (dims, vm), "v_plus": (dims, vp),
+            "phase": (dims, phase), "z": (dims, z), "dt": (dims, dt), "kind": (dims, kind),
+        }
+    )
+    annotate(ds)
+    ds["kind"].attrs.update(_KIND_ATTRS)
+    return ds
+
+
+def simulate_batch(d, gbar, r, phi, v0, *, n_impacts, t_end=None, stop_when_periodic=False, tol=1e-9,
+                   max_period_events=64, v_chatter=1e-9) -> xr.Dataset:
+    """Many runs in parallel (numba ``prange``), each from a bottom impact at t = 0 (paper convention).
+
+    ``d, gbar, r, phi, v0`` broadcast to a common 1-D shape (one run each).  Returns a dataset with
+    dimensions ``(run, impact)``; a run that stops early is padded with NaN (``n_events`` says how many
+    events are real), with per-run ``status`` and ``period_events``.
+    """
+    arrs = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=np.float64)) for a in (d, gbar, r, phi, v0)))
+    d, gbar, r, phi, v0 = (np.ascontiguousarray(a.ravel()) for a in arrs)
+    for name, a, ok, allowed in (("d", d, d > 0, "d > 0"), ("gbar", gbar, gbar >= 0, "gbar >= 0"),
+                                 ("r", r, (r >= 0) & (r < 1), "0 <= r < 1"), ("v0", v0, v0 >= 0, "v0 >= 0")):
+        bad = ~(ok & np.isfinite(a))
+        if bad.any():
+            raise ValueError(f"{name} = {a[bad][0]!r} (run {int(np.argmax(bad))}) is out of range; allowed: {allowed}")
+    cap, t_end = _limits(n_impacts, t_end, stop_when_periodic, 0)
+    m = d.shape[0]
+    bufs = _alloc(cap, runs=m)
+    out_n = np.zeros(m, np.int64)
+    out_status = np.zeros(m, np.int8)
+    out_lag = np.zeros(m, np.int64)
+    K.run_batch(d, gbar, r, phi % TWO_PI, v0, cap, t_end, v_chatter, stop_when_periodic, tol,
+                int(max_period_events), *bufs, out_n, out_status, out_lag)
+    mask = np.arange(cap)[None, :] >= out_n[:, None]
+    for b in bufs:  # the padding: NaN, and 0 for wall and kind
+        b[mask] = np.nan if b.dtype.kind == "f" else 0
+    ds = _events_dataset(bufs, cap)
+    for name, a in (("d", d), ("gbar", gbar), ("r", r), ("phi", phi), ("v0", v0)):
+        ds[name] = ("run", a)
+    ds["n_events"] = ("run", out_n)
+    ds["status"] = ("run", out_status, dict(_STATUS_ATTRS))
+    ds["period_events"] = ("run", out_lag)
+    return annotate(ds)
+
+
+# ---------------------------------------------------------------------------------------------
+# Dense output
+# ---------------------------------------------------------------------------------------------
+
+
+#: a sample this close to an event (absolute, or relative beyond t = 1) is read just after it: rounding
+#: decides on which side of an impact a sample at the impact's instant falls, so without this rule the
+#: same figure could show the pre-impact velocity on one machine and the post-impact one on another.
+#: Rounding moves an impact time by ~1e-15 (1e-13 for a slow impact, polished in double-double); the
+#: shortest recorded flight (a chattering bounce at the 1e-9 cut-off speed) lasts ~1e-9, so a sample
+#: inside a flight is never snapped out of it
+SNAP = 1e-12
+
+
+@njit(cache=True)
+def _dense(times, t, phase, z, vp, kind, gbar, out_z, out_v):
+    j = 0
+    n = t.shape[0]
+    for i in range(times.shape[0]):
+        ti = times[i]
+        while j + 1 < n and t[j + 1] <= ti + SNAP * max(1.0, abs(ti)):
+            j += 1
+        tau = ti - t[j]
+        if kind[j] == K.STICK:
+            out_z[i] = z[j]
+            out_v[i] = 0.0
+        else:
+            c = np.cos(phase[j])
+            s = np.sin(phase[j])
+            out_z[i] = z[j] + displacement(tau, c, s, vp[j], gbar)
+            out_v[i] = velocity(tau, c, s, vp[j], gbar)
+
+
+def trajectory(ds: xr.Dataset, times) -> xr.Dataset:
+    """Exact state at any ``times`` within a run: ``Z``, ``Zdot``, cylinder ``X`` (X*) and ball ``x`` (x*).
+
+    ``X*(t) = -cos(pi t + phi) / pi^2`` is the zero-mean periodic cylinder motion (``X*'' = cos``);
+    ``x* = X* - Z``.  Times must lie within the run: from its first event to its last, or to
+    ``t_end`` when the run stopped there (no impact happened in between).  The state is right-continuous
+    at events, and a time within :data:`SNAP` (1e-12, relative beyond t = 1) before an event is read after it,
+    so a sample at an impact's instant is the post-impact state whichever side rounding puts it.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A run from :func:`simulate`.
+    times : array_like
+        Non-dimensional times within the run, in any order.
+
+    Returns
+    -------
+    xarray.Dataset
+        Along ``time``: ``Z``, ``Zdot``, ``X`` and ``x``.
+    """
+    times = np.asarray(times, dtype=np.float64)
+    t = ds["t"].values
+    t_last = max(float(ds.attrs.get("t_valid", t[-1])), float(t[-1]))
+    if times.size and (times.min() < t[0] - SNAP * max(1.0, abs(t[0]))
+                       or times.max() > t_last + SNAP * max(1.0, abs(t_last))):
+        raise ValueError(
+            f"times span [{times.min()!r}, {times.max()!r}]; allowed: within the run [{t[0]!r}, {t_last!r}]"
+        )
+    order = np.argsort(times, kind="stable")
+    Z = np.empty_like(times)
+    V = np.empty_like(times)
+    zs, vs = np.empty(times.size), np.empty(times.size)
+    _dense(times[order], t, ds["phase"].values, ds["z"].values, ds["v_plus"].values,
+           ds["kind"].values.astype(np.int64), float(ds.attrs["gbar"]), zs, vs)
+    Z[order] = zs
+    V[order] = vs
+    phi = float(ds.attrs["phi"])
+    X = -np.cos(PI * times + phi) * INV_PI2
+    out = xr.Dataset({"Z": ("time", Z), "Zdot": ("time", V), "X": ("time", X), "x": ("time", X - Z)},
+                     coords={"time": times})
+    out.attrs.update({k: ds.attrs[k] for k in ("d", "gbar", "r", "phi") if k in ds.attrs})
+    return annotate(out)
+
+
+# ---------------------------------------------------------------------------------------------
+# Attractor identification
+# ---------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _detect(t, wall, vm, phase, kind, tol, pmax):
+    counts = np.zeros(pmax + 1, dtype=np.int64)
+    for i in range(t.shape[0]):
+        lag = K.period_update(i, t, wall, vm, phase, kind, counts, tol)
+        if lag > 0:
+            return i, lag
+    return -1, 0
+
+
+def cycle_class(wall, kind, t_span):
+    """``(k, n_bottom, n_top, sticking, label)`` of one cycle of events lasting ``t_span``.
+
+    ``k`` is the period in forcing periods; impacts and grazing contacts count, per wall; the label
+    is the paper's name, e.g. ``"2:1 period-2"``, ``"1:1 period-4"``, with ``" with sticking"``.
+    """
+    k = int(round(t_span / 2.0))
+    is_hit = (kind == K.IMPACT) | (kind == K.GRAZING)
+    nb = int(((wall == 1) & is_hit).sum())
+    nt = int(((wall == -1) & is_hit).sum())
+    sticking = bool((kind == K.STICK).any())
+    if nb % k == 0 and nt % k == 0:
+        label = f"{nb // k}:{nt // k} period-{2 * k}"
+    else:
+        label = f"{nb}:{nt} over {k} forcing periods"
+    if sticking:
+        label += " with sticking"
+    return k, nb, nt, sticking, label
+
+
+@dataclass(frozen=True)
+class Attractor:
+    """What a run settled on.
+
+    ``periodic`` is False when no period up to ``max_period_events`` repeated within the run.
+    ``period`` is in forcing periods (period 2 in t each); ``n_bottom``/``n_top`` count impacts
+    (grazing contacts included) on one period of the attractor; ``label`` is the paper's name,
+    e.g. ``"2:1 period-2"`` or ``"1:1 period-4"``; ``t_settled`` is the time from which the motion
+    repeats; ``cycle`` holds the events of one period.
+    """
+
+    periodic: bool
+    period: int = 0
+    events: int = 0
+    n_bottom: int = 0
+    n_top: int = 0
+    sticking: bool = False
+    label: str = "not periodic"
+    t_settled: float = math.nan
+    t_identified: float = math.nan
+    cycle: xr.Dataset | None = None
+
+
+def identify_attractor(ds: xr.Dataset, tol: float = 1e-9, max_period_events: int = 64) -> Attractor:
+    """Decide from a run after how long the motion is periodic, and which motion it is."""
+    if "run" in ds.dims:
+        raise ValueError("identify_attractor takes one run; select one with ds.isel(run=k)")
+    i, p = _detect(ds["t"].values, ds["wall"].values, ds["v_minus"].values, ds["phase"].values,
+                   ds["kind"].values, float(tol), int(max_period_events))
+    if p == 0:
+        return Attractor(periodic=False)
+    # settled from the first event of the matched stretch; the cycle is the last full period seen
+    first = max(i - 3 * p + 1, 0)
+    cyc = ds.isel(impact=slice(i - p + 1, i + 1))
+    k, nb, nt, sticking, label = cycle_class(cyc["wall"].values, cyc["kind"].values,
+                                             float(ds["t"][i]) - float(ds["t"][i - p]))
+    return Attractor(periodic=True, period=k, events=p, n_bottom=nb, n_top=nt, sticking=sticking,
+                     label=label, t_settled=float(ds["t"][first]), t_identified=float(ds["t"][i]), cycle=cyc)

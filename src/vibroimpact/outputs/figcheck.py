@@ -1,0 +1,336 @@
+"""The rules the figure regeneration check compares a figure's arrays by.
+
+One rule for tolerances: an array is compared **pointwise** (``|new - ref| <= atol + rtol |ref|``,
+``rtol`` the attractors' identification tolerance 1e-9) where its measured conditioning keeps a
+machine-level perturbation below that (:mod:`vibroimpact.outputs.conditioning`: the figure data recomputed
+with another libm and with the inputs moved by a few ulps).  Where it does not, the array is compared
+by what is well-posed about it, which its figure recorded when drawing it
+(:func:`vibroimpact.outputs.plots._common.wellposed`):
+
+``motions``
+    values at simulated attractors (sweep points, map cells), grouped by the point they belong to.
+    Where the motion is the same and settled (an exact cycle) in both, its values pointwise; where the
+    value is a statistic (a motion with no period: the long run's batch mean; an expectation over
+    random starts), the two estimates agree within :data:`Z_CRIT` combined standard errors; where the
+    motion differs, only at a point on a boundary of its motion in the reference (a neighbouring point
+    has another motion, or the new motion's region lies within :data:`REACH` points: coexisting motions'
+    basins interleave) or where one of the two is a transient that outlasted the cap (on a map of
+    motions only: "no period found" on either side).
+``run``
+    a text naming a run of one motion, at its middle: the same text, within one sweep step.
+``curve``
+    a curve sampled by continuation (where its points fall along it depends on the step control):
+    every point of each lies on the other, within the other's chord error (``L theta / 4`` for a
+    segment of length ``L`` turning by ``theta``), or within one segment of a piece's end.
+``on curve``
+    points located on sampled curves (events, crossings, linear between two curve points): within the
+    nearest segment of the axes' curves.
+``boundary``
+    markers between grid cells whose motions differ: any marker in one and not the other lies beside
+    a cell whose motion differs between the two.
+
+An ill-conditioned array with no rule recorded is compared pointwise (and fails: a figure that draws
+ill-conditioned data must say what is well-posed about it).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["Z_CRIT", "RULES", "compare_artist", "strict_close", "artist_base"]
+
+#: the label of a run with no period within its cap (vibroimpact.analysis.sweeps.APERIODIC)
+APERIODIC = "no period found"
+
+#: two estimates of one statistic differ by more than this many combined standard errors with
+#: probability 1e-6 (Student's t with 19 degrees of freedom: the long runs' 20 batch means); a full
+#: check makes about a thousand such comparisons, so a false alarm once in a thousand checks
+Z_CRIT = 7.07
+RULES = ("strict", "motions", "run", "curve", "on curve", "boundary")
+
+
+def artist_base(name: str) -> str:
+    """``a1_line3_y`` -> ``a1_line3``: the artist a figure-data variable belongs to."""
+    return name.rsplit("_", 1)[0]
+
+
+def strict_close(a, b, rtol, atol) -> bool:
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    if a.shape != b.shape or np.any(np.isnan(a) != np.isnan(b)):
+        return False
+    ok = ~np.isnan(b)
+    return bool(np.all(np.abs(a[ok] - b[ok]) <= atol + rtol * np.abs(b[ok])))
+
+
+def _aux(ds, base, key, default=None):
+    name = f"{base}_wp_{key}"
+    return ds[name].values if name in ds else default
+
+
+def _parts(ds, base):
+    """Keys (one row per element: x, or x and y for a map) and values of an artist."""
+    x, y, c = (ds[f"{base}_{p}"].values.astype(float) if f"{base}_{p}" in ds else None for p in ("x", "y", "c"))
+    if c is not None:  # a scatter or a map: keys (x, y), values the colour
+        n = c.size
+        keys = np.column_stack([np.broadcast_to(x, n), np.broadcast_to(y, n)]) if x is not None and x.size == n \
+            else np.arange(n, dtype=float)[:, None]
+        return keys, c
+    return x[:, None], y
+
+
+def _unique_keys(keys, rtol, atol):
+    """Unique rows of ``keys`` (equal within the strict tolerance) in sorted order, and each row's index."""
+    order = np.lexsort(keys.T[::-1])
+    uniq, index = [], np.empty(len(keys), int)
+    for i in order:
+        if uniq and np.all(np.abs(keys[i] - uniq[-1]) <= atol + rtol * np.abs(uniq[-1])):
+            index[i] = len(uniq) - 1
+        else:
+            uniq.append(keys[i])
+            index[i] = len(uniq) - 1
+    return np.array(uniq).reshape(-1, keys.shape[1]), index
+
+
+#: how far (in grid steps) the region of a coexisting motion may reach into another's: a start in a
+#: multistable region goes to whichever attractor's basin holds it, and basins interleave
+REACH = 2
+
+
+def _neighbours(uniq, reach=1):
+    """For each unique key, the indices of the keys within ``reach`` grid steps: along a sweep (one
+    coordinate), or on a map (two; ``reach = 1``: the four neighbours, more: the square around it)."""
+    if uniq.shape[1] == 1:
+        n = len(uniq)
+        return [[j for j in range(i - reach, i + reach + 1) if j != i and 0 <= j < n] for i in range(n)]
+    xs, ys = np.unique(uniq[:, 0]), np.unique(uniq[:, 1])
+    where = {(int(np.searchsorted(xs, k[0])), int(np.searchsorted(ys, k[1]))): i for i, k in enumerate(uniq)}
+    out = []
+    for k in uniq:
+        ix, iy = int(np.searchsorted(xs, k[0])), int(np.searchsorted(ys, k[1]))
+        cells = ([(ix - 1, iy), (ix + 1, iy), (ix, iy - 1), (ix, iy + 1)] if reach == 1 else
+                 [(ix + a, iy + b) for a in range(-reach, reach + 1) for b in range(-reach, reach + 1) if a or b])
+        out.append([where[c] for c in cells if c in where])
+    return out
+
+
+def _per_key(ds, base, index, n_keys, values):
+    """Per unique key: motion, settled, unsettled, mean, se, sorted finite values."""
+    n = len(index)
+    motion = _aux(ds, base, "motion", np.full(n, "")).astype(str)
+    settled = _aux(ds, base, "settled", np.zeros(n)).astype(bool)
+    unsettled = _aux(ds, base, "unsettled", np.zeros(n)).astype(bool)
+    mean = _aux(ds, base, "mean", np.full(n, np.nan)).astype(float)
+    se = _aux(ds, base, "se", np.full(n, np.nan)).astype(float)
+    labels_only = f"{base}_wp_settled" not in ds
+    if labels_only:
+        # a map of motions only: "no period found" is chaos or a transient longer than the cap, and whether
+        # such a transient ends within the cap is for rounding to decide
+        unsettled = unsettled | (motion == APERIODIC)
+    out = []
+    for u in range(n_keys):
+        sel = np.flatnonzero(index == u)
+        v = values[sel]
+        out.append(dict(motion=motion[sel[0]], settled=bool(settled[sel].all()) and not labels_only,
+                        unsettled=bool(unsettled[sel].any()), mean=float(mean[sel[0]]), se=float(se[sel[0]]),
+                        values=np.sort(v[np.isfinite(v)]), labels_only=labels_only))
+    return out
+
+
+def motions(new, ref, base, *, rtol, atol):
+    """The ``motions`` rule for one artist: ``(ok, max_difference, detail, flipped_keys)``."""
+    kr, vr = _parts(ref, base)
+    kn, vn = _parts(new, base)
+    ur, ir = _unique_keys(kr, rtol, atol)
+    un, inn = _unique_keys(kn, rtol, atol)
+    if ur.shape != un.shape or not strict_close(un, ur, rtol, atol):
+        return False, math.nan, f"the points moved ({len(un)} points, reference {len(ur)})", np.zeros((0, kr.shape[1]))
+    pr, pn = _per_key(ref, base, ir, len(ur), vr), _per_key(new, base, inn, len(un), vn)
+    nb, near = _neighbours(ur), _neighbours(ur, REACH)
+    counts = dict(exact=0, statistic=0, boundary=0, unsettled=0, motion=0)
+    fails, flipped, worst, zmax = [], [], 0.0, 0.0
+    for u, (a, b) in enumerate(zip(pr, pn, strict=True)):
+        where = ", ".join(f"{x:.6g}" for x in ur[u])
+        if a["motion"] == b["motion"] and a["settled"] and b["settled"]:
+            counts["exact"] += 1
+            if a["values"].shape != b["values"].shape or not strict_close(b["values"], a["values"], rtol, atol):
+                fails.append(f"at ({where}) {a['motion']}: values differ")
+            elif a["values"].size:
+                worst = max(worst, float(np.max(np.abs(b["values"] - a["values"]))))
+        elif all(math.isfinite(x) for x in (a["mean"], a["se"], b["mean"], b["se"])):
+            counts["statistic"] += 1
+            diff = abs(b["mean"] - a["mean"])
+            scale = math.hypot(a["se"], b["se"])
+            if diff > atol + rtol * abs(a["mean"]):
+                z = diff / scale if scale > 0 else math.inf
+                zmax = max(zmax, z)
+                if z > Z_CRIT:
+                    fails.append(f"at ({where}): {b['mean']:.6g} against {a['mean']:.6g} is {z:.1f} standard errors")
+        elif a["motion"] != b["motion"]:
+            flipped.append(ur[u])
+            if a["unsettled"] or b["unsettled"]:
+                counts["unsettled"] += 1
+            elif any(pr[j]["motion"] != a["motion"] for j in nb[u]) or any(pr[j]["motion"] == b["motion"]
+                                                                            for j in near[u]):
+                counts["boundary"] += 1
+            else:
+                fails.append(f"at ({where}): {b['motion']!r} where the reference has {a['motion']!r} inside its region")
+        else:
+            counts["motion"] += 1
+    detail = (f"{len(ur)} points: {counts['exact']} exact values, {counts['statistic']} statistics (largest "
+              f"{zmax:.1f} SE), {counts['motion']} same motion, {counts['boundary']} motion changed at a boundary, "
+              f"{counts['unsettled']} at a transient longer than the cap")
+    if fails:
+        detail += "; " + "; ".join(fails[:5]) + (f"; and {len(fails) - 5} more" if len(fails) > 5 else "")
+    return not fails, worst, detail, np.array(flipped).reshape(-1, kr.shape[1])
+
+
+def run_text(new, ref, name, *, rtol, atol):
+    """The ``run`` rule for a text variable: same text, within one sweep step along x, y pointwise."""
+    a, b = ref[name], new[name]
+    step = float(a.attrs.get("wp_step", 0.0))
+    if a.attrs.get("label") != b.attrs.get("label"):
+        return False, math.nan, f"text {b.attrs.get('label')!r} where the reference has {a.attrs.get('label')!r}"
+    dx = abs(float(b.values[0]) - float(a.values[0]))
+    ok = dx <= step + atol + rtol * abs(float(a.values[0])) and strict_close(b.values[1:], a.values[1:], rtol, atol)
+    return ok, dx, f"moved {dx:.3g} along the sweep (one step: {step:.3g})"
+
+
+def _pieces(x, y):
+    """Finite runs of a polyline (NaN separates pieces)."""
+    ok = np.isfinite(x) & np.isfinite(y)
+    cuts = np.flatnonzero(np.diff(ok.astype(int)) != 0) + 1
+    return [np.column_stack([x[s], y[s]]) for s in np.split(np.arange(x.size), cuts) if s.size and ok[s[0]]]
+
+
+def _segments(pieces):
+    """Segments of the pieces: start, end, length, chord error allowance, and which of its ends is a
+    piece's end (-1 its start, 1 its end, 2 both, 0 neither)."""
+    rows = []
+    for p in pieces:
+        if len(p) == 1:
+            rows.append((p[0], p[0], 0.0, 0.0, 2))
+            continue
+        d = np.diff(p, axis=0)
+        L = np.hypot(d[:, 0], d[:, 1])
+        ang = np.zeros(len(p))
+        if len(p) > 2:
+            c = np.sum(d[:-1] * d[1:], axis=1) / np.maximum(L[:-1] * L[1:], 1e-300)
+            ang[1:-1] = np.arccos(np.clip(c, -1.0, 1.0))
+        for i in range(len(d)):
+            theta = max(ang[i], ang[i + 1])
+            end = 2 if len(d) == 1 else -1 if i == 0 else 1 if i == len(d) - 1 else 0
+            # a piece of one segment shows no turning: its points are known to a step
+            sag = L[i] if len(d) == 1 else L[i] * theta / 4.0
+            rows.append((p[i], p[i + 1], L[i], sag, end))
+    return rows
+
+
+def _distance_ok(points, segs, atol):
+    """Whether each point lies within the allowance of a segment: the chord error, or the segment's
+    length beyond a piece's end (where the continuation stopped, known to one step)."""
+    if not segs:
+        return np.zeros(len(points), bool), np.full(len(points), np.inf)
+    a = np.array([s[0] for s in segs])
+    b = np.array([s[1] for s in segs])
+    L = np.array([s[2] for s in segs])
+    sag = np.array([s[3] for s in segs])
+    end = np.array([s[4] for s in segs])
+    ab = b - a
+    ok = np.zeros(len(points), bool)
+    dist = np.empty(len(points))
+    for k, p in enumerate(points):
+        t = np.clip(np.sum((p - a) * ab, axis=1) / np.maximum(np.sum(ab * ab, axis=1), 1e-300), 0.0, 1.0)
+        q = a + t[:, None] * ab
+        dd = np.hypot(*(p - q).T)
+        beyond = (((end == -1) | (end == 2)) & (t <= 0.0)) | (((end == 1) | (end == 2)) & (t >= 1.0))
+        allow = sag + atol + np.where(beyond, L, 0.0)
+        ok[k] = bool(np.any(dd <= allow))
+        dist[k] = float(dd.min())
+    return ok, dist
+
+
+def curve(new, ref, base, *, rtol, atol):
+    """The ``curve`` rule: ``(ok, max distance, detail)`` in units of the reference's extent."""
+    xr_, yr = ref[f"{base}_x"].values.astype(float), ref[f"{base}_y"].values.astype(float)
+    xn, yn = new[f"{base}_x"].values.astype(float), new[f"{base}_y"].values.astype(float)
+    fin = np.isfinite(xr_) & np.isfinite(yr)
+    if not fin.any():
+        same = not (np.isfinite(xn) & np.isfinite(yn)).any()
+        return same, 0.0, "no finite point" if same else "points where the reference has none"
+    scale = np.array([max(np.ptp(xr_[fin]), 1e-300), max(np.ptp(yr[fin]), 1e-300)])
+    pr, pn = _pieces(xr_ / scale[0], yr / scale[1]), _pieces(xn / scale[0], yn / scale[1])
+    tol = atol + rtol
+    ok1, d1 = _distance_ok(np.concatenate(pn) if pn else np.zeros((0, 2)), _segments(pr), tol)
+    ok2, d2 = _distance_ok(np.concatenate(pr), _segments(pn), tol)
+    worst = float(max(d1.max(initial=0.0), d2.max(initial=0.0)))
+    bad = int((~ok1).sum() + (~ok2).sum())
+    return bad == 0, worst, (f"{bad} points off the other curve" if bad else
+                             f"every point on the other curve (largest distance {worst:.2g} of its extent)")
+
+
+def _nearest_length(p, segs):
+    """Length of the segment nearest to the point ``p`` (0 without segments)."""
+    if not segs:
+        return 0.0
+    a = np.array([s[0] for s in segs])
+    ab = np.array([s[1] for s in segs]) - a
+    t = np.clip(np.sum((p - a) * ab, axis=1) / np.maximum(np.sum(ab * ab, axis=1), 1e-300), 0.0, 1.0)
+    return float(segs[int(np.argmin(np.hypot(*(p - (a + t[:, None] * ab)).T)))][2])
+
+
+def on_curve(new, ref, base, curves, *, rtol, atol):
+    """The ``on curve`` rule: each point within the nearest reference curve segment's length of its
+    reference position (``curves``: the axes' curve artists)."""
+    pr = np.column_stack([ref[f"{base}_x"].values, ref[f"{base}_y"].values]).astype(float)
+    pn = np.column_stack([new[f"{base}_x"].values, new[f"{base}_y"].values]).astype(float)
+    if pr.shape != pn.shape:
+        return False, math.nan, f"{len(pn)} points, reference {len(pr)}"
+    pts = [np.column_stack([ref[f"{c}_x"].values, ref[f"{c}_y"].values]).astype(float) for c in curves]
+    allpts = np.concatenate(pts + [pr])
+    fin = np.isfinite(allpts).all(axis=1)
+    scale = np.maximum(np.ptp(allpts[fin], axis=0), 1e-300) if fin.any() else np.ones(2)
+    segs = [s for c in pts for s in _segments(_pieces(c[:, 0] / scale[0], c[:, 1] / scale[1]))]
+    worst, bad = 0.0, 0
+    for p, q in zip(pr / scale, pn / scale, strict=True):
+        if not np.all(np.isfinite(p)):
+            bad += int(np.any(np.isfinite(q)))
+            continue
+        dist = np.hypot(*(q - p))
+        worst = max(worst, float(dist))
+        bad += int(dist > _nearest_length(p, segs) + atol + rtol)
+    return bad == 0, worst, (f"{bad} points moved by more than their curve segment" if bad else
+                             f"within their curve segments (largest move {worst:.2g} of the extent)")
+
+
+def boundary(new, ref, base, flipped, spacing, *, rtol, atol):
+    """The ``boundary`` rule: markers in one and not the other lie within one grid cell of a cell whose
+    motion differs (``flipped``: those cells' keys; ``spacing``: the grid's steps)."""
+    pr = np.column_stack([ref[f"{base}_x"].values, ref[f"{base}_y"].values]).astype(float)
+    pn = np.column_stack([new[f"{base}_x"].values, new[f"{base}_y"].values]).astype(float)
+
+    def unmatched(p, q):
+        if not len(q):
+            return p
+        keep = [not np.any(np.all(np.abs(q - x) <= atol + rtol * np.abs(x), axis=1)) for x in p]
+        return p[np.array(keep, bool)]
+
+    odd = np.concatenate([unmatched(pn, pr), unmatched(pr, pn)])
+    if not len(odd):
+        return True, 0.0, f"the same {len(pr)} markers"
+    if spacing is None or not len(flipped):
+        return False, math.nan, f"{len(odd)} markers differ and no cell's motion changed"
+    near = [bool(np.any(np.all(np.abs(flipped - x) <= 1.0001 * spacing, axis=1))) for x in odd]
+    bad = len(near) - sum(near)
+    return bad == 0, math.nan, (f"{len(odd)} markers differ, {bad} of them away from any cell whose motion changed"
+                                if bad else f"{len(odd)} markers differ, each beside a cell whose motion changed")
+
+
+def compare_artist(rule, new, ref, base, **kw):
+    """Dispatch for rules evaluated per artist (``motions``, ``curve``)."""
+    if rule == "motions":
+        return motions(new, ref, base, **kw)[:3]
+    if rule == "curve":
+        return curve(new, ref, base, **kw)
+    raise ValueError(f"rule {rule!r}; allowed: motions, curve")

@@ -1,0 +1,281 @@
+"""The arrays a figure draws, read back from the drawn figure, and their comparison with a reference.
+
+:func:`figure_data` walks every axes of a matplotlib figure and keeps what is on it: the x and y of
+each line, the points (and colour values) of each scatter, each image's array, with the axes'
+title and labels and each artist's legend label.  Because it is read from the figure itself, not
+from the code that drew it, the saved data is exactly what is plotted.  :func:`compare` checks
+regenerated data against a committed reference (the figure regeneration check).
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+from matplotlib.collections import QuadMesh
+
+
+def _units(label: str) -> str:
+    """Units from an axis label ending in "(unit)", else "1" (non-dimensional)."""
+    m = re.search(r"\(([^()]*)\)\s*$", label or "")
+    return m.group(1) if m else "1"
+
+
+def _float_array(values) -> np.ndarray:
+    """Float array with masked entries as NaN."""
+    a = np.ma.filled(np.ma.asarray(values, dtype=float), np.nan)
+    return np.asarray(a, dtype=float)
+
+
+def figure_data(fig, attrs: dict | None = None) -> xr.Dataset:
+    """Every plotted array of ``fig`` as one dataset.
+
+    Variables are named ``a<i>_<kind><j>_<part>``: axes ``i`` (in the figure's order), artist ``j``
+    of a kind (``line``, ``points``, ``image``, ``text``) and its part (``x``, ``y``, ``c`` colour
+    values, ``z`` image, ``xy`` a text's anchor).  Each carries ``axes_title``, ``axis_label`` and
+    ``units`` (from the axis label), and ``label`` (the legend entry, or a text's string); lines
+    also their ``marker`` and ``linestyle``.
+    """
+    data = {}
+    for i, ax in enumerate(fig.get_axes()):
+        title = " ".join(t for t in (ax.get_title("left"), ax.get_title(), ax.get_title("right")) if t)
+        xlab, ylab = ax.get_xlabel(), ax.get_ylabel()
+
+        def put(name, values, axis_label, label, title=title, **extra):
+            arr = _float_array(values)
+            dims = tuple(f"{name}_dim{k}" for k in range(arr.ndim))
+            long_name = " / ".join(x for x in (title, label, axis_label) if x) or name
+            data[name] = xr.Variable(dims, arr, {"axes_title": title, "axis_label": axis_label,
+                                                 "units": _units(axis_label), "label": label or "",
+                                                 "long_name": long_name, **extra})
+
+        def wellposed(artist, base, names):
+            """What the artist carries for the check (:func:`vibroimpact.outputs.plots._common.wellposed`): the rule
+            on its variables ``names``, per-element fields as ``<base>_wp_<field>``, scalars as attributes."""
+            wp = getattr(artist, "_vi_wellposed", None)
+            if not wp:
+                return
+            scalars = {f"wp_{k}": v for k, v in wp.items() if np.ndim(v) == 0 and k != "rule"}
+            for name in names:
+                data[name].attrs.update(wellposed=wp["rule"], **scalars)
+            for key, v in wp.items():
+                if np.ndim(v) == 0:
+                    continue
+                v = np.asarray(v)
+                arr = v.astype(str) if v.dtype.kind in "UOS" else v.astype(np.int8) if v.dtype == bool else v.astype(float)
+                data[f"{base}_wp_{key}"] = xr.Variable((f"{base}_wp_dim0",), arr, {
+                    "long_name": f"what the check compares where {base} is not well-posed pointwise: {key}",
+                    "units": "1", "role": "wellposed"})
+
+        for j, line in enumerate(ax.get_lines()):
+            label = line.get_label()
+            # matplotlib's own names ("_child3") are dropped; "_name" (kept out of legends) is kept
+            label = "" if label.startswith("_child") else label.lstrip("_")
+            style = dict(marker=str(line.get_marker()), linestyle=str(line.get_linestyle()))
+            put(f"a{i}_line{j}_x", line.get_xdata(), xlab, label, **style)
+            put(f"a{i}_line{j}_y", line.get_ydata(), ylab, label, **style)
+            wellposed(line, f"a{i}_line{j}", [f"a{i}_line{j}_x", f"a{i}_line{j}_y"])
+        for j, text in enumerate(ax.texts):  # annotations: names of marked points
+            if text.get_text():
+                x, y = text.xy if hasattr(text, "xy") else text.get_position()
+                # a text placed in data coordinates moves with the axes' data (e.g. a timing)
+                put(f"a{i}_text{j}_xy", [float(np.asarray(x, float)), float(np.asarray(y, float))],
+                    f"position (x: {xlab}; y: {ylab})", text.get_text())
+                wellposed(text, f"a{i}_text{j}", [f"a{i}_text{j}_xy"])
+        k = 0
+        for coll in ax.collections:
+            if isinstance(coll, QuadMesh):  # a map: its cells' centres, in the order of its values
+                corners = coll.get_coordinates()
+                offsets = 0.25 * (corners[:-1, :-1] + corners[1:, :-1] + corners[:-1, 1:] + corners[1:, 1:]).reshape(-1, 2)
+            else:
+                offsets = coll.get_offsets()
+            if offsets is None or len(offsets) == 0 or np.ndim(offsets) != 2:
+                continue
+            label = coll.get_label()
+            label = "" if label.startswith("_") else label
+            put(f"a{i}_points{k}_x", offsets[:, 0], xlab, label)
+            put(f"a{i}_points{k}_y", offsets[:, 1], ylab, label)
+            names = [f"a{i}_points{k}_x", f"a{i}_points{k}_y"]
+            if coll.get_array() is not None:
+                put(f"a{i}_points{k}_c", np.ravel(coll.get_array()), "colour value", label)
+                names.append(f"a{i}_points{k}_c")
+            wellposed(coll, f"a{i}_points{k}", names)
+            k += 1
+        for j, im in enumerate(ax.get_images()):
+            put(f"a{i}_image{j}_z", im.get_array(), f"image over x: {xlab}; y: {ylab}", im.get_label())
+    ds = xr.Dataset(data)
+    ds.attrs.update(attrs or {})
+    return ds
+
+
+def compare(new: xr.Dataset, ref: xr.Dataset, *, rtol: float, atol: float, exclude=(), optional=(),
+            ill=()) -> pd.DataFrame:
+    """One row per reference variable: ``variable``, ``axes``, ``axis_label``, ``rule``,
+    ``max_difference``, ``status`` and ``detail``.
+
+    A variable is compared pointwise (``rule`` ``"strict"``): it passes when it is present with the
+    reference's shape, NaN exactly where the reference is NaN, and ``|new - ref| <= atol + rtol |ref|``
+    elsewhere.  The variables named in ``ill`` (measured ill-conditioned,
+    :mod:`vibroimpact.outputs.conditioning`) are compared by the rule their figure recorded as well-posed
+    (:mod:`vibroimpact.outputs.figcheck`).  Variables whose axis label contains one of ``exclude``
+    (case-insensitive), or whose legend label or axes title contains one of ``optional`` (methods that
+    need a system package, present on some machines only), are ``excluded``, in the reference or only
+    in the new data (e.g. timings, which are not results).  Variables only in ``new`` are reported as
+    ``new`` (a figure that gained an artist fails until the reference is updated).
+    """
+    from . import figcheck as fc
+
+    rows = []
+    pats = [p.lower() for p in exclude]
+    opts = [p.lower() for p in optional]
+    ill = set(ill)
+    cache = {}
+
+    def is_optional(var):
+        a = var.attrs
+        return any(p in (a.get("label", "") + " " + a.get("axes_title", "")).lower() for p in opts)
+
+    def aux(var):
+        return var.attrs.get("role") == "wellposed"
+
+    def motion_flips(axes):
+        """Cells whose motion differs on the axes' map, and the map's grid steps."""
+        for name in ref.data_vars:
+            if (name.startswith(axes + "_points") and ref[name].attrs.get("wellposed") == "motions"
+                    and name.endswith("_c") and (fc.artist_base(name) + "_c") in new):
+                base = fc.artist_base(name)
+                ok, _, _, flipped = fc.motions(new, ref, base, rtol=rtol, atol=atol)
+                keys = np.column_stack([ref[base + "_x"].values, ref[base + "_y"].values])
+                steps = [np.min(np.diff(np.unique(k))) if np.unique(k).size > 1 else 0.0 for k in keys.T]
+                return flipped, np.array(steps)
+        return np.zeros((0, 2)), None
+
+    def judge(name, rule):
+        base = fc.artist_base(name)
+        kw = dict(rtol=rtol, atol=atol)
+        key = (rule, base)
+        if key in cache:
+            return cache[key]
+        try:
+            if rule in ("motions", "curve"):
+                out = fc.compare_artist(rule, new, ref, base, **kw)
+            elif rule == "run":
+                out = fc.run_text(new, ref, name, **kw)
+            elif rule == "on curve":
+                axes = name.split("_", 1)[0]
+                curves = sorted({fc.artist_base(v) for v in ref.data_vars
+                                 if v.startswith(axes + "_") and ref[v].attrs.get("wellposed") == "curve"})
+                out = fc.on_curve(new, ref, base, curves, **kw)
+            elif rule == "boundary":
+                flipped, steps = motion_flips(name.split("_", 1)[0])
+                out = fc.boundary(new, ref, base, flipped, steps, **kw)[:3]
+            else:
+                out = (False, np.nan, f"unknown rule {rule!r}")
+        except KeyError as err:
+            out = (False, np.nan, f"missing {err}")
+        cache[key] = out
+        return out
+
+    for name in ref.data_vars:
+        r = ref[name]
+        if aux(r):
+            continue
+        row = {"variable": name, "axes": r.attrs.get("axes_title", ""), "axis_label": r.attrs.get("axis_label", ""),
+               "rule": "strict", "max_difference": np.nan, "detail": ""}
+        if any(p in row["axis_label"].lower() for p in pats) or is_optional(r):
+            rows.append(row | {"rule": "excluded", "status": "excluded"})
+            continue
+        if name not in new:
+            rows.append(row | {"status": "fail: missing"})
+            continue
+        rule = r.attrs.get("wellposed", "strict") if name in ill else "strict"
+        if rule != "strict":
+            ok, diff, detail = judge(name, rule)
+            rows.append(row | {"rule": rule, "max_difference": diff, "detail": detail,
+                               "status": "pass" if ok else "fail"})
+            continue
+        a, b = np.asarray(new[name].values, float), np.asarray(r.values, float)
+        if a.shape != b.shape:
+            rows.append(row | {"status": f"fail: shape {a.shape} != reference {b.shape}"})
+            continue
+        nan_a, nan_b = np.isnan(a), np.isnan(b)
+        if np.any(nan_a != nan_b):
+            rows.append(row | {"status": f"fail: NaN at {int(np.sum(nan_a != nan_b))} other places"})
+            continue
+        ok = ~nan_b
+        diff = np.abs(a[ok] - b[ok])
+        row["max_difference"] = float(diff.max()) if diff.size else 0.0
+        good = bool(np.all(diff <= atol + rtol * np.abs(b[ok])))
+        rows.append(row | {"status": "pass" if good else "fail"})
+    for name in sorted(set(new.data_vars) - set(ref.data_vars)):
+        if aux(new[name]):
+            continue
+        rows.append({"variable": name, "axes": new[name].attrs.get("axes_title", ""),
+                     "axis_label": new[name].attrs.get("axis_label", ""), "rule": "strict", "max_difference": np.nan,
+                     "detail": "", "status": "excluded" if is_optional(new[name]) else "fail: new (not in the reference)"})
+    return pd.DataFrame(rows, columns=["variable", "axes", "axis_label", "rule", "max_difference", "status", "detail"])
+
+
+#: side of the perceptual hash (bits: its square)
+HASH_SIZE = 16
+
+
+def image_hash(png, hash_size: int = HASH_SIZE) -> str:
+    """Perceptual hash (DCT of the grey image at 4 ``hash_size`` pixels a side, ImageHash's ``phash``)
+    of a PNG file, as hex."""
+    import imagehash
+    from PIL import Image
+
+    with Image.open(png) as im:
+        return str(imagehash.phash(im, hash_size=hash_size))
+
+
+def hash_distance(a: str, b: str) -> int:
+    """Number of differing bits of two hashes from :func:`image_hash`."""
+    import imagehash
+
+    return int(imagehash.hex_to_hash(a) - imagehash.hex_to_hash(b))
+
+
+def compare_image(new: xr.Dataset, ref: xr.Dataset, *, max_distance: int, draws_timings: bool = False) -> dict:
+    """The image row of the regeneration check: the perceptual hashes stored with the new and the
+    reference data (``png_phash``) differ in at most ``max_distance`` bits.  A figure that draws
+    timings is ``excluded``: its markers move with the machine's speed, as its timing arrays do."""
+    from .checks import IMAGE_ROW
+
+    row = {"variable": IMAGE_ROW, "axes": "", "axis_label": "rendered PNG", "max_difference": np.nan}
+    a, b = new.attrs.get("png_phash"), ref.attrs.get("png_phash")
+    if a is None or b is None:
+        return row | {"status": "fail: no image hash in the " + ("new data" if a is None else "reference")}
+    row["max_difference"] = float(hash_distance(a, b))
+    if draws_timings:
+        return row | {"status": "excluded"}
+    return row | {"status": "pass" if row["max_difference"] <= max_distance else "fail"}
+
+
+#: the fewest bits a change of the drawn data changes the hash by: a single sample read on the other side of
+#: an impact's jump moved Figs FN2 and BiS by 2 bits, and so did rounding-level changes of Figs 4 and FN2
+#: under the conditioning's perturbations (antialiased edges shift one grey level)
+ONE_POINT_BITS = 2
+
+
+def image_allowance(conditioning, figure: str, default: int) -> tuple[int, str]:
+    """How many bits the image of ``figure`` may differ by, and why.
+
+    Agg with the locked matplotlib and its own fonts draws the same data to the same pixels, but data that
+    differ at rounding level can move an antialiased edge by one grey level, and ill-conditioned points
+    legitimately move: twice the largest distance measured under the conditioning's perturbations, and at
+    least :data:`ONE_POINT_BITS` (``default`` where no conditioning was measured)."""
+    from .checks import IMAGE_ROW
+
+    if conditioning is None or not len(conditioning):
+        return default, f"image: <= {default} bits (no conditioning measured)"
+    rows = conditioning[conditioning.figure == figure]
+    ill = rows[(rows.variable != IMAGE_ROW) & (rows.conditioning == "ill-conditioned")]
+    img = rows[rows.variable == IMAGE_ROW]
+    bits = int(img.spread.iloc[0]) if len(img) and np.isfinite(img.spread.iloc[0]) else 0
+    allowed = max(2 * bits, ONE_POINT_BITS, default)
+    return allowed, (f"image: <= {allowed} bits (twice the {bits} measured, at least {ONE_POINT_BITS}; "
+                     f"{len(ill)} ill-conditioned arrays)")

@@ -1,0 +1,117 @@
+"""What every figure shares: the style file, the colours of the paper's conventions, saving a figure with
+the arrays it draws, and labels with fractions of pi.
+
+Conventions (all figures): analytic branches solid where stable and dashed where unstable, simulated
+points as open markers, the bottom wall blue and the top wall green as in the paper."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+#: the one matplotlib style file of all figures
+STYLE_FILE = Path(__file__).with_name("vibroimpact.mplstyle")
+
+BOTTOM = "tab:blue"
+TOP = "tab:green"
+BALL = "tab:red"
+
+
+def use_style() -> None:
+    plt.style.use(STYLE_FILE)
+
+
+#: file formats a figure can be written in; PNG always (the report and the image check read it)
+FORMATS = ("png", "pdf", "svg")
+
+
+def save(fig, stem, *, data=None, attrs=None, formats=("png", "pdf")) -> list[Path]:
+    """Save ``stem.png`` and ``stem.<f>`` for the other ``formats`` and, with ``data``, the arrays the
+    figure draws (netCDF, :func:`vibroimpact.outputs.figdata.figure_data`, with ``attrs`` such as the config);
+    returns the paths."""
+    from ...datasets import write_netcdf
+    from ..figdata import figure_data, image_hash
+
+    bad = [f for f in formats if f not in FORMATS]
+    if bad or "png" not in formats:
+        raise ValueError(f"formats = {list(formats)!r}; allowed: png and any of {FORMATS[1:]}")
+    stem = Path(stem)
+    stem.parent.mkdir(parents=True, exist_ok=True)
+    paths = [stem.with_suffix(".png")] + [stem.with_suffix(f".{f}") for f in formats if f != "png"]
+    for p in paths:
+        fig.savefig(p)
+    if data is not None:
+        ds = figure_data(fig, attrs)
+        ds.attrs["png_phash"] = image_hash(paths[0])  # the image layer of the regeneration check
+        write_netcdf(ds, data, fmt="NETCDF3_64BIT")
+        paths.append(Path(data))
+    plt.close(fig)
+    return paths
+
+
+def save_outputs(fig, output, *, data=None, attrs=None) -> list[Path]:
+    """:func:`save` into a Snakemake rule's named outputs: ``png`` and whichever of the other
+    :data:`FORMATS` the rule declares (the quality preset's ``figure_formats``)."""
+    formats = [f for f in FORMATS if hasattr(output, f)]
+    return save(fig, str(output.png).removesuffix(".png"), data=data, attrs=attrs, formats=formats)
+
+
+def wellposed(artist, rule: str, **fields):
+    """Record on a drawn ``artist`` what is well-posed about its data, for the figure regeneration check
+    (:mod:`vibroimpact.outputs.figcheck`, which applies it where the data's measured conditioning calls for it);
+    :func:`vibroimpact.outputs.figdata.figure_data` saves it beside the artist's arrays.  ``rule``:
+
+    * ``"motions"``: values at simulated attractors; per element ``motion`` (its label), ``settled``
+      (the value is exact: a Newton-solved or sticking cycle), ``unsettled`` (no period found but the motion
+      settles later: a transient longer than the cap) and ``mean``, ``se`` (the long-run statistic of the
+      quantity drawn, where no period was found), each aligned with the artist's points;
+    * ``"run"``: a text naming a run of one motion along a sweep, placed at its middle; ``step``: the
+      sweep's spacing (each end of the run is known to one point);
+    * ``"curve"``: a curve sampled by continuation (its points lie on the curve; where they lie along it
+      depends on the step control);
+    * ``"on curve"``: points located on sampled curves (events, crossings), known to within a segment;
+    * ``"boundary"``: points between grid cells whose motions differ.
+    """
+    artist._vi_wellposed = {"rule": rule, **fields}
+    return artist
+
+
+def pi_tex(x, fmt=".4g"):
+    """``x`` in TeX as a fraction of pi when it is one (``\\pi/6``, ``5\\pi``), else formatted with ``fmt``."""
+    import math
+
+    for den in (1, 2, 3, 4, 6, 12):
+        num = x * den / math.pi
+        if abs(num - round(num)) < 1e-9 and round(num):
+            n = int(round(num))
+            top = r"\pi" if n == 1 else f"{n}\\pi"
+            return top if den == 1 else f"{top}/{den}"
+    return format(x, fmt)
+
+
+def pi_label(x, unit=""):
+    tex = pi_tex(x)
+    return (f"${tex}$" if "\\pi" in tex else tex) + unit
+
+
+
+def beta_label(beta):
+    return "$\\beta=" + pi_tex(beta, ".4f") + "$"
+
+
+def branch_line(ax, d, y, stable, color, lw=1.2, zorder=2):
+    """Solid where stable, dashed where unstable (admissible points only are passed in)."""
+
+    ys = np.where(stable, y, np.nan)
+    yu = np.where(~stable, y, np.nan)
+    # overlap one point so that the two styles join
+    edge = np.flatnonzero(np.diff(stable.astype(int)) != 0)
+    for e in edge:
+        yu[e:e + 2] = y[e:e + 2]
+    ax.plot(d, ys, "-", color=color, lw=lw, zorder=zorder)
+    ax.plot(d, yu, "--", color=color, lw=lw * 0.8, zorder=zorder)

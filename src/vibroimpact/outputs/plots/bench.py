@@ -1,0 +1,186 @@
+"""Speed against accuracy: work-precision, failure map, accuracy of the analytics."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from ._common import use_style
+
+FAMILY_STYLE = {
+    "exact": ("k", "*", "exact (numba)"),
+    "python": ("0.5", "*", "same algorithm, plain Python"),
+    "ivp-RK45": ("tab:blue", "o", "solve_ivp RK45"),
+    "ivp-DOP853": ("tab:orange", "s", "solve_ivp DOP853"),
+    "ivp-LSODA": ("tab:green", "^", "solve_ivp LSODA"),
+    "ivp-Radau": ("tab:purple", "v", "solve_ivp Radau"),
+    "rk4": ("tab:red", "D", "RK4 + bisection"),
+    "heyoka": ("tab:brown", "P", "heyoka (Taylor, LLVM)"),
+    "siconos-ed": ("tab:pink", "X", "Siconos event-driven (LSODAR)"),
+    "siconos-mj": ("tab:olive", "h", "Siconos Moreau-Jean"),
+}
+
+
+def _peers_note(ds):
+    """'peers: heyoka 7.13.2; siconos: not installed (...)' from a benchmark dataset's record."""
+    import ast
+
+    peers = ds.attrs.get("peers")
+    if not peers:
+        return None
+    return "peers: " + "; ".join(f"{k} {v}" for k, v in ast.literal_eval(peers).items())
+
+#: Okabe & Ito's colour-blind-safe palette, one colour per outcome of the failure map, with a glyph
+#: printed in each cell as a second cue (outcomes in the order of ``workprecision.OUTCOMES``)
+OUTCOME_STYLE = {
+    "correct": ("#009E73", ""),
+    "wrong time": ("#F0E442", "t"),
+    "missed impact": ("#D55E00", "M"),
+    "spurious impact": ("#CC79A7", "S"),
+    "wrong sequence": ("#E69F00", "Q"),
+    "stalled": ("#56B4E9", "H"),
+    "crashed": ("#000000", "X"),
+}
+
+
+def _setting_name(family):
+    return {"rk4": "h", "siconos-mj": "h"}.get(family, "rtol" if family.startswith("ivp") else "tol")
+
+
+def _setting_label(family, setting):
+    if _setting_name(family) == "h":
+        return f"h={setting:g}"
+    return f"{setting:.0e}".replace("e-0", "e-")
+
+
+def fig_work_precision(wp):
+    """Error in impact times against cost per impact, log-log, one line per method (tolerance or
+    step ladder, its first and last setting printed at its ends); a cross at the top where the
+    method put impacts on the wrong walls."""
+    use_style()
+    scenes = list(wp.scene.values)
+    fig, axes = plt.subplots(1, len(scenes), figsize=(3.6 * len(scenes), 3.9), squeeze=False, sharey=True)
+    top = 1.0
+    for ax, sc in zip(axes[0], scenes, strict=True):
+        sub = wp.sel(scene=sc)
+        # first, so that the methods' lines follow in FAMILY_STYLE's order, optional peers last
+        ax.axhline(top, color="0.7", lw=0.6, ls=":")
+        for fam, (color, marker, label) in FAMILY_STYLE.items():
+            m = sub.family.values == fam
+            if not m.any():
+                continue
+            x, y = sub.us_per_impact.values[m], sub.err_t.values[m]
+            settings = sub.setting.values[m]
+            if np.isfinite(settings).any():
+                label += f" ({_setting_name(fam)} {settings[0]:.3g} … {settings[-1]:.3g})"
+            finite = np.isfinite(y)
+            ax.loglog(x[finite], np.maximum(y[finite], 1e-17), marker=marker, color=color, lw=1, ms=5, label=label)
+            if (~finite).any():
+                ax.plot(x[~finite], np.full((~finite).sum(), top), "x", color=color, ms=7, label=f"_{label}: wrong walls")
+            # the ladder's ends, so its direction and range can be read off each panel
+            ends = [k for k in (0, len(x) - 1) if np.isfinite(settings[k]) and finite[k]]
+            for k in ends[: 2 if len(x) > 1 else 1]:
+                ax.annotate(_setting_label(fam, settings[k]), (x[k], max(y[k], 1e-17)), fontsize=5, color=color,
+                            xytext=(4, 2 if k == 0 else -7), textcoords="offset points")
+        ax.set_title(f"{sc} motion")
+        ax.set_xlabel("cost per impact (µs)")
+    axes[0, 0].set_ylabel("largest impact-time error vs 40-digit reference\n(first 20 impacts; x: wrong walls)")
+    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="outside lower center", ncol=4, fontsize=6,
+               title=_peers_note(wp), title_fontsize=6)
+    return fig
+
+
+def fig_failure_map(fm):
+    """Outcome of every method (rows) on every hard case (columns), colour-blind-safe colours with a
+    glyph per outcome; the thresholds that decide the outcomes are stated under the map."""
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+
+    from ...benchmarks.workprecision import OUTCOMES
+
+    use_style()
+    colors = [OUTCOME_STYLE[o][0] for o in OUTCOMES]
+    # methods that need a system package (Siconos) in their own panel below: the main panel is the same
+    # on every machine
+    optional = np.array([str(f).startswith("siconos") for f in fm.family.values]) if "family" in fm else \
+        np.zeros(fm.sizes["solver"], bool)
+    parts = [(~optional, "")] + ([(optional, "Siconos (system package python3-siconos)")] if optional.any() else [])
+    fig, axes = plt.subplots(len(parts), 1, figsize=(12, 2.6 + 0.22 * fm.sizes["solver"]), sharex=True, squeeze=False,
+                             height_ratios=[max(int(m.sum()), 1) for m, _ in parts])
+    for ax, (rows, title) in zip(axes[:, 0], parts, strict=True):
+        sub = fm.isel(solver=np.flatnonzero(rows))
+        codes = np.vectorize(OUTCOMES.index)(sub.outcome.values)
+        ax.imshow(codes, cmap=ListedColormap(colors), vmin=-0.5, vmax=len(OUTCOMES) - 0.5, aspect="auto")
+        ax.grid(False)
+        for (i, j), code in np.ndenumerate(codes):
+            glyph = OUTCOME_STYLE[OUTCOMES[code]][1]
+            if glyph:
+                ax.text(j, i, glyph, ha="center", va="center", fontsize=6, color="white" if glyph == "X" else "black")
+        ax.set_yticks(range(sub.sizes["solver"]), sub.solver.values, fontsize=7)
+        if title:
+            ax.set_title(title, fontsize=7, loc="left")
+    axes[-1, 0].set_xticks(range(fm.sizes["case"]), fm.case.values, rotation=70, ha="right", fontsize=7)
+    ax = axes[0, 0]
+    ax.set_title("Where each method fails: near-grazing flights at both walls (B: bottom, T: top; extremum eps "
+                 "inside the wall: no impact; eps past it: an impact), chattering into sticking, a long chaotic run",
+                 fontsize=8)
+    a = fm.attrs
+    rule = None
+    if "time_rtol" in a:
+        rule = "\n".join([
+            "thresholds:",
+            f"correct: right wall, impact time within {a['time_rtol']:g}",
+            "  (relative) of the 40-digit reference",
+            f"missed: a hit on the other wall or > {a['late']:g} late",
+            "spurious: a miss reported as an impact",
+            f"chattering: impacts faster than {a['chatter_v']:g}",
+            f"  followed to {a['time_rtol']:g} (relative)",
+            f"chaotic run: every impact on its wall, within {a['chaos_atol']:g} in t",
+            f"flights at d = {a['d']:g}, gbar = {a['gbar']:g}"])
+    ax.legend(handles=[Patch(color=c, label=f"{o} ({OUTCOME_STYLE[o][1]})" if OUTCOME_STYLE[o][1] else o)
+                       for c, o in zip(colors, OUTCOMES, strict=True)],
+              loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, title="outcome")
+    if rule:
+        ax.annotate(rule, (1.01, 0.0), xycoords="axes fraction", fontsize=6, va="bottom", ha="left")
+    return fig
+
+
+def fig_analytics_accuracy(a):
+    """Located vs grid-only critical points (continuation step) and grazing points (sweep points),
+    error against cost.  (a) is measured against the finest step's located point (not drawn: it is
+    the reference), (b) against the analytic G1 and G2 of the continued branches."""
+    use_style()
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.9))
+    ax = axes[0]
+    ref = {k: a.attrs[f"{k}_reference"] for k in ("B", "fold") if f"{k}_reference" in a.attrs}
+    x = a.branch_seconds.values
+    for k, (kind, color) in enumerate((("B", "tab:blue"), ("fold", "tab:orange"))):
+        ax.loglog(x, a.branch_grid_err.values[:, k], "o--", color=color, mfc="none", label=f"{kind}: grid only")
+        ax.loglog(x[:-1], a.branch_located_err.values[:-1, k].clip(1e-17), "o-", color=color,
+                  label=f"{kind}: located" + (f" (reference d = {ref[kind]:.10f})" if kind in ref else ""))
+        if k == 0:
+            for xi, h, y in zip(x, a.step.values, a.branch_grid_err.values[:, k], strict=True):
+                ax.annotate(f"h={h:g}", (xi, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+    ax.set_xlabel("continuation time (s)")
+    ax.set_ylabel(f"|d − d(located at finest step h={a.step.values[-1]:g})|\n(zero drawn at 1e-17)")
+    ax.set_title(r"(a) 2:1 branch, $\beta=\pi/3$: B and fold by arclength step h")
+    ax.legend(fontsize=6)
+    ax = axes[1]
+    x = a.sweep_seconds.values.sum(axis=1)
+    for k, (kind, color) in enumerate((("G1", "k"), ("G2", "tab:red"))):
+        exact = a.attrs.get(kind)
+        ax.loglog(x, a.sweep_grid_err.values[:, k], "s--", color=color, mfc="none", label=f"{kind}: grid only")
+        ax.loglog(x, a.sweep_located_err.values[:, k], "s-", color=color,
+                  label=f"{kind}: located" + (f" (analytic d = {exact:.10f})" if exact is not None else ""))
+        if k == 0:
+            for xi, n, y in zip(x, a.points.values, a.sweep_grid_err.values[:, k], strict=True):
+                ax.annotate(f"{n} pts", (xi, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+    ax.set_xlabel("sweep + location time (s)")
+    ax.set_ylabel("|d − d(analytic branch)|")
+    ax.set_title(r"(b) grazing G1 and fold G2 from sweeps, $\beta=\pi/6$, by sweep points")
+    ax.legend(fontsize=6)
+    from matplotlib.ticker import NullFormatter
+
+    for ax in axes:  # decades only: the minor labels of a short log axis overlap
+        ax.xaxis.set_minor_formatter(NullFormatter())
+    return fig

@@ -1,0 +1,262 @@
+"""Voltages (paper Figs 0 and 5) and design guidance."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from ._common import BOTTOM, TOP, beta_label, branch_line, use_style, wellposed
+from .sweeps import _last_events, point_info
+
+U_I_COLOR = "tab:red"
+U_T_COLOR = "tab:cyan"
+#: simulated points: grey, under the analytic lines
+SIM_COLOR = "0.45"
+KV = 1e-3  # volts to kilovolts
+
+
+def _analytic(ax, branches, var, *, averages=False, scale=1.0):
+    """Analytic 1:1 and 2:1 lines (admissible stretches; stable solid, unstable dashed), drawn over the
+    simulated points."""
+    for br in branches:
+        if not br.sizes.get("point", 0):
+            continue
+        m = br.admissible.values
+        d = br.d.values[m]
+        st = br.stable.values[m]
+        if averages:
+            branch_line(ax, d, br.U_I.values[m] * scale, st, U_I_COLOR, lw=0.9, zorder=4)
+            branch_line(ax, d, br.U_T.values[m] * scale, st, U_T_COLOR, lw=0.9, zorder=4)
+            continue
+        for j in range(br.sizes["impact"]):
+            y = np.abs(br[var].values[m, j]) * scale
+            branch_line(ax, d, y, st, BOTTOM if br.wall.values[j] == 1 else TOP, zorder=4)
+
+
+def grazing_marks(orbit_branches):
+    """The grazing points Figs 0 and 5 mark, from the continued branches: d_graz, where the 1:1 orbit
+    grazes and the 2:1 orbit is born with a zero-speed impact, and G1, the lower end of the 2:1
+    orbit's stable interval when a grazing ends it (the 3:1 orbit is born).  ``[(name, d)]``."""
+    from ..tables import stable_interval
+
+    marks = []
+    for br in orbit_branches:
+        if br.attrs.get("status") == "failed" or "critical_d" not in br:
+            continue
+        word = br.attrs.get("word")
+        kinds, crit, adm = br.critical_kind.values.astype(str), br.critical_d.values, br.critical_admissible.values
+        if word == "BT":
+            g = crit[(kinds == "grazing") & adm]
+            if g.size:
+                marks.append((r"$d_{\rm graz}$", float(g.max())))
+        elif word == "BBT":
+            lo, _hi, cause_lo, _ = stable_interval(br)
+            if cause_lo == "grazing":
+                marks.append(("G1", lo))
+    return marks
+
+
+def _short(label):
+    return {"no period found": "aperiodic"}.get(label, label.replace(" period-", " T="))
+
+
+def _motion_runs(ax, sw, direction="down", min_share=0.07):
+    """The motion identified along the sweep, written over the top of the panel where it holds for
+    at least ``min_share`` of the points (so every cloud of points can be read against it)."""
+    from matplotlib.transforms import blended_transform_factory
+
+    lab = sw.label.sel(direction=direction).values.astype(str)
+    d = sw.d.values
+    edges = np.flatnonzero(lab[1:] != lab[:-1]) + 1
+    starts, ends = np.r_[0, edges], np.r_[edges, lab.size]
+    tr = blended_transform_factory(ax.transData, ax.transAxes)
+    step = float(np.max(np.diff(d))) if d.size > 1 else 0.0
+    for a, b in zip(starts, ends, strict=True):
+        if (b - a) < min_share * lab.size:
+            continue
+        ax.annotate("", (d[a], 0.985), (d[b - 1], 0.985), xycoords=tr, arrowprops=dict(arrowstyle="|-|", lw=0.5,
+                    color="0.4", shrinkA=0, shrinkB=0, mutation_scale=2))
+        wellposed(ax.text(0.5 * (d[a] + d[b - 1]), 0.965, _short(lab[a]), transform=tr, ha="center", va="top",
+                          fontsize=5, color="0.25"), "run", step=step)
+
+
+def _secondary_axis(ax, sw):
+    """The physical parameter the sweep varies on a second x axis: s = d ||F|| / k is linear in d, and
+    ||F|| = k s / d its inverse (d = k s / ||F||, k = M omega^2 / pi^2; the constant from the sweep's
+    own s, F and d)."""
+    vary = sw.attrs["vary"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if vary == "s":
+            c = float(np.median(sw.s.values / sw.d.values))
+            fwd, inv = (lambda v: c * np.asarray(v, float)), (lambda v: np.asarray(v, float) / c)
+        else:
+            c = float(np.median(sw.F.values * sw.d.values))
+
+            def fwd(v):
+                v = np.asarray(v, float)
+                return np.divide(c, v, out=np.full_like(v, np.inf), where=v != 0)
+
+            inv = fwd
+    sec = ax.secondary_xaxis("top", functions=(fwd, inv))
+    if vary == "F":  # 1/d crowds evenly spaced forces at small d: ticks at round forces in the sweep's range
+        F = sw.F.values
+        sec.set_xticks([f for f in (4, 5, 6, 7, 8, 10, 12, 15, 18, 22, 26, 30) if F.min() <= f <= F.max()])
+    sec.set_xlabel("cylinder length s (m)" if vary == "s" else r"forcing amplitude $\|\hat F\|$ (N)", fontsize=7)
+    sec.tick_params(labelsize=6)
+
+
+def _panel_title(sw, letter):
+    vary = sw.attrs["vary"]
+    rng = sw[vary].values
+    if vary == "s":
+        span, fixed = f"{rng.min():g} < s < {rng.max():g} m", rf"$\|\hat F\|$ = {sw.F.values[0]:g} N"
+    else:
+        span, fixed = rf"{rng.min():g} < $\|\hat F\|$ < {rng.max():g} N", f"s = {sw.s.values[0]:g} m"
+    return f"({letter}) {beta_label(sw.attrs['beta'])}, {span}, {fixed}"
+
+
+def _sim_points(ax, sw, var, scale=1.0):
+    """The last period of events of every sweep point (24 events where no period was found), thinned:
+    the down sweep (d decreasing, o) at every other point, the up sweep (+) at the points between."""
+    for direction, marker, keep in (("down", "o", 0), ("up", "+", 1)):
+        sub = sw.isel(point=slice(keep, None, 2))
+        x, y, info = _last_events(sub, var, direction, info=True)
+        line = ax.plot(x, np.abs(y) * scale, marker, mfc="none", color=SIM_COLOR, ms=2.2, mew=0.5, ls="none",
+                       zorder=2)[0]
+        _motions(line, info, scale)
+
+
+def _motions(artist, info, scale=1.0):
+    """What the check compares of simulated points (:func:`vibroimpact.outputs.plots._common.wellposed`), in the
+    units drawn."""
+    wellposed(artist, "motions", **(info | {"mean": info["mean"] * scale, "se": info["se"] * scale}))
+
+
+def _point_markers(ax, en, var, fmt, scale, **style):
+    """``var`` (U_T or U_I) at every point of the down sweep, with what the check compares."""
+    dn = en.sel(direction="down")
+    line = ax.plot(dn.d, dn[var] * scale, fmt, ls="none", **style)[0]
+    _motions(line, point_info(dn, np.arange(dn.sizes["point"]), var), scale)
+    return line
+
+
+def _mark_grazing(ax, marks):
+    for name, d in marks:
+        ax.axvline(d, color="k" if name == "G1" else "tab:purple", ls="-.", lw=0.7, zorder=3)
+        ax.annotate(name, (d, 0.02), xycoords=("data", "axes fraction"), xytext=(2, 0), textcoords="offset points",
+                    fontsize=6, color="k" if name == "G1" else "tab:purple")
+
+
+def _energy_legend(fig, velocities, note=None, names=()):
+    from matplotlib.lines import Line2D
+
+    h = [Line2D([], [], color=BOTTOM, label="analytic, bottom impacts"),
+         Line2D([], [], color=TOP, label="analytic, top impacts"),
+         Line2D([], [], color="0.3", ls="-", label="stable"), Line2D([], [], color="0.3", ls="--", label="unstable"),
+         Line2D([], [], color=SIM_COLOR, marker="o", mfc="none", ls="", label="simulated, d decreasing"),
+         Line2D([], [], color=SIM_COLOR, marker="+", ls="", label="simulated, d increasing"),
+         Line2D([], [], color=U_T_COLOR, marker="D", mfc="none", ls="", label=r"$\overline{U}_T$ simulated (per unit time)"),
+         Line2D([], [], color=U_I_COLOR, marker="*", ls="", label=r"$\overline{U}_I$ simulated (per impact)"),
+         Line2D([], [], color=U_T_COLOR, label=r"$\overline{U}_T$ of the analytic 1:1 / 2:1 orbit"),
+         Line2D([], [], color=U_I_COLOR, label=r"$\overline{U}_I$ of the analytic 1:1 / 2:1 orbit"),
+         Line2D([], [], color="tab:purple", ls="-.", label=r"$d_{\rm graz}$: 1:1 grazes, 2:1 born")]
+    if "G1" in names:
+        h.append(Line2D([], [], color="k", ls="-.", label="G1: 2:1 grazes, 3:1 born"))
+    fig.legend(handles=h, loc="outside lower center", ncol=4 if velocities else 3, fontsize=6, title=note,
+               title_fontsize=6)
+
+
+def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit_sets=None):
+    """Output voltage U_k - U_in in kV (analytic 1:1 and 2:1 lines over the simulated points; stable
+    solid, unstable dashed), the averages U_I (red stars) and U_T (cyan diamonds) of the down sweep with
+    the analytic orbits' averages as lines, against d (the swept s or force on the top axis); with
+    ``velocities`` also |Zdot_k| (paper Fig 0 (a), (c)).  The motion found along each sweep is written
+    over each panel; d_graz and G1 of the continued branches (``orbit_sets``) are marked."""
+    use_style()
+    n = len(panels)
+    if velocities:
+        fig, axes = plt.subplots(n, 2, figsize=(10, 3.6 * n + 0.6), squeeze=False)
+        pairs = [(row[0], row[1]) for row in axes]
+    else:
+        ncol = 2 if n > 1 else 1
+        nrow = int(np.ceil(n / ncol))
+        fig, axes = plt.subplots(nrow, ncol, figsize=(5.2 * ncol, 3.6 * nrow + 0.6), squeeze=False)
+        pairs = [(None, ax) for ax in axes.ravel()[:n]]
+        for ax in axes.ravel()[n:]:
+            ax.remove()
+    letters = iter("abcdefghijklmnop")
+    orbit_sets = orbit_sets or [[] for _ in panels]
+    drawn = set()
+    for (vax, uax), sw, en, brs, obs in zip(pairs, sweeps, energies, branch_sets, orbit_sets, strict=True):
+        marks = grazing_marks(obs)
+        drawn |= {name for name, _ in marks}
+        if vax is not None:
+            _sim_points(vax, sw, "v_minus")
+            _analytic(vax, brs, "v_minus")
+            vax.set_xlabel("d")
+            vax.set_ylabel(r"$|\dot Z_k|$ (non-dimensional)")
+            vax.set_title(_panel_title(sw, next(letters)))
+        _sim_points(uax, en, "gain", KV)
+        _analytic(uax, brs, "gain", scale=KV)
+        _analytic(uax, brs, "gain", averages=True, scale=KV)
+        _point_markers(uax, en, "U_T", "D", KV, mfc="none", color=U_T_COLOR, ms=3, mew=0.6, zorder=3)
+        _point_markers(uax, en, "U_I", "*", KV, color=U_I_COLOR, ms=3, zorder=3)
+        uax.set_xlabel("d")
+        uax.set_ylabel(r"$U_k-U_{in}$, $\overline{U}_I$, $\overline{U}_T$ (kV)")
+        uax.set_title(_panel_title(sw, next(letters)))
+        for ax in (vax, uax):
+            if ax is None:
+                continue
+            _motion_runs(ax, sw)
+            _mark_grazing(ax, marks)
+            _secondary_axis(ax, sw)
+            ax.set_ylim(top=ax.get_ylim()[1] * 1.1)  # room for the motions written over the top
+    a = energies[0].attrs
+    note = None
+    if "membrane_K" in a:
+        note = ("Voltages from the membrane model with assumed constants (h = {h:g}, K = {K:.4g} SI, R = {R:g} m, "
+                "r_b = {rb:g} m, U_in = {U:g} V, ball mass {m:g} kg; docs/model.md):\nthe voltage scale rests on "
+                "them, the shapes and jumps do not.  Over each panel: the down sweep's motion "
+                "(T = its period in t).").format(h=a["membrane_h"], K=a["membrane_K"], R=a["membrane_R"],
+                                                rb=a["membrane_r_b"], U=a["membrane_U_in"], m=a["membrane_m"])
+    _energy_legend(fig, velocities, note, drawn)
+    return fig
+
+
+def fig_design(s_sets, F_sets, table):
+    """What a device delivers (:func:`vibroimpact.analysis.energy.delivered`: the exact cycle's U_T and U_I where
+    the motion is periodic, the long run's where it is not; a gap where a transient outlasts the cap)
+    against s at fixed force and against F at fixed s, per incline, U_T solid and U_I dashed, with the
+    maxima of the design table marked."""
+    from ...analysis.energy import delivered
+
+    use_style()
+    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+    colors = plt.get_cmap("tab10").colors
+    for ax, sets, vary in ((axes[0], s_sets, "s"), (axes[1], F_sets, "F")):
+        for k, e in enumerate(sets):
+            dn = e.sel(direction="down")
+            c = colors[k % 10]
+            every = np.arange(dn.sizes["point"])
+            down = list(e.direction.values).index("down")
+            for q, style, lw, label in (("U_T", "-", 1.0, beta_label(e.attrs["beta"]) + r": $\overline{U}_T$"),
+                                        ("U_I", "--", 0.8, None)):
+                value, se = delivered(e, q)
+                info = point_info(dn, every, q) | {"mean": value[down], "se": se[down]}
+                wellposed(ax.plot(e[vary], value[down], style, color=c, lw=lw, label=label)[0], "motions", **info)
+            rows = table[(table.vary == vary) & (abs(table.beta - float(e.attrs["beta"])) < 1e-9)]
+            for _, r in rows.iterrows():
+                value, se = (r.U_T, r.U_T_se) if r.maximise == "U_T" else (r.U_I, r.U_I_se)
+                mark = ax.plot(r.best, value, "o" if r.maximise == "U_T" else "s", mfc="none", color=c, ms=8)[0]
+                # a maximum where no period is found is the long run's mean, known to its standard error
+                wellposed(mark, "motions", motion=[r.motion], settled=[se == 0], unsettled=[False], mean=[value],
+                          se=[se])
+        ax.set_xlabel("cylinder length s (m)" if vary == "s" else "forcing amplitude ||F|| (N)")
+        ax.set_ylabel("average output voltage (V)")
+        ax.set_title(("(a) length sweep at fixed force" if vary == "s" else "(b) force sweep at s = 0.85 m")
+                     + r"; dashed: $\overline{U}_I$; circles/squares: maxima" + "\nperiodic: the exact cycle's "
+                     "average; no period found: the long run's; a gap: a transient longer than the cap", fontsize=8)
+    axes[0].legend(loc="best", fontsize=6)
+    return fig
+
+

@@ -1,0 +1,362 @@
+"""Tables built from branch datasets (paper Table 1)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from .paper import paper_stable
+
+
+def stable_interval(branch: xr.Dataset):
+    """Longest run of stable, admissible points: (d_lo, d_hi, cause_lo, cause_hi), each end snapped
+    to the located critical point (B, fold, grazing, NS) nearest to it."""
+    if branch.attrs.get("status") == "failed" or not branch.sizes.get("point", 0):
+        return math.nan, math.nan, "", ""
+    ok = (branch.stable & branch.admissible).values
+    if not ok.any():
+        return math.nan, math.nan, "", ""
+    # longest contiguous run along the branch
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], ok.astype(int), [0]])))
+    runs = edges.reshape(-1, 2)
+    a, b = runs[np.argmax(runs[:, 1] - runs[:, 0])]
+    d = branch.d.values[a:b]
+    lo, hi = float(d.min()), float(d.max())
+    kinds = branch.critical_kind.values
+    crit = branch.critical_d.values
+    ends = []
+    for x in (lo, hi):
+        mask = np.isin(kinds, ["B", "fold", "grazing", "NS"])
+        if mask.any():
+            j = np.argmin(np.abs(crit[mask] - x))
+            if abs(crit[mask][j] - x) < 5 * float(branch.attrs.get("step", 1e-3)):
+                ends.append((float(crit[mask][j]), str(kinds[mask][j])))
+                continue
+        ends.append((x, "end of range"))
+    return ends[0][0], ends[1][0], ends[0][1], ends[1][1]
+
+
+def table1(branches: list[xr.Dataset]) -> pd.DataFrame:
+    """One row per incline: the stable interval with its causes, the period-doubling point B, the
+    node/focus points A_i inside it and the fold, next to the paper's stable interval."""
+    rows = []
+    for br in branches:
+        beta = float(br.attrs["beta"])
+        row = {"beta": beta, "beta_deg": round(math.degrees(beta), 6)}
+        if br.attrs.get("status") == "failed":
+            row["note"] = br.attrs["reason"]
+            rows.append(row)
+            continue
+        lo, hi, clo, chi = stable_interval(br)
+        kinds, crit = br.critical_kind.values, br.critical_d.values
+        a_pts = np.sort(crit[(kinds == "A") & (crit > lo) & (crit < hi)])
+        row.update(stable_from=lo, stable_to=hi, lower_cause=clo, upper_cause=chi,
+                   d_B=float(np.max(crit[kinds == "B"])) if (kinds == "B").any() else np.nan,
+                   d_A=", ".join(f"{x:.6f}" for x in a_pts),
+                   d_fold=float(np.max(crit[kinds == "fold"])) if (kinds == "fold").any() else np.nan)
+        paper = paper_stable(beta)
+        row.update(paper_from=paper[0] if paper else np.nan, paper_to=paper[1] if paper else np.nan)
+        # nothing dropped: why the continuation stopped each way, and any point not refined
+        row.update(branch_stops=f"{br.attrs.get('stop_decreasing', '?')}; {br.attrs.get('stop_increasing', '?')}")
+        if "critical_refined" in br and not bool(br.critical_refined.all()):
+            bad = ~br.critical_refined.values
+            row["unrefined"] = "; ".join(f"{k} near {d:.6f}: {n}" for k, d, n in zip(
+                br.critical_kind.values[bad], br.critical_d.values[bad], br.critical_note.values[bad], strict=True))
+        else:
+            row["unrefined"] = "none"
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def table1_markdown(df: pd.DataFrame) -> str:
+    lines = ["| β | 2:1 stable for d in | ends by | paper | d_B (λ = −1) | A points (node ↔ focus) | fold |",
+             "|---|---|---|---|---|---|---|"]
+    names = {90.0: "π/2", 60.0: "π/3", 45.0: "π/4", 30.0: "π/6"}
+    for _, r in df.iterrows():
+        name = names.get(round(r.beta_deg, 6), f"{r.beta:.4f}")
+        lines.append(
+            f"| {name} | ({r.stable_from:.6f}, {r.stable_to:.6f}) | {r.lower_cause} / {r.upper_cause} | "
+            f"({r.paper_from:g}, {r.paper_to:g}) | {r.d_B:.6f} | {r.d_A} | {r.d_fold:.6f} |"
+        )
+    lines += ["", "Where each continuation stopped (decreasing; increasing arclength) and critical points that "
+              "could not be refined:", ""]
+    for _, r in df.iterrows():
+        name = names.get(round(r.beta_deg, 6), f"{r.beta:.4f}")
+        lines.append(f"- {name}: {r.get('branch_stops', '?')}. Unrefined critical points: {r.get('unrefined', '?')}.")
+    return "\n".join(lines) + "\n"
+
+
+def grazing_lines(branches: list[xr.Dataset], scene: dict) -> dict:
+    """G1 (grazing of the scene's branch at the graze incline) and G2 (fold of the other word's
+    branch, e.g. 3:1): the ends of the bistable interval (paper Fig 2 (j)-(l), Fig BiS)."""
+    n = len(scene["betas"])
+    beta = scene["grazing"]["beta"]
+    main = next(b for b in branches[:n] if abs(float(b.attrs["beta"]) - beta) < 1e-9)
+    other = branches[n]
+    lo, hi, *_ = stable_interval(other)
+    g1 = stable_interval(main)[0]
+    return {"beta": beta, "G1": g1, "G2": hi}
+
+
+def transitions_markdown(named: dict[str, xr.Dataset]) -> str:
+    """Located transitions and bistable intervals of several sweeps as Markdown."""
+    lines = ["| sweep | direction | d | ± | from | to | kind | status |", "|---|---|---|---|---|---|---|---|"]
+    for name, tr in named.items():
+        for k in range(tr.sizes.get("transition", 0)):
+            r = tr.isel(transition=k)
+            status = str(r.status.values) if "status" in r else "refined"
+            lines.append(f"| {name} | {str(r.direction.values)} | {float(r.d):.7f} | {float(r.d_width) / 2:.0e} | "
+                         f"{str(r.before.values)} | {str(r.after.values)} | {str(r.kind.values)} | {status} |")
+    lines += ["", "Bistable intervals: the lower end is where the down sweep loses its motion, the upper end where "
+              "the up sweep loses its motion (located transitions; an aperiodic motion's end is only known to the "
+              "grid step; at a range end the interval may go on beyond the swept range).", "",
+              "| sweep | bistable for d in | ± (lower, upper) | ends from | up sweep | down sweep | found by |",
+              "|---|---|---|---|---|---|---|"]
+    for name, tr in named.items():
+        for k in range(tr.sizes.get("interval", 0)):
+            r = tr.isel(interval=k)
+            lines.append(f"| {name} | ({float(r.d_lo):.7f}, {float(r.d_hi):.7f}) | "
+                         f"{_half_width(r.d_lo_width)}, {_half_width(r.d_hi_width)} | "
+                         f"{str(r.lo_source.values)}, {str(r.hi_source.values)} | {str(r.label_up.values)} | "
+                         f"{str(r.label_down.values)} | {str(r.found_by.values)} |")
+    return "\n".join(lines) + "\n"
+
+
+def _half_width(width) -> str:
+    w = float(width)
+    return f"{w / 2:.0e}" if math.isfinite(w) else "beyond range"
+
+
+def design_table(energies: list[xr.Dataset]) -> pd.DataFrame:
+    """For each sweep energy (an incline and a swept s or F): where U_T and U_I are largest, and
+    the motion there (both sweep directions considered).  The outputs compared are what the device
+    delivers (:func:`vibroimpact.analysis.energy.delivered`): the exact cycle's where the motion is periodic, the
+    long run's where it is not (``U_T_se``, ``U_I_se``: their standard errors)."""
+    from ..analysis.energy import delivered
+
+    rows = []
+    for e in energies:
+        vary = e.attrs["vary"]
+        out = {q: delivered(e, q) for q in ("U_T", "U_I")}
+        for q in ("U_T", "U_I"):
+            vals = out[q][0]
+            if not np.isfinite(vals).any():
+                continue
+            a, i = np.unravel_index(np.nanargmax(vals), vals.shape)
+            rows.append({
+                "beta": float(e.attrs["beta"]), "beta_deg": round(math.degrees(float(e.attrs["beta"])), 6),
+                "vary": vary, "maximise": q, "best": float(e[vary].values[i]), "d": float(e.d.values[i]),
+                "U_T": float(out["U_T"][0][a, i]), "U_I": float(out["U_I"][0][a, i]),
+                "U_T_se": float(out["U_T"][1][a, i]), "U_I_se": float(out["U_I"][1][a, i]),
+                "motion": str(e.label.values[a, i]), "direction": str(e.direction.values[a]),
+                "s": float(e.s.values[i]), "F": float(e.F.values[i]),
+            })
+    return pd.DataFrame(rows)
+
+
+def design_markdown(df: pd.DataFrame) -> str:
+    """The design table as Markdown; an average the long run gives (no period found) with its standard
+    error."""
+    names = {90.0: "π/2", 60.0: "π/3", 45.0: "π/4", 30.0: "π/6"}
+    lines = ["| β | vary | maximises | at | d | Ū_T (V) | Ū_I (V) | motion |", "|---|---|---|---|---|---|---|---|"]
+
+    def value(x, se):
+        return f"{x:.4g} ± {se:.2g}" if np.isfinite(se) and se > 0 else f"{x:.4g}"
+
+    for _, r in df.iterrows():
+        at = f"s = {r.best:.3f} m (F = {r.F:g} N)" if r.vary == "s" else f"F = {r.best:.2f} N (s = {r.s:g} m)"
+        lines.append(f"| {names.get(r.beta_deg, f'{r.beta:.4f}')} | {r.vary} | {r.maximise} | {at} | {r.d:.4f} | "
+                     f"{value(r.U_T, r.get('U_T_se', np.nan))} | {value(r.U_I, r.get('U_I_se', np.nan))} | "
+                     f"{r.motion} |")
+    return "\n".join(lines) + "\n"
+
+
+def failure_markdown(fm: xr.Dataset) -> str:
+    """Counts of outcomes per method, and what happened in the chattering and chaotic cases."""
+    from ..benchmarks.workprecision import OUTCOMES
+
+    grazing = [c for c in fm.case.values if " by " in str(c)]
+    head = "| method | " + " | ".join(OUTCOMES) + " | chattering into sticking | long chaotic run |"
+    lines = [head, "|" + "---|" * (len(OUTCOMES) + 3)]
+    for i, m in enumerate(fm.solver.values):
+        row = fm.isel(solver=i)
+        g = row.sel(case=grazing).outcome.values
+        counts = " | ".join(str(int((g == o).sum())) for o in OUTCOMES)
+        chat = row.sel(case="chattering into sticking")
+        chaos = row.isel(case=-1)
+        lines.append(f"| {m} | {counts} | {str(chat.outcome.values)}: {str(chat.detail.values)} | "
+                     f"{str(chaos.detail.values)} |")
+    lines.append("")
+    lines.append(f"Near-grazing counts are over {len(grazing)} flights: both walls, extremum eps inside (no "
+                 "impact) or past the wall (an impact), eps = " + ", ".join(sorted({str(c).split(' by ')[1] for c in grazing},
+                                                                                   key=float, reverse=True)) + ".")
+    return "\n".join(lines) + "\n"
+
+
+def work_precision_markdown(wp: xr.Dataset) -> str:
+    """Cheapest configuration of each method family reaching 1e-9 in impact times, per scene."""
+    lines = ["| scene | method | cheapest setting reaching 1e-9 | error | µs per impact |", "|---|---|---|---|---|"]
+    for sc in wp.scene.values:
+        sub = wp.sel(scene=sc)
+        for fam in dict.fromkeys(sub.family.values):
+            m = (sub.family.values == fam) & (sub.err_t.values <= 1e-9)
+            if not m.any():
+                best = np.nanmin(sub.err_t.values[sub.family.values == fam])
+                lines.append(f"| {sc} | {fam} | none (best error {best:.1e}) | | |")
+                continue
+            i = np.flatnonzero(m)[np.argmin(sub.us_per_impact.values[m])]
+            setting = sub.setting.values[i]
+            lines.append(f"| {sc} | {fam} | {'' if np.isnan(setting) else f'{setting:g}'} | "
+                         f"{sub.err_t.values[i]:.1e} | {sub.us_per_impact.values[i]:.3g} |")
+    return "\n".join(lines) + "\n"
+
+
+#: Benchmark files (globs under benchmarks/) behind each figure, for the workflow-cost summary.
+FIGURE_SOURCES = {
+    "fig0b, fig4, figFN2 (caption orbits)": ["orbits/*.tsv"],
+    "fig2, fig3, table1 (2:1 branches)": ["branches/*/orbit-BBT_vary-s.tsv", "branches/*/sim-BBT_vary-s.tsv"],
+    "figBiS": ["sweeps/*/figBiS*.tsv", "branches/beta-0.5236*/orbit-BBBT_vary-s.tsv"],
+    "fig0": ["sweeps/*/fig0_*.tsv", "branches/beta-1.0472*/orbit-B*T_vary-*.tsv"],
+    "fig5": ["sweeps/*/fig5_*.tsv", "branches/*/orbit-BT_vary-*.tsv"],
+    "design": ["sweeps/*/design_*.tsv"],
+    "basins": ["basins/*/*.tsv"],
+    "regime_map": ["maps/*.tsv"],
+    "bench (simulator speed)": ["bench/simulator.tsv"],
+    "work_precision": ["bench/work_precision.tsv"],
+    "failure_map": ["bench/failure_map.tsv"],
+    "analytics_accuracy": ["bench/analytics_accuracy.tsv"],
+}
+
+
+#: the rule that wrote a benchmark file, from its path under ``benchmarks/`` (first match; else the
+#: path's first directory, which is the rule's name for the rules that draw and tabulate)
+RULE_OF_BENCHMARK = (
+    (r"^orbits/caption-orbits", "caption_orbits"), (r"^branches/.*/orbit-", "branch"),
+    (r"^branches/.*/sim-", "branch_simulated"),
+    (r"^sweeps/", "sweep"), (r"^basins/", "basins"), (r"^maps/", "regime_map"),
+    (r"^bench/simulator", "bench_simulator"), (r"^bench/(\w+)\.tsv$", None),
+)
+
+
+def rule_of_benchmark(path: str) -> str:
+    """The rule whose ``benchmark:`` file is ``path`` (relative to the benchmarks directory)."""
+    import re
+
+    for pattern, rule in RULE_OF_BENCHMARK:
+        m = re.match(pattern, path)
+        if m:
+            return rule or m.group(1)
+    return path.split("/")[0]
+
+
+def workflow_cost(bench_dir) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Wall-clock seconds of every benchmarked job (from Snakemake ``benchmark:`` files) with its rule,
+    and per figure.  A job feeding several figures counts in each."""
+    from pathlib import Path
+
+    bench_dir = Path(bench_dir)
+    jobs = []
+    for f in sorted(bench_dir.rglob("*.tsv")):
+        t = pd.read_csv(f, sep="\t")
+        rel = str(f.relative_to(bench_dir))
+        jobs.append({"file": rel, "rule": rule_of_benchmark(rel), "seconds": float(t["s"].iloc[-1]),
+                     "max_rss_mb": float(t["max_rss"].iloc[-1]) if "max_rss" in t and t["max_rss"].iloc[-1] != "-" else np.nan})
+    jobs = pd.DataFrame(jobs)
+    per_fig = []
+    for fig, globs in FIGURE_SOURCES.items():
+        files = {str(p.relative_to(bench_dir)) for g in globs for p in bench_dir.glob(g)}
+        sel = jobs[jobs.file.isin(files)] if len(jobs) else jobs
+        per_fig.append({"figure": fig, "jobs": len(sel), "seconds": float(sel.seconds.sum()) if len(sel) else 0.0})
+    return jobs, pd.DataFrame(per_fig)
+
+
+def workflow_cost_markdown(jobs: pd.DataFrame, per_fig: pd.DataFrame) -> str:
+    """Per figure, then per rule (jobs, total and largest job seconds, most expensive first)."""
+    lines = ["| figure | benchmarked jobs | total seconds |", "|---|---|---|"]
+    for _, r in per_fig.iterrows():
+        lines.append(f"| {r.figure} | {r.jobs} | {r.seconds:.1f} |")
+    lines.append(f"| **all benchmarked jobs** | {len(jobs)} | {jobs.seconds.sum():.1f} |")
+    if len(jobs) and "rule" in jobs:
+        per_rule = (jobs.groupby("rule").seconds.agg(["count", "sum", "max"]).sort_values("sum", ascending=False)
+                    .rename(columns={"count": "jobs", "sum": "total seconds", "max": "largest job (s)"}))
+        lines += ["", "Per rule:", "", per_rule.round(1).to_markdown()]
+    return "\n".join(lines) + "\n"
+
+
+def matched_accuracy_markdown(ma: xr.Dataset) -> str:
+    """Cost at matched accuracy (``workprecision.matched_accuracy``): per scene and method family, the
+    cheapest setting reaching the target error, its cost and its ratio to the exact simulator's cost
+    measured in the same run, or "cannot reach"."""
+    rows = []
+    for sc in ma.scene.values:
+        for fam in ma.family.values:
+            r = ma.sel(scene=sc, family=fam)
+            if not bool(r.reached):
+                rows.append({"scene": sc, "method": fam, "setting": "cannot reach", "error": "", "µs per impact": "",
+                             "× exact": ""})
+                continue
+            s = float(r.setting)
+            rows.append({"scene": sc, "method": fam, "setting": "" if np.isnan(s) else f"{s:g}",
+                         "error": f"{float(r.err_t):.1e}", "µs per impact": f"{float(r.us_per_impact):.3g}",
+                         "× exact": f"{float(r.ratio_to_exact):.3g}"})
+    head = (f"Cost at matched accuracy: the cheapest setting of each method whose impact-time error over the "
+            f"first impacts is at most {ma.attrs['target']:g} (walls all right); cost per impact and ratio to "
+            "the exact simulator, measured in one run (compilation excluded).\n\n")
+    return head + pd.DataFrame(rows).to_markdown(index=False) + "\n"
+
+
+def _pi_name(x: float) -> str:
+    from .plots._common import pi_tex
+
+    return pi_tex(float(x)).replace("\\pi", "π")
+
+
+def design_robust_table(rows_by_map: dict[str, list[dict]]) -> pd.DataFrame:
+    """One row per map and incline: the best robust design (:func:`vibroimpact.analysis.design.best_designs`)
+    and, where the map varies ``s``, the longest device within the budget at the same incline and force."""
+    out = []
+    for name, rows in rows_by_map.items():
+        for r in rows:
+            row = {"map": name, "beta": r["beta"], "found": r["found"]}
+            if r["found"]:
+                row.update({k: r[k] for k in ("s", "F", "d", "motion", "E_U_T", "worst_U_T", "box_min_E_U_T",
+                                              "margin", "nearest_curve")})
+            lg = r.get("longest")
+            if lg:
+                row.update({f"longest_{k}": lg[k] for k in ("s", "F", "motion", "E_U_T", "worst_U_T", "box_min_E_U_T",
+                                                             "margin", "robust")})
+            out.append(row)
+    return pd.DataFrame(out)
+
+
+def design_robust_markdown(df: pd.DataFrame) -> str:
+    """The best robust designs, per incline, beside the longest device within the budget."""
+    rows = []
+    for _, r in df.iterrows():
+        if not r["found"]:
+            design = "no robust design within the budget"
+            cols = dict.fromkeys(("motion", "E[Ū_T] (kV)", "worst Ū_T (kV)", "lowest E[Ū_T] over the box (kV)",
+                                  "margin (nearest curve)"), "")
+        else:
+            design = f"s = {r.s:.3f} m, F = {r.F:.2f} N"
+            cols = {"motion": r.motion, "E[Ū_T] (kV)": f"{r.E_U_T / 1e3:.2f}", "worst Ū_T (kV)": f"{r.worst_U_T / 1e3:.2f}",
+                    "lowest E[Ū_T] over the box (kV)": f"{r.box_min_E_U_T / 1e3:.2f}",
+                    "margin (nearest curve)": (f"{r.margin:.1f} ({r.nearest_curve})" if np.isfinite(r.margin)
+                                               else "∞ (no curve meets the box's line)")}
+        longest = ""
+        if "longest_s" in r and isinstance(r.get("longest_motion"), str):
+            longest = (f"s = {r.longest_s:.3f} m: E[Ū_T] {r.longest_E_U_T / 1e3:.2f}, worst {r.longest_worst_U_T / 1e3:.2f};"
+                       f" {r.longest_motion}")
+        rows.append({"map": r["map"], "β": _pi_name(r.beta), "best robust design": design, **cols,
+                     "longest device within the budget": longest})
+    return pd.DataFrame(rows).to_markdown(index=False) + "\n"
+
+
+def design_cost_markdown(maps: dict[str, tuple[int, int]], seconds: dict[str, float]) -> str:
+    """Runs, events and job time per design map (its chunks summed), with events per second."""
+    rows = [{"map": m, "runs (points x starts)": runs, "events simulated": ev, "job time (s)": round(seconds[m], 1),
+             "events per second": f"{ev / seconds[m]:.3g}"} for m, (runs, ev) in maps.items()]
+    return pd.DataFrame(rows).to_markdown(index=False) + "\n"

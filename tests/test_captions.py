@@ -11,9 +11,8 @@ from conftest import CAPTIONS, flight_state, gbar_of
 from scipy.optimize import brentq
 
 import vibroimpact as vi
-from vibroimpact.outputs import portraits
-from vibroimpact.outputs import checks
 from vibroimpact.analysis.grazing import interior_clearance
+from vibroimpact.outputs import checks, portraits
 
 
 @pytest.mark.parametrize("name", sorted(CAPTIONS))

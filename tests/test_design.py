@@ -23,8 +23,8 @@ from vibroimpact.analysis.design import (
 )
 from vibroimpact.analysis.energy import Membrane, orbit_energy
 from vibroimpact.analysis.orbits import find_orbit
-from vibroimpact.dynamics.params import Params
 from vibroimpact.analysis.sweeps import basins
+from vibroimpact.dynamics.params import Params
 
 CFG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 PH = CFG["physics"]

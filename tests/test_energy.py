@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 import vibroimpact as vi
-from vibroimpact.dynamics import kernels
 from vibroimpact.analysis.continuation import branch_from_simulation
 from vibroimpact.analysis.energy import (
     Membrane,
@@ -19,6 +18,7 @@ from vibroimpact.analysis.energy import (
 )
 from vibroimpact.analysis.orbits import find_orbit
 from vibroimpact.analysis.sweeps import sweep
+from vibroimpact.dynamics import kernels
 
 PAPER = dict(h=2.6, K=4.0847e5, R=6.3e-3, r_b=5.0e-3, U_in=2000.0, m=4.11e-3)
 #: membrane constants the claims must survive (docs/model.md: "whatever the membrane constants")

@@ -8,7 +8,6 @@ import pytest
 from conftest import gbar_of
 
 import vibroimpact as vi
-from vibroimpact.dynamics import kernels as K
 from vibroimpact.analysis.settled import (
     SETTLE_MATCH,
     batch_means,
@@ -18,6 +17,7 @@ from vibroimpact.analysis.settled import (
     polish_cycle,
 )
 from vibroimpact.analysis.sweeps import settle, sweep
+from vibroimpact.dynamics import kernels as K
 
 
 def _cycle(run):
@@ -143,11 +143,11 @@ def test_a_cycle_a_hundredth_off_its_orbit_is_another_orbit_s():
 def test_a_sticking_output_is_known_to_its_chatter_accuracy_and_no_worse():
     """delivered() gives a sticking point its value with the chatter sum's accuracy: a change of 1e-7
     (relative) is far beyond it, in units of the check's combined standard errors."""
-    from vibroimpact.analysis.energy import Membrane, delivered, sweep_energy
-    from vibroimpact.outputs.figcheck import Z_CRIT
-    from vibroimpact.analysis.settled import STICK_REL
+    from test_energy import OMEGA, PAPER, M
 
-    from test_energy import M, OMEGA, PAPER
+    from vibroimpact.analysis.energy import Membrane, delivered, sweep_energy
+    from vibroimpact.analysis.settled import STICK_REL
+    from vibroimpact.outputs.figcheck import Z_CRIT
 
     sw = sweep("s", [0.3, 0.5], beta=math.pi / 2, F=1.4, max_periods=60, long_impacts=0)
     value, se = delivered(sweep_energy(sw, Membrane(**PAPER), M=M, omega=OMEGA), "U_T")
@@ -158,8 +158,8 @@ def test_a_sticking_output_is_known_to_its_chatter_accuracy_and_no_worse():
 def test_the_critical_z_is_student_s_t_of_the_batches_at_one_in_a_million():
     from scipy.stats import t
 
-    from vibroimpact.outputs.figcheck import Z_CRIT
     from vibroimpact.analysis.settled import LONG_BATCHES
+    from vibroimpact.outputs.figcheck import Z_CRIT
 
     assert Z_CRIT == pytest.approx(t.ppf(1 - 0.5e-6, LONG_BATCHES - 1), abs=0.005)
 

@@ -7,9 +7,9 @@ import numpy as np
 
 import vibroimpact as vi
 from vibroimpact.benchmarks import methods as M
+from vibroimpact.benchmarks.workprecision import failure_map, work_precision
 from vibroimpact.dynamics.reference import trajectory
 from vibroimpact.outputs.tables import workflow_cost
-from vibroimpact.benchmarks.workprecision import failure_map, work_precision
 
 P21 = vi.Params(d=0.16, gbar=0.1245 * 9.8 * 0.5 / 5, r=0.5)
 
@@ -108,8 +108,7 @@ def test_matched_accuracy_takes_the_cheapest_setting_that_reaches_the_target():
 
 
 def test_absent_peers_are_recorded_not_dropped_silently(monkeypatch):
-    from vibroimpact.benchmarks import peer_heyoka
-    from vibroimpact.benchmarks import peer_siconos
+    from vibroimpact.benchmarks import peer_heyoka, peer_siconos
     from vibroimpact.benchmarks.workprecision import method_ladder, peer_status
 
     monkeypatch.setattr(peer_heyoka, "available", lambda: False)

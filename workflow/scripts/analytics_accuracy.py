@@ -3,9 +3,9 @@ import logging
 
 import xarray as xr
 
+from vibroimpact.benchmarks.workprecision import analytics_accuracy
 from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.outputs.tables import stable_interval
-from vibroimpact.benchmarks.workprecision import analytics_accuracy
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 # G1: where the 2:1 branch's stable, admissible run ends by grazing; G2: the 3:1 branch's fold

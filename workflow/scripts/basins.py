@@ -5,8 +5,8 @@ import numba
 import numpy as np
 
 import vibroimpact as vi
-from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.analysis.sweeps import basins
+from vibroimpact.datasets import provenance, write_netcdf
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 numba.set_num_threads(max(1, min(snakemake.threads, numba.config.NUMBA_NUM_THREADS)))

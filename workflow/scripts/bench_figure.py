@@ -4,8 +4,8 @@ import logging
 
 import xarray as xr
 
-from vibroimpact.outputs import plots
 from vibroimpact.datasets import provenance
+from vibroimpact.outputs import plots
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 ds = xr.load_dataset(snakemake.input[0], engine="netcdf4")

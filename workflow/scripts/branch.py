@@ -4,8 +4,8 @@ import math
 
 import vibroimpact as vi
 from vibroimpact.analysis.continuation import branch_from_simulation
-from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.analysis.energy import Membrane, branch_energy
+from vibroimpact.datasets import provenance, write_netcdf
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 ph, spec, vary = snakemake.params.physics, snakemake.params.spec, snakemake.params.vary

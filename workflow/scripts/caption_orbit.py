@@ -2,8 +2,8 @@
 import logging
 
 import vibroimpact as vi
-from vibroimpact.outputs import portraits
 from vibroimpact.datasets import provenance, write_netcdf
+from vibroimpact.outputs import portraits
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 for p, out in zip(snakemake.params.p, snakemake.output, strict=True):

@@ -3,8 +3,8 @@ import logging
 
 import xarray as xr
 
-from vibroimpact.outputs import plots
 from vibroimpact.datasets import provenance
+from vibroimpact.outputs import plots
 from vibroimpact.outputs.tables import design_markdown, design_table
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)

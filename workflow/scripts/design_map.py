@@ -4,8 +4,8 @@ import logging
 
 import xarray as xr
 
-from vibroimpact.datasets import write_netcdf
 from vibroimpact.analysis.design import merge_chunks, tolerance_analysis
+from vibroimpact.datasets import write_netcdf
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 ds = merge_chunks([xr.load_dataset(f, engine="netcdf4") for f in snakemake.input.chunks])

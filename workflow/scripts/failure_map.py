@@ -1,9 +1,9 @@
 """Where each method fails: near grazing, chattering into sticking, a long chaotic run."""
 import logging
 
+from vibroimpact.benchmarks.workprecision import failure_map
 from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.outputs.tables import failure_markdown
-from vibroimpact.benchmarks.workprecision import failure_map
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 p = dict(snakemake.params)

@@ -4,9 +4,9 @@ import logging
 import numpy as np
 import xarray as xr
 
-from vibroimpact.outputs import plots
 from vibroimpact.analysis.bifurcation import map_boundaries
 from vibroimpact.datasets import provenance, write_netcdf
+from vibroimpact.outputs import plots
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 curves = xr.load_dataset(snakemake.input.curves, engine="netcdf4")

@@ -3,8 +3,8 @@ import logging
 
 import xarray as xr
 
-from vibroimpact.outputs import plots
 from vibroimpact.datasets import provenance
+from vibroimpact.outputs import plots
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 fig = plots.fig_regime_map([xr.load_dataset(f, engine="netcdf4") for f in snakemake.input], snakemake.params.scans)

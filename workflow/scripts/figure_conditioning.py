@@ -6,7 +6,13 @@ import pandas as pd
 import xarray as xr
 
 from vibroimpact.outputs.checks import IMAGE_ROW
-from vibroimpact.outputs.conditioning import PERTURBATIONS, image_spread, libm_switch_works, regenerate, spreads
+from vibroimpact.outputs.conditioning import (
+    PERTURBATIONS,
+    image_spread,
+    libm_switch_works,
+    regenerate,
+    spreads,
+)
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 p = snakemake.params

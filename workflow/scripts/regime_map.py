@@ -4,8 +4,8 @@ import logging
 import numba
 import numpy as np
 
-from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.analysis.sweeps import regime_map
+from vibroimpact.datasets import provenance, write_netcdf
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 numba.set_num_threads(max(1, min(snakemake.threads, numba.config.NUMBA_NUM_THREADS)))

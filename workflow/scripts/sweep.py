@@ -5,9 +5,9 @@ import logging
 import numpy as np
 import xarray as xr
 
-from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.analysis.energy import Membrane, sweep_energy
 from vibroimpact.analysis.sweeps import bistable_intervals, locate_transitions, sweep
+from vibroimpact.datasets import provenance, write_netcdf
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 sc, ph, sw = snakemake.params.scene, snakemake.params.physics, snakemake.params.sweeps

@@ -1,9 +1,9 @@
 """Work-precision of every method on the 1:1, 2:1, 3:1 and chaotic scenes."""
 import logging
 
+from vibroimpact.benchmarks.workprecision import matched_accuracy, work_precision
 from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.outputs.tables import matched_accuracy_markdown, work_precision_markdown
-from vibroimpact.benchmarks.workprecision import matched_accuracy, work_precision
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 p = dict(snakemake.params)

@@ -23,11 +23,11 @@ import numpy as np
 import xarray as xr
 
 from .._progress import Progress
-from .continuation import PARAMETERS, TESTS, _tangent, _tests
 from ..datasets import annotate
+from ..dynamics.params import Params
+from .continuation import PARAMETERS, TESTS, _tangent, _tests
 from .grazing import admissibility
 from .orbits import Orbit, OrbitError, _residual_and_jacobian, map_jacobian, orbit_from_vector, parse_word
-from ..dynamics.params import Params
 
 __all__ = ["bistable_band", "curve_crossings", "curve_set", "curve_values", "follow_point", "map_boundaries", "plane_cusps"]
 

@@ -28,8 +28,8 @@ from scipy.optimize import brentq
 
 from .._progress import Progress
 from ..datasets import VARIABLES, annotate
-from .orbits import Orbit, OrbitError, _residual_and_jacobian, find_orbit, orbit_from_vector, parse_word
 from ..dynamics.params import Params
+from .orbits import Orbit, OrbitError, _residual_and_jacobian, find_orbit, orbit_from_vector, parse_word
 
 __all__ = ["PARAMETERS", "ParameterMap", "branch_from_simulation", "branch_parameters", "continue_orbit", "simulate_along"]
 

@@ -32,9 +32,9 @@ import numpy as np
 import xarray as xr
 from scipy.stats import binomtest
 
-from ..dynamics import kernels as K
 from .._progress import Progress, _interactive
 from ..datasets import annotate
+from ..dynamics import kernels as K
 from .energy import Membrane, window_averages
 from .sweeps import APERIODIC, _last_bottom, attractor_batch, plane_params
 

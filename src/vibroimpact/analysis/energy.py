@@ -24,8 +24,8 @@ from dataclasses import asdict, dataclass
 import numpy as np
 import xarray as xr
 
-from ..dynamics import kernels as K
 from ..datasets import annotate
+from ..dynamics import kernels as K
 from .settled import LONG_BATCHES
 
 __all__ = ["Membrane", "voltage_gain", "speed_si", "averages", "window_averages", "orbit_energy", "branch_energy", "sweep_energy",

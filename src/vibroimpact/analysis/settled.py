@@ -76,8 +76,8 @@ def polish_cycle(d, gbar, r, t, wall, v_minus, phase, kind, span) -> dict:
         its canonical first event (:func:`canonical_start`): ``t`` (from 0), ``wall``, ``v_minus``,
         ``phase``, ``kind``.
     """
-    from .orbits import OrbitError, orbit_from_vector, solve_orbit
     from ..dynamics.params import Params
+    from .orbits import OrbitError, orbit_from_vector, solve_orbit
 
     t, v_minus, phase = (np.asarray(a, dtype=float) for a in (t, v_minus, phase))
     wall, kind = np.asarray(wall, dtype=np.int8), np.asarray(kind, dtype=np.int8)

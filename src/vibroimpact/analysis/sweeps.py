@@ -15,9 +15,9 @@ import math
 import numpy as np
 import xarray as xr
 
-from ..dynamics import kernels as K
 from .._progress import Progress, _interactive
 from ..datasets import annotate
+from ..dynamics import kernels as K
 from ..dynamics.params import Params
 from ..dynamics.simulate import cycle_class
 

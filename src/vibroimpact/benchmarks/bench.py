@@ -16,10 +16,10 @@ import xarray as xr
 
 from ..datasets import annotate
 from ..dynamics.events import next_impact
-from .methods import ivp_flight, run_ivp
 from ..dynamics.params import Params
 from ..dynamics.reference import first_impact
 from ..dynamics.simulate import simulate, simulate_batch
+from .methods import ivp_flight, run_ivp
 
 #: Benchmark scene: beta = pi/3, d = 0.235 lies in the chaotic window (paper Fig 0): every kind of flight.
 SCENE = dict(d=0.235, beta=math.pi / 3, phi=0.4, v0=0.6)

@@ -49,8 +49,8 @@ import time
 
 import numpy as np
 
-from .methods import flight_loop
 from ..dynamics.params import Params
+from .methods import flight_loop
 
 __all__ = ["available", "heyoka_version", "integrator", "compile_seconds", "heyoka_flight", "run_heyoka"]
 

@@ -37,8 +37,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .methods import CRASHED, STALLED, Run
 from ..dynamics.params import Params
+from .methods import CRASHED, STALLED, Run
 
 __all__ = ["METHODS", "FlightResult", "SiconosPeerError", "SiconosRun", "SiconosUnavailable", "available",
            "run_siconos", "siconos_flights", "unavailable_reason", "version"]

@@ -12,12 +12,12 @@ import math
 import numpy as np
 import xarray as xr
 
-from . import methods as M
 from .._progress import Progress
 from ..datasets import annotate
 from ..dynamics.events import next_impact
 from ..dynamics.params import Params
 from ..dynamics.reference import bounce_by_bounce, first_impact, grazing_state, trajectory
+from . import methods as M
 
 #: Scenes from the paper's captions and its chaotic window: (beta, d, phi, v0)
 SCENES = {

@@ -10,8 +10,8 @@ import numpy as np
 import xarray as xr
 from numba import njit
 
-from . import kernels as K
 from ..datasets import annotate
+from . import kernels as K
 from .flight import INV_PI2, PI, TWO_PI, displacement, velocity
 from .params import Params
 

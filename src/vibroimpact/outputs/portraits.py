@@ -97,7 +97,14 @@ def add_located_grazing(ds: xr.Dataset, params: Params, *, window: float = 0.01,
     ``grazing_clearance`` (of the orbit solved there) and ``grazing_Z``, ``grazing_Zdot`` over one
     period from its first bottom impact, or ``grazing_status`` with the reason none was found."""
     from ..analysis.continuation import continue_orbit
-    from ..analysis.orbits import OrbitError, find_orbit, orbit_from_vector, orbit_run, parse_word, solve_orbit
+    from ..analysis.orbits import (
+        OrbitError,
+        find_orbit,
+        orbit_from_vector,
+        orbit_run,
+        parse_word,
+        solve_orbit,
+    )
 
     if ds.attrs.get("orbit_status") != "solved":
         ds.attrs["grazing_status"] = f"no Newton orbit to continue ({ds.attrs.get('orbit_status')})"

@@ -30,7 +30,7 @@ def wheel(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("wheel")
     src = tmp / "src-tree"  # a copy: setuptools leaves a build/ directory where it builds
     src.mkdir()
-    for item in ("pyproject.toml", "README.md", "src"):
+    for item in ("pyproject.toml", "README.md", "LICENSE", "src"):
         if (ROOT / item).is_dir():
             shutil.copytree(ROOT / item, src / item, ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
         else:
@@ -107,3 +107,23 @@ def test_each_layer_imports_only_the_layers_below_it():
                         bad.append(f"{f.relative_to(pkg)}: {ast.unparse(node)}")
     assert not bad, bad
     assert {"simulate", "find_orbit", "continue_orbit", "sweep", "design_map", "curve_set"} <= set(vibroimpact.__all__)
+
+
+def test_license_and_citation_name_one_version_and_the_paper():
+    """A BSD-3-Clause license the wheel carries; CITATION.cff cites this version of the software and the
+    paper it reproduces; the version is written once (_version.py) and the citation agrees with it."""
+    import yaml
+
+    assert (ROOT / "LICENSE").read_text().startswith("BSD 3-Clause License")
+    cff = yaml.safe_load((ROOT / "CITATION.cff").read_text())
+    assert cff["version"] == vibroimpact.__version__ and cff["license"] == "BSD-3-Clause"
+    paper = cff["references"][0]
+    assert paper["title"] == "Post-grazing dynamics of a vibro-impacting energy generator"
+    assert [a["family-names"] for a in paper["authors"]] == ["Serdukova", "Kuske", "Yurchenko"]
+    assert 'dynamic = ["version"]' in (ROOT / "pyproject.toml").read_text()  # read from _version.py
+
+
+def test_the_wheel_carries_the_license(wheel):
+    whl, _ = wheel
+    names = zipfile.ZipFile(whl).namelist()
+    assert any(n.endswith("licenses/LICENSE") for n in names), [n for n in names if "dist-info" in n]

@@ -96,3 +96,7 @@ rule all:
         "results/tables/workflow_cost.md",
         [study_figure(st) for st in STUDIES],
         "results/tables/table1.md",
+
+
+# the documentation site builds on the default target (rule all, above)
+include: "workflow/rules/docs.smk"

@@ -17,14 +17,14 @@ TOL_T = 1e-12
 
 def flight_state(theta, z0, u, gbar, tau):
     """Relative position and velocity ``tau`` after a state ``(z0, u)`` at forcing phase ``theta``:
-    the closed-form solution of ``Z'' = gbar + cos(pi t + phi)`` (docs/model.md, paper eqs. zdot_t, z_t), written
+    the closed-form solution of ``Z'' = gbar + cos(pi t + phi)`` (docs/guide/model.md, paper eqs. zdot_t, z_t), written
     here from the equation, independently of the package's cancellation-free evaluation."""
     x = np.pi * tau
     v = u + gbar * tau + (np.sin(theta + x) - np.sin(theta)) / np.pi
     z = z0 + u * tau + gbar * tau**2 / 2 - (np.cos(theta + x) - np.cos(theta) + x * np.sin(theta)) / np.pi**2
     return z, v
 
-#: Paper defaults (docs/model.md)
+#: Paper defaults (docs/guide/model.md)
 M, F, OMEGA, G = 0.1245, 5.0, 5 * math.pi, 9.8
 
 
@@ -32,7 +32,7 @@ def gbar_of(beta, force=F):
     return M * G * math.sin(beta) / force
 
 
-#: Caption orbits of docs/model.md and Fig FN2: name -> (beta, d, Zdot(t0), phi, n_bottom, n_top,
+#: Caption orbits of docs/guide/model.md and Fig FN2: name -> (beta, d, Zdot(t0), phi, n_bottom, n_top,
 #: period in forcing periods, force in N); Fig FN2 (a)-(c) state 61 N.
 CAPTIONS = {
     "figFN2_a": (math.pi / 2, 0.197, 0.5474, 6.211, 1, 1, 1, 61.0),

@@ -131,7 +131,7 @@ def test_check_summaries_per_figure():
 
 
 def test_the_model_document_states_the_papers_values_the_code_compares_with():
-    """docs/model.md carries the paper's reference values itself: every stable interval, G1, G2 and d_B
+    """docs/guide/model.md carries the paper's reference values itself: every stable interval, G1, G2 and d_B
     of vibroimpact.outputs.paper and every caption orbit of the config the document lists appear in it as
     printed; and nothing in the repository's documents points outside it."""
     import re
@@ -141,7 +141,7 @@ def test_the_model_document_states_the_papers_values_the_code_compares_with():
 
     from vibroimpact.outputs import paper
 
-    doc = (ROOT / "docs" / "model.md").read_text()
+    doc = (ROOT / "docs" / "guide" / "model.md").read_text()
     for lo, hi in paper.STABLE_2TO1.values():
         assert f"{lo:g} < d < {hi:g}" in doc
     for x in (paper.PI6_G1, paper.PI6_G2, paper.PI6_D_B):
@@ -150,7 +150,7 @@ def test_the_model_document_states_the_papers_values_the_code_compares_with():
     for name in ("fig0b_a", "fig0b_b", "fig0b_c", "fig4_a", "fig4_d", "fig4_g", "figBiS_e", "figBiS_f"):
         for key in ("d", "v0", "phi"):
             assert f"{caps[name][key]:g}" in doc, (name, key)
-    for f in [ROOT / "README.md", ROOT / "config" / "config.yaml", *(ROOT / "docs").glob("*.md"),
+    for f in [ROOT / "README.md", ROOT / "config" / "config.yaml", *(ROOT / "docs").rglob("*.md"),
               *(ROOT / "src").rglob("*.py"), *(ROOT / "workflow").rglob("*.smk")]:
         text = f.read_text()
         assert "MODEL.md" not in text and "shared/" not in text, f

@@ -21,7 +21,7 @@ from vibroimpact.analysis.sweeps import sweep
 from vibroimpact.dynamics import kernels
 
 PAPER = dict(h=2.6, K=4.0847e5, R=6.3e-3, r_b=5.0e-3, U_in=2000.0, m=4.11e-3)
-#: membrane constants the claims must survive (docs/model.md: "whatever the membrane constants")
+#: membrane constants the claims must survive (docs/guide/model.md: "whatever the membrane constants")
 VARIANTS = [PAPER, dict(PAPER, m=1e-3), dict(PAPER, K=4.0847e4, h=2.0), dict(PAPER, R=8e-3, r_b=4e-3, m=2e-2)]
 M, OMEGA = 0.1245, 5 * math.pi
 K_S = M * OMEGA**2 / (5 * math.pi**2)

@@ -82,7 +82,7 @@ def test_bad_words_are_rejected():
 
 
 # ---------------------------------------------------------------------------------------------
-# Branches and critical points (paper section 4, docs/model.md)
+# Branches and critical points (paper section 4, docs/guide/model.md)
 # ---------------------------------------------------------------------------------------------
 
 

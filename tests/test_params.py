@@ -6,7 +6,7 @@ import vibroimpact as vi
 
 
 def test_paper_scaling_of_d_and_gbar():
-    # docs/model.md: d = 0.6225 s and gbar = 0.24402 sin(beta) with the paper's defaults
+    # docs/guide/model.md: d = 0.6225 s and gbar = 0.24402 sin(beta) with the paper's defaults
     p = vi.Params.from_physical(s=1.0, beta=math.pi / 2)
     assert p.d == pytest.approx(0.6225, abs=5e-5)
     assert p.gbar == pytest.approx(0.24402, abs=5e-6)

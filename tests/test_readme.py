@@ -249,3 +249,32 @@ def test_the_lock_refresh_resolves_the_project_s_ranges(tmp_path):
     norm = lambda n: re.sub(r"[-_.]+", "-", n).lower()
     missing = {norm(w) for w in wanted if w not in ("setuptools",)} - {norm(n) for n in pins}
     assert not missing, missing
+
+
+def test_the_api_example_runs():
+    """README's ten lines, run as written: the Fig BiS (e) motion is the 2:1, its orbit's branch has the
+    grazing point G1 and the fold, and the sweep's bistable interval is [G1, G2]."""
+    import contextlib
+    import io
+
+    blocks = re.findall(r"<!-- tested by tests/test_readme.py::test_the_api_example_runs -->\n```python\n(.*?)```",
+                        (ROOT / "README.md").read_text(), re.S)
+    assert len(blocks) == 1 and len(blocks[0].strip().splitlines()) <= 12
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        exec(compile(blocks[0], "README.md", "exec"), {})
+    text = out.getvalue()
+    assert text.startswith("2:1 period-2\n")
+    assert "'grazing'" in text and "'fold'" in text and "0.1376" in text and "0.215" in text
+    assert re.search(r"0\s+0\.1376\d*\s+0\.14195\d*", text), text
+
+
+@pytest.mark.slow
+def test_the_readme_quotes_the_check_s_counts(readme_clone):
+    """The numbers README.md quotes about the check are the check's own, from its results."""
+    clone, _, check = readme_clone
+    assert check.returncode == 0
+    df = pd.read_csv(clone / "results" / "checks" / "paper_values.csv")
+    counts = df["status"].value_counts()
+    text = (ROOT / "README.md").read_text()
+    assert f"reproduces {counts['pass']} to the digits printed and explains {counts['known discrepancy']} others" in text

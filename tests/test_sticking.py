@@ -1,4 +1,4 @@
-"""Chattering, sticking and release (docs/model.md), against a bounce-by-bounce reference.
+"""Chattering, sticking and release (docs/guide/model.md), against a bounce-by-bounce reference.
 
 The reference (:func:`vibroimpact.dynamics.reference.bounce_by_bounce`) chains every bounce of every
 chattering sequence as an exact flight in 60-digit arithmetic, down to rebound speeds of 1e-25,

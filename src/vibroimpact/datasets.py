@@ -30,11 +30,11 @@ VARIABLES: dict[str, tuple[str, str, str]] = {
     "gbar": ("1", "non-dimensional gravity gbar", "gbar = M g sin(beta) / F"),
     "r": ("1", "coefficient of restitution r", ""),
     "phi": ("rad", "forcing phase at t0", ""),
-    "v0": ("1", "pre-impact velocity of the initial bottom impact", "paper convention, docs/model.md"),
+    "v0": ("1", "pre-impact velocity of the initial bottom impact", "paper convention, docs/guide/model.md"),
     "n_events": ("1", "number of recorded events", ""),
     "status": ("1", "run status", "see flag_values and flag_meanings"),
     "period_events": ("1", "events per period of the attractor", "0 when no period was identified"),
-    # energy (docs/model.md, paper eq. V1)
+    # energy (docs/guide/model.md, paper eq. V1)
     "gain": ("V", "output voltage U_k - U_in at each impact", ""),
     "U_I": ("V", "average output voltage per impact (eq. V1)", ""),
     "U_T": ("V", "average output voltage per unit of non-dimensional time (eq. V1)", ""),
@@ -60,7 +60,7 @@ VARIABLES: dict[str, tuple[str, str, str]] = {
     "F": ("N", "forcing amplitude ||F||", ""),
     "beta": ("rad", "incline beta", ""),
     "omega": ("rad/s", "forcing angular frequency omega", ""),
-    # branches and their stability (docs/model.md)
+    # branches and their stability (docs/guide/model.md)
     "eig_real": ("1", "real part of an eigenvalue of the monodromy matrix DP", ""),
     "eig_imag": ("1", "imaginary part of an eigenvalue of DP", ""),
     "eig_abs": ("1", "modulus of an eigenvalue of DP", ""),

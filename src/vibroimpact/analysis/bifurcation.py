@@ -401,18 +401,39 @@ def _curve_dataset(Xs, template, pm, kind, params, stops, scale) -> xr.Dataset:
 
 def curve_set(branches, params, ranges, *, kinds=("B", "fold", "grazing"), step=1e-2, physics=None,
               max_points=2000, progress: bool | None = None) -> xr.Dataset:
-    """Every critical point of ``kinds`` on the continued ``branches`` (datasets of
-    :func:`~vibroimpact.analysis.continuation.continue_orbit` in s, admissible and refined), followed as a curve in
-    ``params`` over ``ranges``.  ``physics``: the device's values for
-    :meth:`~vibroimpact.dynamics.params.Params.from_physical` (beta, M, F, omega, r, g) at the branches.
+    """Every critical point of ``kinds`` on continued branches, followed as a curve in two parameters.
 
-    A point that cannot be followed is kept as a curve without points, with its reason.  Returns the
-    curves end to end: along ``point`` the two parameters and ``curve`` (index into the ``curve``
-    dimension: ``curve_kind``, ``curve_word``, ``curve_start_s``, ``curve_status``, ``curve_reason``,
-    ``curve_stop``); along ``event`` where a curve meets another set of its orbit (another test function
-    changes sign) or its projection turns back (``cusp``, :func:`plane_cusps`); along ``crossing`` where
-    two curves cross in the plane (:func:`curve_crossings`).  ``progress``: a bar over the points
-    followed (default: only when run interactively)."""
+    A point that cannot be followed is kept as a curve without points, with its reason.
+
+    Parameters
+    ----------
+    branches : list of xarray.Dataset
+        Branches of :func:`~vibroimpact.continue_orbit` in s, whose admissible, refined critical points start
+        the curves.
+    params : (str, str)
+        The two parameters of the plane (:data:`~vibroimpact.analysis.continuation.PARAMETERS`).
+    ranges : ((float, float), (float, float))
+        Their box; a curve stops where it leaves it.
+    kinds : sequence of str
+        The kinds of point followed: ``"B"`` (period doubling), ``"fold"``, ``"grazing"``, ``"A"``.
+    step : float
+        Arclength step of :func:`~vibroimpact.follow_point`.
+    physics : dict, optional
+        The device's values for :meth:`~vibroimpact.Params.from_physical` (beta, M, F, omega, r, g) at the
+        branches.
+    max_points : int
+        Most points per curve and direction.
+    progress : bool, optional
+        A bar over the points followed (default: only when run interactively).
+
+    Returns
+    -------
+    xarray.Dataset
+        The curves end to end: along ``point`` the two parameters and ``curve`` (index into the ``curve``
+        dimension: ``curve_kind``, ``curve_word``, ``curve_start_s``, ``curve_status``, ``curve_reason``,
+        ``curve_stop``); along ``event`` where a curve meets another set of its orbit or its projection turns
+        back (``cusp``); along ``crossing`` where two curves cross in the plane.
+    """
     physics = dict(physics or {})
     pts, events, rows = [], [], []
     usable = [br for br in branches if br.attrs.get("status", "ok") == "ok" and "critical_kind" in br]

@@ -247,6 +247,8 @@ def continue_orbit(
     locate : bool
         Refine the zeros of the test functions (critical and grazing points) to ``xtol`` in the
         continuation variable.
+    xtol : float
+        Tolerance of that refinement.
     max_points : int
         Most branch points per direction.
     progress : bool, optional
@@ -262,6 +264,14 @@ def continue_orbit(
         ``discriminant``, ``stable``, ``stability``, ``admissible``, ``reason``, ``clearance``.  Along
         ``critical``: ``critical_kind``, ``critical_d``, ``critical_value`` (and the physical values)
         and ``critical_admissible``.
+
+    Examples
+    --------
+    >>> import vibroimpact as vi
+    >>> o = vi.find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+    >>> br = vi.continue_orbit(o, vary="d", d_range=(0.13, 0.15), step=1e-3)
+    >>> [(str(k), round(float(d), 6)) for k, d in zip(br.critical_kind.values, br.critical_d.values)]
+    [('grazing', 0.13672), ('A', 0.138944), ('A', 0.148631)]
     """
     pm = ParameterMap(orbit, vary)
     lo, hi = _lam_range(pm, orbit, d_range, value_range)
@@ -440,6 +450,31 @@ def branch_from_simulation(params: Params, word: str, *, k: int = 1, vary: str, 
 
     A failure (the attractor there is another motion, or Newton fails) gives an empty branch whose
     ``status`` attribute is ``"failed"`` and ``reason`` says why: recorded, not dropped.
+
+    Parameters
+    ----------
+    params : Params
+        Where to start (from :meth:`~vibroimpact.Params.from_physical` for a physical ``vary``).
+    word : str
+        The orbit's walls over one period, e.g. ``"BBT"``.
+    k : int
+        Forcing periods per orbit period.
+    vary : {"d", "gbar", "r", "s", "F", "beta", "omega"}
+        The parameter to continue in (:func:`~vibroimpact.continue_orbit`).
+    d_range : (float, float)
+        Interval of d to cover.
+    step : float
+        Continuation step.
+    phi, v0 : float
+        First bottom impact of the simulation that finds the attractor.
+    n_impacts : int
+        Events of that simulation at most.
+
+    Returns
+    -------
+    xarray.Dataset
+        The branch (:func:`~vibroimpact.continue_orbit`), with attributes ``status`` (``"ok"`` or
+        ``"failed"``) and ``reason``.
     """
     from ..dynamics.simulate import identify_attractor, simulate
 
@@ -463,9 +498,26 @@ def branch_from_simulation(params: Params, word: str, *, k: int = 1, vary: str, 
 def simulate_along(branch: xr.Dataset, n: int, *, tol: float = 1e-11, n_impacts: int = 200_000) -> xr.Dataset:
     """Simulated attractors at ``n`` values of d spread over the stable, admissible part of a branch.
 
-    Each run starts on the analytic orbit at that d; the attractor's impacts, rotated to the word's
-    order, are compared with the analytic ones (``max_dev``).  These are the figures' open circles and
-    the evidence that branch and simulation agree where the orbit is stable.
+    Each run starts on the analytic orbit at that d; the attractor's impacts, rotated to the word's order,
+    are compared with the analytic ones (``max_dev``).  These are the figures' open circles and the evidence
+    that branch and simulation agree where the orbit is stable.
+
+    Parameters
+    ----------
+    branch : xarray.Dataset
+        From :func:`~vibroimpact.continue_orbit`.
+    n : int
+        Values of d to simulate at.
+    tol : float
+        Periodicity tolerance of the runs.
+    n_impacts : int
+        Events per run at most.
+
+    Returns
+    -------
+    xarray.Dataset
+        Along ``sim``: ``d``, the attractor's ``label``, ``v_minus``, ``phase`` and ``dt`` per impact, and
+        ``max_dev`` from the analytic orbit.
     """
     from ..dynamics.simulate import identify_attractor, simulate
 

@@ -66,9 +66,23 @@ def start_states(n, *, distribution: str = "rest", seed: int = 0, phi_range=(0.0
     """``n`` start states ``(phi, v0)``: first bottom impacts at phase ``phi`` with pre-impact velocity
     ``v0``, drawn with ``numpy.random.default_rng(seed)``.
 
-    ``"rest"``: the ball at rest on the bottom membrane (``v0 = 0``; the kernel then sticks until the
-    forcing lifts it), ``phi`` uniform in ``[0, 2 pi)``.  ``"box"``: ``phi`` uniform in ``phi_range``
-    and ``v0`` uniform in ``v0_range``.
+    Parameters
+    ----------
+    n : int
+        How many (at least :data:`~vibroimpact.analysis.design.MIN_STARTS`).
+    distribution : {"rest", "box"}
+        ``"rest"``: the ball at rest on the bottom membrane (``v0 = 0``; the kernel then sticks until the
+        forcing lifts it), ``phi`` uniform in ``[0, 2 pi)``.  ``"box"``: ``phi`` uniform in ``phi_range``
+        and ``v0`` uniform in ``v0_range``.
+    seed : int
+        Seed of the generator (recorded with the design map).
+    phi_range, v0_range : (float, float)
+        The box of ``"box"``.
+
+    Returns
+    -------
+    phi, v0 : numpy.ndarray
+        The start states.
     """
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < MIN_STARTS:
         _fail("starts", n, f"an integer >= {MIN_STARTS}")
@@ -236,7 +250,9 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, membrane: Membrane,
     Parameters
     ----------
     x_name, y_name : {"s", "F", "beta"}
-        The two axes; ``xs``, ``ys`` their values (m, N or rad).
+        The two axes.
+    xs, ys : array_like
+        Their values (m, N or rad).
     phi, v0 : array_like
         The start states (:func:`start_states`), the same at every point.
     membrane : Membrane
@@ -253,6 +269,8 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, membrane: Membrane,
         Level of the shares' Clopper-Pearson intervals.
     block : int
         Runs simulated at once (bounds the memory of the event windows).
+    progress : bool, optional
+        A progress bar over the points (default: only when run interactively).
     **physical
         The values held fixed (``s``, ``F``, ``beta``, ``M``, ``omega``, ``g``, ``r``).
 
@@ -531,12 +549,27 @@ def _with_fixed(ds: xr.Dataset, axis: str, shape):
 
 
 def tolerance_analysis(ds: xr.Dataset, curves: xr.Dataset | None, tolerance: dict) -> xr.Dataset:
-    """Add, per design point, the tolerance box's lowest ``E_U_T`` (``box_min_E_U_T``; ``box_in_grid``
-    where the box lies inside the grid), the ``margin`` to the nearest admissible bifurcation curve of
-    ``curves`` in units of the box (``nearest_curve`` names it) and ``robust`` (``margin > 1``).
+    """Add, per design point, how a manufacturing tolerance affects it.
 
-    The box's half-widths: ``tolerance[axis]`` relative to the nominal value for ``s`` and ``F``,
-    in radians for ``beta``; a quantity that is not an axis of the map is held fixed."""
+    The box's half-widths: ``tolerance[axis]`` relative to the nominal value for ``s`` and ``F``, in
+    radians for ``beta``; a quantity that is not an axis of the map is held fixed.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A design map (:func:`~vibroimpact.design_map`).
+    curves : xarray.Dataset or None
+        The bifurcation curves of the same plane (:func:`~vibroimpact.curve_set`); ``None``: no margin.
+    tolerance : dict
+        Half-width of the box per axis (``s``, ``F``: relative; ``beta``: rad).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``ds`` with the tolerance box's lowest ``E_U_T`` (``box_min_E_U_T``; ``box_in_grid`` where the box
+        lies inside the grid), the ``margin`` to the nearest admissible bifurcation curve in units of the box
+        (``nearest_curve`` names it) and ``robust`` (``margin > 1``).
+    """
     ds = ds.copy()  # the caller's dataset is left as it was
     xname, yname = ds.attrs["x"], ds.attrs["y"]
     shape = ds["E_U_T"].shape
@@ -569,10 +602,27 @@ def tolerance_analysis(ds: xr.Dataset, curves: xr.Dataset | None, tolerance: dic
 
 
 def best_designs(ds: xr.Dataset, budget: dict, per: str | None = None) -> list[dict]:
-    """The best robust design (largest lowest-``E_U_T`` over its box; robust, its box inside the grid,
-    within ``budget``) for each value of ``per`` (a coordinate of ``ds``; ``None``: the whole map),
-    and, beside it, the longest device within the budget at the same ``per`` (the sweeps' "longest is
-    best") with its robustness."""
+    """The best robust design for each value of ``per``.
+
+    The best: the largest lowest-``E_U_T`` over its box, robust, its box inside the grid, within
+    ``budget``; beside it, the longest device within the budget at the same ``per`` (the sweeps' "longest
+    is best") with its robustness.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A design map after :func:`~vibroimpact.tolerance_analysis`.
+    budget : dict
+        Upper bounds per axis (e.g. ``{"s": 0.72, "F": 22.0}``).
+    per : str, optional
+        A coordinate of ``ds`` to choose per value of (e.g. ``"beta"``); ``None``: the whole map.
+
+    Returns
+    -------
+    list of dict
+        One per value of ``per``: the design's coordinates, ``d``, ``motion``, ``E_U_T``, ``worst_U_T``,
+        ``box_min_E_U_T``, ``margin``, ``nearest_curve``, ``robust`` and ``found``.
+    """
     xname, yname = ds.attrs["x"], ds.attrs["y"]
     shape = ds["E_U_T"].shape
     vals = {a: _with_fixed(ds, a, shape) for a in DESIGN_AXES}

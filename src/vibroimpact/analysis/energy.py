@@ -1,5 +1,5 @@
 """Output voltage of the dielectric-elastomer membranes, per impact and averaged (paper §5, eq. V1;
-docs/model.md).
+docs/guide/model.md).
 
 A ball of radius ``r_b`` and mass ``m`` hits a membrane of active radius ``R`` at speed ``v``
 (m/s).  Its largest deflection follows from an energy balance against a power-law membrane force
@@ -161,6 +161,15 @@ def orbit_energy(orbit, membrane: Membrane, *, F: float, M: float, omega: float)
     dict
         ``gain`` (V, per impact of the period), ``U_I`` and ``U_T`` (the orbit's period is
         ``2 k`` non-dimensional time units).
+
+    Examples
+    --------
+    >>> import math, vibroimpact as vi
+    >>> o = vi.find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+    >>> mb = vi.Membrane(h=2.6, K=4.0847e5, R=6.3e-3, r_b=5.0e-3, U_in=2000.0, m=4.11e-3)
+    >>> e = vi.orbit_energy(o, mb, F=5.0, M=0.1245, omega=5 * math.pi)
+    >>> round(e["U_T"]), round(e["U_I"])
+    (33376, 22251)
     """
     gain = voltage_gain(speed_si(orbit.v_minus, F, M, omega), membrane)
     u_i, u_t = averages(gain, 2.0 * orbit.k)
@@ -324,14 +333,26 @@ def _batch_averages(run, F, membrane, *, M, omega, batches):
 
 
 def delivered(en: xr.Dataset, q: str = "U_T"):
-    """What a device delivers at each point of a sweep energy, well-posed: ``(value, se)`` of ``q``
-    (``"U_T"`` or ``"U_I"``) on ``(direction, point)``.
+    """What a device delivers at each point of a sweep energy, well-posed.
 
     The exact cycle's average where the attractor is settled (standard error 0); a sticking cycle's, known
     to its summed chatter's accuracy (:data:`vibroimpact.analysis.settled.STICK_REL`); the long-run average
     with its batch-means standard error where no period was found and the long run stays aperiodic; NaN
     where neither is known (a transient longer than the cap, whose output is that of wherever it settles).
-    A sweep energy without settled cycles gives its window averages (standard error NaN)."""
+
+    Parameters
+    ----------
+    en : xarray.Dataset
+        From :func:`~vibroimpact.sweep_energy` of a settled sweep (:func:`~vibroimpact.sweep`).
+    q : {"U_T", "U_I"}
+        The average (paper eq. ``V1``): per unit time or per impact.
+
+    Returns
+    -------
+    value, se : numpy.ndarray
+        On ``(direction, point)``, in V. A sweep energy without settled cycles gives its window averages
+        and NaN standard errors.
+    """
     if q not in ("U_T", "U_I"):
         raise ValueError(f"q = {q!r}; allowed: 'U_T' or 'U_I'")
     if "settled" not in en:

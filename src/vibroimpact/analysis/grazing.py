@@ -5,7 +5,7 @@ points into its wall and (ii) every flight stays strictly inside ``|Z| < d/2`` b
 (ii) is checked with the simulator's guaranteed impact location: the first impact of each flight
 must be the orbit's next impact.  Its margin is the *clearance*: the distance from the nearer wall
 of every interior extremum of ``Z`` (maxima against the bottom, minima against the top).  Grazing
-points are where a clearance or an impact velocity reaches zero (docs/model.md).
+points are where a clearance or an impact velocity reaches zero (docs/guide/model.md).
 """
 
 from __future__ import annotations

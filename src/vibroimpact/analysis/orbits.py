@@ -43,7 +43,7 @@ def parse_word(word: str) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------------------------
-# One flight: displacement, velocity and their partial derivatives (closed form, docs/model.md)
+# One flight: displacement, velocity and their partial derivatives (closed form, docs/guide/model.md)
 # --------------------------------------------------------------------------------------------
 
 
@@ -161,12 +161,33 @@ def map_jacobian(z, walls, gbar, r):
 
 @dataclass
 class Orbit:
-    """A periodic impact orbit.
+    """A periodic impact orbit (:func:`find_orbit`).
 
     Impact ``j`` (``j = 0 .. N-1``) is at wall ``wall[j]`` at time ``t[j]`` (``t[0] = 0``) with phase
     ``phase[j] = mod(pi t_j + phi, 2 pi)`` and pre-impact velocity ``v_minus[j]``; ``dt[j] = t_j -
     t_{j-1}`` is the flight arriving at it (cyclically, paper's ``Delta t``).  ``jacobian`` is the
-    2x2 linearised map over one period in ``(t, Zdot)`` at impact 0 (paper eq. Lin2).
+    2x2 linearised map over one period in ``(t, Zdot)`` at impact 0 (paper eq. ``Lin2``).
+
+    Attributes
+    ----------
+    params : Params
+        The parameters it is solved at.
+    word : str
+        The walls of one period, ``"B"`` and ``"T"``.
+    k : int
+        Forcing periods per orbit period.
+    z : numpy.ndarray
+        The unknowns of the orbit equations (``theta_0``, flight times, pre-impact velocities).
+    jacobian : numpy.ndarray
+        The linearised map over one period (eq. ``Lin2``).
+    eigenvalues : numpy.ndarray
+        Its eigenvalues.
+    admissible : bool
+        Whether every flight stays between the walls and meets the next impact's wall first.
+    reason : str
+        Why it is not admissible ("" where it is).
+    clearance : float
+        Least distance of an interior extremum of a flight from the walls.
     """
 
     params: Params
@@ -264,13 +285,25 @@ def orbit_from_vector(params: Params, word: str, k: int, z) -> Orbit:
 
 
 def orbit_run(orbit: Orbit, periods: int = 1):
-    """The orbit's impacts over ``periods`` periods as a run, in the form :func:`~vibroimpact.dynamics.simulate`
-    returns (events ``t``, ``wall``, ``v_minus``, ``v_plus``, ``phase``, ``z``, ``kind``; ``t = 0`` at
-    impact 0, the last event the return to it), for :func:`~vibroimpact.trajectory`.
+    """The orbit's impacts over ``periods`` periods as a run, in the form :func:`~vibroimpact.simulate`
+    returns, for :func:`~vibroimpact.trajectory`.
 
-    The exact state along the orbit, with no simulation: at a grazing point the loop touches a wall,
-    and whether a simulator registers that touch as an impact is decided by rounding; the Newton
-    orbit's flights are the orbit itself.
+    The exact state along the orbit, with no simulation: at a grazing point the loop touches a wall, and
+    whether a simulator registers that touch as an impact is decided by rounding; the Newton orbit's
+    flights (paper eqs. ``zdotj_p1``, ``zj_p1``) are the orbit itself.
+
+    Parameters
+    ----------
+    orbit : Orbit
+        From :func:`~vibroimpact.find_orbit`.
+    periods : int
+        Periods of the orbit to lay out (at least 1).
+
+    Returns
+    -------
+    xarray.Dataset
+        Events ``t``, ``wall``, ``v_minus``, ``v_plus``, ``phase``, ``z``, ``kind`` along ``impact``,
+        ``t = 0`` at impact 0 and the last event the return to it.
     """
     from ..dynamics import kernels as K
     from ..dynamics.simulate import _events_dataset

@@ -126,13 +126,24 @@ def long_run(d, gbar, r, phi, v0, *, impacts: int = LONG_IMPACTS, tol: float = 1
     """An aperiodic motion continued for ``impacts`` events from a bottom impact ``(phi, v0)`` (e.g. the
     last of a run that found no period).
 
+    Parameters
+    ----------
+    d, gbar, r : float
+        Parameters.
+    phi, v0 : float
+        Phase (rad) and pre-impact velocity of the bottom impact it starts from.
+    impacts : int
+        Events of the continuation.
+    tol : float
+        Periodicity tolerance: the continuation stops if it becomes periodic.
+
     Returns
     -------
     dict
-        ``status``: ``"aperiodic"``, or ``"settles"`` when the continuation becomes periodic after all
-        (a transient longer than the run that found no period: its statistics depend on where it
-        settles, so none are given), or ``"stuck"``; and the events ``t``, ``v_minus``, ``kind`` of the
-        continuation (impacts and grazing contacts are ``kind`` 0 and 1).
+        ``status``: ``"aperiodic"``, or ``"settles"`` when the continuation becomes periodic after all (a
+        transient longer than the run that found no period: its statistics depend on where it settles, so
+        none are given), or ``"stuck"``; and the events ``t``, ``v_minus``, ``kind`` of the continuation
+        (impacts and grazing contacts are ``kind`` 0 and 1).
     """
     from ..dynamics.params import Params
     from ..dynamics.simulate import simulate

@@ -69,11 +69,32 @@ def attractor_batch(d, gbar, r, phi, v0, *, max_periods: float = 200, max_events
                     desc: str = "attractors") -> xr.Dataset:
     """Attractors of many runs in parallel: the last ``window`` events and the motion's class.
 
-    Inputs broadcast to one dimension ``run``.  Returns variables ``t, wall, v_minus, phase, kind``
-    on ``(run, event)`` (NaN-padded), and per run ``label``, ``period`` (forcing periods, 0 when
-    aperiodic), ``period_events``, ``n_bottom``, ``n_top``, ``n_events`` (simulated) and ``status``.
-    ``progress``: a bar (see :mod:`vibroimpact._progress`; the runs then go in tenths, each in
-    parallel, with the same results).
+    Parameters
+    ----------
+    d, gbar, r, phi, v0 : array_like
+        Each run's parameters and first bottom impact (phase, pre-impact velocity); broadcast to one
+        dimension ``run``.
+    max_periods : float
+        Longest transient, in forcing periods, before a run is called aperiodic.
+    max_events : int
+        Cap on events per run.
+    tol : float
+        Periodicity tolerance.
+    window : int
+        Events kept per run (``>= pmax + 1``).
+    pmax : int
+        Longest period looked for, in events.
+    progress : bool, optional
+        A bar (the runs then go in tenths, each in parallel, with the same results).
+    desc : str
+        The bar's name.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``t, wall, v_minus, phase, kind`` on ``(run, event)`` (NaN-padded), and per run ``label``,
+        ``period`` (forcing periods, 0 when aperiodic), ``period_events``, ``n_bottom``, ``n_top``,
+        ``n_events`` (simulated) and ``status``.
     """
     _check_window(window, pmax)
     arrs = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=float)) for a in (d, gbar, r, phi, v0)))
@@ -223,9 +244,11 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
     Parameters
     ----------
     vary : {"s", "F"}
-        Swept physical parameter; ``values`` its values (any order; sorted by ``d``).
+        Swept physical parameter.
+    values : array_like
+        Its values (m or N; any order: the points are sorted by ``d``).
     beta : float
-        Incline (rad); other physical values (``s`` or ``F``, ``M``, ``omega``, ``g``, ``r``) as keywords.
+        Incline (rad).
     phi, v0 : float
         First point's start: a bottom impact at phase ``phi`` with pre-impact velocity ``v0``.
     max_periods : float
@@ -238,6 +261,9 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
     long_impacts : int, optional
         Impacts of the long run of every point with no period (:func:`settle`; default
         :data:`vibroimpact.analysis.settled.LONG_IMPACTS`, 0: none).
+    **physical
+        The other physical values: the fixed ``s`` or ``F``, and ``M``, ``omega``, ``g``, ``r`` (the
+        paper's defaults otherwise).
 
     Returns
     -------
@@ -248,6 +274,13 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
         ``n_events``, ``status`` and the start used (``start_phi``, ``start_v0``); and what is
         well-posed about each attractor (:func:`settle`): its exact cycle on dimension ``cycle``, or the
         long-run statistics of a motion with no period.
+
+    Examples
+    --------
+    >>> import math, vibroimpact as vi
+    >>> sw = vi.sweep("s", [0.22, 0.23], beta=math.pi / 6, phi=5.855, v0=0.4185, long_impacts=0)
+    >>> sw.label.values.tolist()   # up and down: the 3:1 and 2:1 motions coexist (Fig BiS)
+    [['3:1 period-2', '2:1 period-2'], ['3:1 period-2', '2:1 period-2']]
     """
     _check_window(window, pmax)
     d, gbar, s_arr, F_arr = parameter_grid(vary, values, beta=beta, **physical)
@@ -690,7 +723,9 @@ def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float 
     ----------
     x_name, y_name : {"s", "F", "beta", "d", "gbar", "r"}
         The two axes (different): physical (``s``, ``F``, ``beta``, with ``r``) or non-dimensional
-        (``d``, ``gbar``, with ``r``), not a mix; ``xs``, ``ys`` their values (m, N, rad or 1).
+        (``d``, ``gbar``, with ``r``), not a mix.
+    xs, ys : array_like
+        Their values (m, N, rad or 1).
     phi, v0 : float
         Start of every run: a bottom impact at phase ``phi`` with pre-impact velocity ``v0``.
     max_periods, tol, window, progress

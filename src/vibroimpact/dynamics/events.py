@@ -1,4 +1,4 @@
-"""Guaranteed location of the next impact (docs/model.md).
+"""Guaranteed location of the next impact (docs/guide/model.md).
 
 Why it cannot miss: ``Z'' = cos(pi t + phi) + gbar`` vanishes at explicitly known phases
 (``cos = -gbar``), so ``Zdot`` is monotone between them and has at most one root there; that root

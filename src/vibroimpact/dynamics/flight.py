@@ -1,4 +1,4 @@
-"""Closed-form flight between impacts (docs/model.md, paper eqs. ``zdot_t``, ``z_t``).
+"""Closed-form flight between impacts (docs/guide/model.md, paper eqs. ``zdot_t``, ``z_t``).
 
 A flight starts at local time ``tau = 0`` with forcing phase ``theta = pi t_j + phi``, position
 ``z0`` and velocity ``u``.  With ``x = pi tau``

@@ -1,6 +1,6 @@
 """Model parameters: non-dimensional ``(d, gbar, r)`` and their physical origin.
 
-References: paper §2, eqs. ``nondXYt``, ``eq_relative``, ``eq_impact``; docs/model.md.
+References: paper §2, eqs. ``nondXYt``, ``eq_relative``, ``eq_impact``; docs/guide/model.md.
 """
 
 from __future__ import annotations
@@ -27,6 +27,15 @@ class PhysicalScales:
     """Factors converting non-dimensional quantities to SI units (paper eq. ``nondXYt``).
 
     ``tau = time * t``, ``dX/dtau = velocity * Xdot``, ``X = length * X*``.
+
+    Attributes
+    ----------
+    time : float
+        Seconds per unit of t (pi / omega).
+    velocity : float
+        m/s per unit of Zdot (F pi / (M omega)).
+    length : float
+        Metres per unit of Z (F pi^2 / (M omega^2)).
     """
 
     time: float  #: seconds per unit of t (pi / omega)

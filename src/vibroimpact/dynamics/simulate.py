@@ -74,7 +74,7 @@ def simulate(
         Forcing phase at ``t0`` (the forcing is ``cos(pi t + phi)`` with t measured from 0).
     v0 : float
         With ``Z0=None``: pre-impact velocity (``>= 0``) of a bottom impact at ``t0``, the paper's
-        convention (docs/model.md).  Otherwise the velocity ``Zdot(t0)`` in flight.
+        convention (docs/guide/model.md).  Otherwise the velocity ``Zdot(t0)`` in flight.
     Z0 : float, optional
         Start in flight at ``Z(t0) = Z0`` (``|Z0| <= d/2``) instead of at a bottom impact.
     t0 : float
@@ -102,6 +102,16 @@ def simulate(
         Dimension ``impact``; variables ``t``, ``wall``, ``v_minus``, ``v_plus``, ``phase``, ``z``,
         ``dt``, ``kind``; attributes with the parameters, the run ``status`` (why it stopped) and
         ``period_events`` when the motion was identified as periodic.
+
+    Examples
+    --------
+    >>> import math, vibroimpact as vi
+    >>> p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)   # Fig 4 (a)
+    >>> round(p.d, 4), round(p.gbar, 4)
+    (0.16, 0.122)
+    >>> run = vi.simulate(p, phi=1.015, v0=0.1924, n_impacts=200)
+    >>> run.sizes["impact"], run.attrs["status"]
+    (200, 'n_events')
     """
     if not isinstance(params, Params):
         raise TypeError(f"params must be a vibroimpact.Params, got {type(params).__name__}")
@@ -199,9 +209,32 @@ def simulate_batch(d, gbar, r, phi, v0, *, n_impacts, t_end=None, stop_when_peri
                    max_period_events=64, v_chatter=1e-9) -> xr.Dataset:
     """Many runs in parallel (numba ``prange``), each from a bottom impact at t = 0 (paper convention).
 
-    ``d, gbar, r, phi, v0`` broadcast to a common 1-D shape (one run each).  Returns a dataset with
-    dimensions ``(run, impact)``; a run that stops early is padded with NaN (``n_events`` says how many
-    events are real), with per-run ``status`` and ``period_events``.
+    Parameters
+    ----------
+    d, gbar, r : array_like
+        Parameters of each run (:class:`~vibroimpact.Params`); broadcast with ``phi`` and ``v0`` to a common
+        1-D shape, one run each.
+    phi, v0 : array_like
+        Phase (rad) and pre-impact velocity of each run's first bottom impact.
+    n_impacts : int
+        Events recorded per run at most.
+    t_end : float, optional
+        Time at which a run stops.
+    stop_when_periodic : bool
+        Stop a run as soon as its motion repeats to ``tol``.
+    tol : float
+        Periodicity tolerance.
+    max_period_events : int
+        Longest period looked for, in events.
+    v_chatter : float
+        Rebound speed below which a chattering sequence is summed (see :func:`~vibroimpact.simulate`).
+
+    Returns
+    -------
+    xarray.Dataset
+        Events on ``(run, impact)`` (``t``, ``wall``, ``v_minus``, ``v_plus``, ``phase``, ``z``, ``dt``,
+        ``kind``); a run that stops early is NaN-padded (``n_events`` says how many events are real); per run
+        ``status`` and ``period_events``.
     """
     arrs = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=np.float64)) for a in (d, gbar, r, phi, v0)))
     d, gbar, r, phi, v0 = (np.ascontiguousarray(a.ravel()) for a in arrs)
@@ -345,13 +378,28 @@ def cycle_class(wall, kind, t_span):
 
 @dataclass(frozen=True)
 class Attractor:
-    """What a run settled on.
+    """What a run settled on (:func:`identify_attractor`).
 
-    ``periodic`` is False when no period up to ``max_period_events`` repeated within the run.
-    ``period`` is in forcing periods (period 2 in t each); ``n_bottom``/``n_top`` count impacts
-    (grazing contacts included) on one period of the attractor; ``label`` is the paper's name,
-    e.g. ``"2:1 period-2"`` or ``"1:1 period-4"``; ``t_settled`` is the time from which the motion
-    repeats; ``cycle`` holds the events of one period.
+    Attributes
+    ----------
+    periodic : bool
+        False when no period up to ``max_period_events`` repeated within the run.
+    period : int
+        Period in forcing periods (period 2 in t each).
+    events : int
+        Events per period.
+    n_bottom, n_top : int
+        Impacts (grazing contacts included) on one period, per wall.
+    sticking : bool
+        Whether the cycle sticks to a wall.
+    label : str
+        The paper's name, e.g. ``"2:1 period-2"`` or ``"1:1 period-4"``.
+    t_settled : float
+        Time from which the motion repeats.
+    t_identified : float
+        Time at which the period was identified.
+    cycle : xarray.Dataset or None
+        The events of one period.
     """
 
     periodic: bool
@@ -367,7 +415,33 @@ class Attractor:
 
 
 def identify_attractor(ds: xr.Dataset, tol: float = 1e-9, max_period_events: int = 64) -> Attractor:
-    """Decide from a run after how long the motion is periodic, and which motion it is."""
+    """Decide from a run after how long the motion is periodic, and which motion it is.
+
+    A period is declared only after two full cycles repeat to ``tol``, so a slowly converging orbit with an
+    eigenvalue near -1 is not mistaken for a period-doubled one.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        One run of :func:`~vibroimpact.simulate`.
+    tol : float
+        Periodicity tolerance on impact velocities and phases.
+    max_period_events : int
+        Longest period looked for, in events.
+
+    Returns
+    -------
+    Attractor
+        The motion: periodic or not, its period in forcing periods, impacts per period on each wall, its
+        label (e.g. ``"2:1 period-2"``), when it settled and the events of one cycle.
+
+    Examples
+    --------
+    >>> import math, vibroimpact as vi
+    >>> p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)
+    >>> vi.identify_attractor(vi.simulate(p, phi=1.015, v0=0.1924, n_impacts=200)).label
+    '2:1 period-2'
+    """
     if "run" in ds.dims:
         raise ValueError("identify_attractor takes one run; select one with ds.isel(run=k)")
     i, p = _detect(ds["t"].values, ds["wall"].values, ds["v_minus"].values, ds["phase"].values,

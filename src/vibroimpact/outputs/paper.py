@@ -1,4 +1,4 @@
-"""Values published in the paper (docs/model.md), for comparison only: never used to compute."""
+"""Values published in the paper (docs/guide/model.md), for comparison only: never used to compute."""
 
 import math
 

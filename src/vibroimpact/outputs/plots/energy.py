@@ -215,7 +215,7 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
     note = None
     if "membrane_K" in a:
         note = ("Voltages from the membrane model with assumed constants (h = {h:g}, K = {K:.4g} SI, R = {R:g} m, "
-                "r_b = {rb:g} m, U_in = {U:g} V, ball mass {m:g} kg; docs/model.md):\nthe voltage scale rests on "
+                "r_b = {rb:g} m, U_in = {U:g} V, ball mass {m:g} kg; docs/guide/model.md):\nthe voltage scale rests on "
                 "them, the shapes and jumps do not.  Over each panel: the down sweep's motion "
                 "(T = its period in t).").format(h=a["membrane_h"], K=a["membrane_K"], R=a["membrane_R"],
                                                 rb=a["membrane_r_b"], U=a["membrane_U_in"], m=a["membrane_m"])

@@ -1,0 +1,137 @@
+"""Pages of the documentation generated from the workflow's results when the site is built.
+
+* ``paper.md``: every figure the workflow regenerates, with its caption (the same templates the
+  Snakemake report renders, ``workflow/report/*.rst``), its check result (arrays and image against the
+  committed reference) and the published values it shows, each with the value computed now and its
+  status; then the whole table of the paper's values.
+* ``_generated/variables.md``: every variable the datasets carry, with its units and meaning
+  (:data:`vibroimpact.datasets.VARIABLES`).
+
+Nothing is typed: a site built before the workflow ran stops with the target to run.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import jinja2
+import pandas as pd
+from sphinx.errors import ExtensionError
+
+#: figure -> (caption template, its wildcards), as the workflow's rules declare them
+CAPTIONS = {
+    "fig0b": ("scene.rst", {"scene": "fig0b"}), "fig4": ("scene.rst", {"scene": "fig4"}),
+    "figFN2": ("scene.rst", {"scene": "figFN2"}), "fig2": ("fig2.rst", {}), "fig3": ("fig3.rst", {}),
+    "figBiS": ("figBiS.rst", {}), "basins": ("basins.rst", {}), "regime_map": ("regime_map.rst", {}),
+    "fig0": ("energy.rst", {"efig": "fig0"}), "fig5": ("energy.rst", {"efig": "fig5"}),
+    "design": ("design.rst", {}),
+    "work_precision": ("bench.rst", {"bench": "work_precision"}),
+    "failure_map": ("bench.rst", {"bench": "failure_map"}),
+    "analytics_accuracy": ("bench.rst", {"bench": "analytics_accuracy"}),
+}
+TITLES = {"bifurcation_set_s_beta": "Bifurcation set over (s, β)", "bifurcation_set_s_F": "Bifurcation set over (s, ‖F̂‖)",
+          "bifurcation_set_d_gbar": "Bifurcation set over (d, ḡ)", "bifurcation_set_d_r": "Bifurcation set over (d, r)",
+          "design_map_s_beta": "Design map over (s, β)", "design_map_s_F": "Design map over (s, ‖F̂‖)",
+          "fig0b": "Fig 0b", "fig4": "Fig 4", "figFN2": "Fig FN2", "fig2": "Fig 2", "fig3": "Fig 3",
+          "figBiS": "Fig BiS", "basins": "Basins of attraction", "regime_map": "Regime maps", "fig0": "Fig 0",
+          "fig5": "Fig 5", "design": "Design guidance", "work_precision": "Work-precision",
+          "failure_map": "Failure map", "analytics_accuracy": "Accuracy of the analytics"}
+
+
+class _Namespace:
+    def __init__(self, **kw):
+        self.__dict__.update(kw)
+
+
+def _caption(report: Path, fig: str, checks: dict) -> str:
+    if fig in CAPTIONS:
+        template, wildcards = CAPTIONS[fig]
+    elif fig.startswith("bifurcation_set_"):
+        template, wildcards = "bifurcation_set.rst", {"map": fig.removeprefix("bifurcation_set_")}
+    elif fig.startswith("design_map_"):
+        template, wildcards = "design_map.rst", {"dmap": fig.removeprefix("design_map_")}
+    else:
+        raise ExtensionError(f"no caption template for figure {fig!r}")
+    env = jinja2.Environment(loader=jinja2.FileSystemLoader(report), undefined=jinja2.StrictUndefined)
+    snakemake = _Namespace(wildcards=_Namespace(**wildcards), config={"_check_results": checks})
+    return env.get_template(template).render(snakemake=snakemake).strip()
+
+
+def _number(x):
+    try:
+        return float(x)
+    except ValueError:
+        return x
+
+
+def _markdown_table(df: pd.DataFrame) -> str:
+    return df.to_markdown(index=False).replace("|:-", "|--").replace("-:|", "--|")
+
+
+def paper_page(root: Path) -> str:
+    """The paper reproduction page, from results/ (figures, checks) and workflow/report (captions)."""
+    from vibroimpact.outputs.checks import IMAGE_ROW, check_summaries, figures_of_item, markdown
+
+    results = root / "results"
+    need = [results / "checks" / "paper_values.csv", results / "checks" / "figures.csv"]
+    missing = [str(p.relative_to(root)) for p in need if not p.exists()]
+    if missing:
+        raise ExtensionError(f"the documentation is built from the workflow's results, and {', '.join(missing)} "
+                             "is missing: run `snakemake --cores 2 docs` (it runs `all` and `check` first)")
+    paper = pd.read_csv(need[0], keep_default_na=False)
+    figures = pd.read_csv(need[1])
+    checks = check_summaries(paper, figures)
+    summary = paper["status"].value_counts()
+    out = ["# The paper's figures, regenerated", "",
+           "Every figure below is drawn by the workflow from its saved datasets and compared, array by array, "
+           "with its committed reference (see [the checks](guide/checks.md)); the published numbers each shows "
+           f"are compared with the values computed now. Paper values: {summary.get('pass', 0)} pass, "
+           f"{summary.get('known discrepancy', 0)} known discrepancies (each with the evidence a test reproduces), "
+           f"{summary.get('fail', 0)} fail. Figure arrays: {int((figures.status == 'pass').sum())} pass, "
+           f"{int((figures.status == 'excluded').sum())} excluded (timings), "
+           f"{int((~figures.status.isin(['pass', 'excluded'])).sum())} fail.", ""]
+    rows_of = {}
+    for i, (item, where) in enumerate(zip(paper["item"], paper["where"], strict=True)):
+        for fig in figures_of_item(str(item), str(where)):
+            rows_of.setdefault(fig, []).append(i)
+    for fig in figures.figure.unique():
+        png = results / "figures" / f"{fig}.png"
+        if not png.exists():
+            raise ExtensionError(f"{png.relative_to(root)} is missing: run `snakemake --cores 2 docs`")
+        out += [f"## {TITLES.get(fig, fig.replace('_', ' '))}", "", f"![{fig}](../results/figures/{fig}.png)", "",
+                "```{eval-rst}", _caption(root / "workflow" / "report", fig, checks), "```", ""]
+        image = figures[(figures.figure == fig) & (figures.variable == IMAGE_ROW)]
+        arrays = figures[(figures.figure == fig) & (figures.variable != IMAGE_ROW)]
+        rules = arrays.rule.value_counts()
+        out.append("Arrays compared: " + ", ".join(f"{n} by {rule}" for rule, n in rules.items())
+                   + (f"; image {image.status.iloc[0]} ({image.max_difference.iloc[0]:g} bits)" if len(image) else "")
+                   + ".")
+        out.append("")
+        if fig in rows_of:
+            sel = paper.iloc[rows_of[fig]].copy()
+            for col in ("paper", "computed", "tolerance"):  # mixed columns come back as text
+                sel[col] = sel[col].map(_number)
+            out += ["Published values this figure shows:", "", markdown(sel), ""]
+    out += ["## Every published value", "", "```{include} ../results/checks/paper_values.md", "```", ""]
+    return "\n".join(out)
+
+
+def variables_page() -> str:
+    from vibroimpact.datasets import VARIABLES
+
+    rows = [{"variable": f"`{k}`", "units": units, "long name": long_name, "description": description}
+            for k, (units, long_name, description) in sorted(VARIABLES.items())]
+    return _markdown_table(pd.DataFrame(rows)) + "\n"
+
+
+def generate(app):
+    src = Path(app.srcdir)
+    root = src.parent
+    (src / "_generated").mkdir(exist_ok=True)
+    (src / "paper.md").write_text(paper_page(root))
+    (src / "_generated" / "variables.md").write_text(variables_page())
+
+
+def setup(app):
+    app.connect("builder-inited", generate)
+    return {"version": "1", "parallel_read_safe": True}

@@ -99,11 +99,17 @@ def shell_blocks(path):
     return [(m.group(1), m.group(2), m.group(3).strip()) for m in SHELL_BLOCK.finditer(Path(path).read_text())]
 
 
+#: the documents whose shell blocks a user is told to run
+DOCUMENTS = [ROOT / "README.md", ROOT / "config" / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+
+
 def readme_command(test_id):
-    """The command of the README block whose marker names ``test_id`` (what README.md shows, run as is)."""
-    found = [cmd for kind, target, cmd in shell_blocks(ROOT / "README.md") if kind == "tested by" and target == test_id]
-    assert len(found) == 1, f"README.md has {len(found)} blocks marked 'tested by {test_id}'"
-    return found[0]
+    """The command of the block (README.md or a documentation page) whose marker names ``test_id``: what the
+    documents show, run as is.  A command shown on two pages must be the same on both."""
+    found = {cmd for doc in DOCUMENTS if doc.exists() and "_generated" not in doc.parts
+             for kind, target, cmd in shell_blocks(doc) if kind == "tested by" and target == test_id}
+    assert len(found) == 1, f"the documents have {len(found)} distinct commands marked 'tested by {test_id}'"
+    return found.pop()
 
 
 def scratch_clone(dest):

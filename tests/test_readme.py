@@ -14,9 +14,9 @@ import pandas as pd
 import pytest
 import xarray as xr
 import yaml
-from conftest import ROOT, _copy_workflow, readme_command, run_readme, shell_blocks
+from conftest import DOCUMENTS, ROOT, _copy_workflow, readme_command, run_readme, shell_blocks
 
-DOCS = [ROOT / "README.md", ROOT / "config" / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+DOCS = DOCUMENTS
 
 
 def test_every_shell_command_in_the_docs_is_run_by_a_test():

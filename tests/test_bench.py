@@ -22,3 +22,5 @@ def test_benchmark_reports_speed_and_accuracy():
     assert float(ds.exact_max_err_t) < 1e-12
     assert int(ds.n_flights_checked) >= 8
     assert "Speed-up per impact" in report(ds)
+    # the exponents' run is timed beside the plain run (a ratio, reported, never asserted as a speed)
+    assert float(ds.lyapunov_ratio) > 1 and "Lyapunov" in report(ds)

@@ -40,6 +40,7 @@ _WHERE = {
     "follow_point": "analysis.bifurcation", "curve_set": "analysis.bifurcation",
     # analysis: attractors, sweeps and maps
     "polish_cycle": "analysis.settled", "long_run": "analysis.settled",
+    "lyapunov": "analysis.lyapunov", "Lyapunov": "analysis.lyapunov",
     "sweep": "analysis.sweeps", "attractor_batch": "analysis.sweeps", "locate_transitions": "analysis.sweeps",
     "bistable_intervals": "analysis.sweeps", "basins": "analysis.sweeps", "regime_map": "analysis.sweeps",
     # analysis: energy and design

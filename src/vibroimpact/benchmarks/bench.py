@@ -14,6 +14,7 @@ from functools import partial
 import numpy as np
 import xarray as xr
 
+from ..analysis.lyapunov import lyapunov
 from ..datasets import annotate
 from ..dynamics.events import next_impact
 from ..dynamics.params import Params
@@ -32,6 +33,7 @@ def simulator_benchmark(n_impacts: int, n_impacts_ivp: int, n_flights_accuracy: 
     p = Params(d=SCENE["d"], gbar=g, r=0.5)
     simulate(p, SCENE["phi"], SCENE["v0"], n_impacts=100)  # compile outside the timing
     simulate_batch([p.d] * 2, g, 0.5, SCENE["phi"], SCENE["v0"], n_impacts=100)
+    lyapunov(p, SCENE["phi"], SCENE["v0"], 1000)
 
     ds = simulate(p, SCENE["phi"], SCENE["v0"], n_impacts=n_impacts)
     m = 2 * 64
@@ -40,8 +42,11 @@ def simulator_benchmark(n_impacts: int, n_impacts_ivp: int, n_flights_accuracy: 
     best = _fastest_in_rounds({
         "exact": partial(_seconds, partial(simulate, p, SCENE["phi"], SCENE["v0"], n_impacts=n_impacts)),
         "batch": partial(_seconds, partial(simulate_batch, [p.d] * m, g, 0.5, phis, SCENE["v0"], n_impacts=n_impacts // m)),
+        # the same run with both Lyapunov exponents (the tangent pass after the event loop)
+        "lyapunov": partial(_seconds, partial(lyapunov, p, SCENE["phi"], SCENE["v0"], n_impacts)),
     }, REPEATS)
     exact_s = best["exact"] / n_impacts
+    lyap_s = best["lyapunov"] / n_impacts
     batch_s = best["batch"] / (m * (n_impacts // m))
 
     ivp = run_ivp(p, SCENE["phi"], SCENE["v0"], n_impacts_ivp, rtol=rtol, atol=atol, max_seconds=math.inf)
@@ -64,6 +69,8 @@ def simulator_benchmark(n_impacts: int, n_impacts_ivp: int, n_flights_accuracy: 
             "exact_us_per_impact": ((), exact_s * 1e6, dict(units="us", long_name="exact simulator, one thread")),
             "exact_batch_us_per_impact": ((), batch_s * 1e6, dict(units="us", long_name="exact simulator, parallel batch")),
             "ivp_us_per_impact": ((), ivp_s * 1e6, dict(units="us", long_name=f"solve_ivp DOP853 rtol={rtol:g} atol={atol:g}")),
+            "lyapunov_us_per_impact": ((), lyap_s * 1e6, dict(units="us", long_name="the same run with both Lyapunov exponents (tangent pass, QR per impact)")),
+            "lyapunov_ratio": ((), lyap_s / exact_s, dict(units="1", long_name="time with Lyapunov exponents / time of the plain run, same run")),
             "speedup": ((), ivp_s / exact_s, dict(units="1", long_name="solve_ivp time / exact time per impact")),
             "exact_max_err_t": ((), max(err_exact), dict(units="1", long_name="exact simulator: max impact-time error")),
             "ivp_max_err_t": ((), max(err_ivp), dict(units="1", long_name="solve_ivp: max impact-time error")),
@@ -82,7 +89,9 @@ def report(ds: xr.Dataset) -> str:
         "| method | time per impact | max impact-time error | median error |\n|---|---|---|---|\n"
         f"| exact simulator (numba, 1 thread) | {v['exact_us_per_impact']:.3g} µs | {v['exact_max_err_t']:.1e} | {v['exact_median_err_t']:.1e} |\n"
         f"| exact simulator (parallel batch, 2 cores) | {v['exact_batch_us_per_impact']:.3g} µs | | |\n"
-        f"| solve_ivp DOP853, rtol 1e-12, terminal events | {v['ivp_us_per_impact']:.4g} µs | {v['ivp_max_err_t']:.1e} | {v['ivp_median_err_t']:.1e} |\n"
+        + (f"| exact simulator with both Lyapunov exponents | {v['lyapunov_us_per_impact']:.3g} µs "
+           f"({v['lyapunov_ratio']:.2f}× the plain run) | | |\n" if "lyapunov_ratio" in v else "")
+        + f"| solve_ivp DOP853, rtol 1e-12, terminal events | {v['ivp_us_per_impact']:.4g} µs | {v['ivp_max_err_t']:.1e} | {v['ivp_median_err_t']:.1e} |\n"
         f"\nSpeed-up per impact: **{v['speedup']:.0f}×** ({int(v['n_flights_checked'])} flights checked against a 40-digit reference).\n"
         + (f"\nContinuation of the β = π/3 2:1 branch: {int(v['branch_points'])} points with eigenvalues, stability class, "
            f"admissibility and {int(v['branch_critical_points'])} located critical points in {v['branch_seconds']:.2f} s.\n"

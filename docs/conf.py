@@ -37,10 +37,10 @@ numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 # every public docstring has a summary line and documents its parameters and what it returns
 numpydoc_validation_checks = {"SS01", "PR01", "RT01"}
-# (the records a call returns, Orbit, Attractor and PhysicalScales, document their fields as Attributes:
+# (the records a call returns, Orbit, Attractor, Lyapunov and PhysicalScales, document their fields as Attributes:
 # nobody constructs them, so they have no Parameters to document; members are documented on the class)
-numpydoc_validation_exclude = {r"\.__init__$", r"^vibroimpact\.(Orbit|Attractor|PhysicalScales)$",
-                               r"Params\.", r"Orbit\.", r"Attractor\.", r"Membrane\.", r"PhysicalScales\."}
+numpydoc_validation_exclude = {r"\.__init__$", r"^vibroimpact\.(Orbit|Attractor|Lyapunov|PhysicalScales)$",
+                               r"Params\.", r"Orbit\.", r"Attractor\.", r"Lyapunov\.", r"Membrane\.", r"PhysicalScales\."}
 
 # tutorials: examples/*.py, executed at every build (a failing example fails the build)
 sphinx_gallery_conf = {

@@ -88,6 +88,8 @@ rule all:
             ext=RESOLUTION["figure_formats"],
         ),
         "results/tables/design.md",
+        expand("results/figures/lyapunov.{ext}", ext=RESOLUTION["figure_formats"]),
+        "results/tables/chaos.md",
         "results/checks/paper_values.csv",
         expand(
             "results/figures/{fig}.png",

@@ -342,3 +342,26 @@ def test_a_device_too_weakly_driven_to_lift_the_ball_rests_and_delivers_nothing(
     assert float(p.gbar) > 1
     assert attractors(p) == [(AT_REST, 1.0, 0.0, pytest.approx(share_interval(8, 8, 0.95)[0]), 1.0)]
     assert float(p.E_U_T) == 0.0 and np.isnan(float(p.E_U_I)) and float(p.worst_U_T) == 0.0
+
+
+def test_a_chaotic_attractor_is_named_so_and_delivers_its_long_run_average():
+    """An attractor with no period (beta = pi/3, d = 0.235) is split by its largest exponent (chaotic) and
+    gets the long run's averages with standard errors, which agree with an independent long run from
+    another start within Z_CRIT combined standard errors (a statistic of a chaotic motion, not a pointwise
+    value)."""
+    from vibroimpact.analysis.design import _settle_attractor
+    from vibroimpact.analysis.energy import LONG_BATCHES, _batch_averages
+    from vibroimpact.analysis.settled import LONG_IMPACTS, long_run
+    from vibroimpact.analysis.sweeps import APERIODIC
+    from vibroimpact.outputs.figcheck import Z_CRIT
+
+    gbar = PH["M"] * 9.8 * math.sin(math.pi / 3) / PH["F"]
+    att = {"label": APERIODIC, "impact": (0.42, 0.87), "period": 0}
+    _settle_attractor(att, None, 0, 0.235, gbar, 0.5, PH["F"], MB, PH["M"], PH["omega"])
+    assert att["label"] == "chaotic" and not att["settled"]
+    assert att["U_T_se"] > 0 and att["U_I_se"] > 0
+    other = long_run(0.235, gbar, 0.5, 0.0, 0.5, impacts=LONG_IMPACTS)
+    u_i, se_i, u_t, se_t = _batch_averages(other, PH["F"], MB, M=PH["M"], omega=PH["omega"], batches=LONG_BATCHES)
+    assert abs(att["U_T"] - u_t) < Z_CRIT * math.hypot(att["U_T_se"], se_t)
+    assert abs(att["U_I"] - u_i) < Z_CRIT * math.hypot(att["U_I_se"], se_i)
+    assert abs(att["U_T"] - u_t) > 1e-9 * u_t  # two different runs: not the same numbers

@@ -109,6 +109,8 @@ def test_exponents_on_a_periodic_orbit_are_the_log_multipliers_per_impact(scene)
         assert agrees(lam.per_impact[i], lam.interval[i], ref[i]), (i, lam.per_impact[i], lam.interval[i], ref[i])
         # per unit time: N impacts span 2k
         assert agrees(lam.per_time[i], lam.interval_time[i], ref[i] * o.n / (2 * o.k))
+        # an interval is centred on its estimate (batch means, Student's t)
+        assert sum(lam.interval[i]) / 2 == pytest.approx(lam.per_impact[i], abs=ROUNDING)
     assert lam.status == "ok" and lam.slow_impacts == 0
 
 
@@ -233,6 +235,8 @@ def test_a_run_that_rests_for_good_returns_minus_infinity_with_the_reason():
     with pytest.warns(UserWarning, match="never"):
         lam = vi.lyapunov(p, 0.0, 0.3, 1000)
     assert lam.per_impact == (-math.inf, -math.inf) and "for good" in lam.status
+    assert lam.per_time == (-math.inf, -math.inf) and lam.interval == ((-math.inf, -math.inf),) * 2
+    assert lam.interval_time == ((-math.inf, -math.inf),) * 2
 
 
 def test_slow_impacts_are_counted():
@@ -267,3 +271,32 @@ def test_a_recorded_run_too_short_for_an_interval_says_so():
     run = vi.simulate(CHAOS, 0.0, 0.5, n_impacts=150)
     lam = exponents_of_run(run, transient=10)
     assert math.isnan(lam.per_impact[0]) and "too few impacts" in lam.status
+
+
+def test_the_fewest_impacts_for_an_interval_are_enough():
+    """Batches of MIN_PER_BATCH flights give an interval; one flight fewer does not; and lyapunov accepts
+    exactly the number of impacts it asks for."""
+    from vibroimpact.analysis.lyapunov import MIN_PER_BATCH
+
+    run = vi.simulate(CHAOS, 0.0, 0.5, n_impacts=10 + 2 * MIN_PER_BATCH + 1)
+    assert set(run.kind.values) == {0}
+    ok = exponents_of_run(run, transient=10, batches=2)
+    assert ok.status == "ok" and ok.impacts == 2 * MIN_PER_BATCH and math.isfinite(ok.per_impact[0])
+    short = exponents_of_run(run.isel(impact=slice(0, -1)), transient=10, batches=2)
+    assert "too few impacts" in short.status
+    lam = vi.lyapunov(CHAOS, 0.0, 0.5, 10 + 2 * MIN_PER_BATCH + 1, transient=10, batches=2)
+    assert lam.status == "ok" and lam.impacts == 2 * MIN_PER_BATCH
+
+
+def test_the_guide_s_example_runs_and_finds_chaos():
+    """The example of the documentation's chaos page, run as written."""
+    import re
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "chaos.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", page, re.S)
+    assert len(blocks) == 1
+    scope = {}
+    exec(compile(blocks[0], "docs/guide/chaos.md", "exec"), scope)
+    lam = scope["lam"]
+    assert lam.interval[0][0] > 0 and lam.status == "ok" and lam.sticks == 0

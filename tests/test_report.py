@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from conftest import readme_command, run_readme
 
-FIGURES = ["fig0b", "fig4", "figFN2", "fig2", "fig3", "figBiS", "basins", "regime_map", "fig0", "fig5", "design",
+FIGURES = ["fig0b", "fig4", "figFN2", "fig2", "fig3", "figBiS", "basins", "regime_map", "fig0", "fig5", "lyapunov", "design",
            "work_precision", "failure_map", "analytics_accuracy", "design_map_s_beta", "design_map_s_F"]
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 

@@ -181,6 +181,10 @@ def test_no_bistability_gives_an_empty_table():
     ("2:1 period-2", "no period found", "period lost (no period found)"),
     ("no period found", "2:1 period-2", "period found"),
     ("no period found", "no period found", "none"),
+    ("2:1 period-2", "chaotic", "period lost (chaotic)"),
+    ("1:1 period-2", "quasi-periodic", "period lost (quasi-periodic)"),
+    ("unsettled", "1:1 period-4", "period found"),
+    ("chaotic", "quasi-periodic", "none"),
     ("2:0 period-2 with sticking", "2:1 period-2", "other"),
 ])
 def test_transition_kinds(before, after, kind):
@@ -277,3 +281,87 @@ def test_regime_map_on_non_dimensional_axes_runs_the_parameters_it_names():
     assert abs(float(r_map.gbar.values[0, 0]) - g) < 1e-15
     with pytest.raises(ValueError, match="'d' is non-dimensional"):
         regime_map("d", [0.16], "s", [0.3])
+
+
+@pytest.mark.parametrize("status, low, high, sticks, label", [
+    ("aperiodic", 0.01, 0.3, 0, "chaotic"),
+    ("aperiodic", 0.0, 0.3, 0, "quasi-periodic"),  # an interval touching 0 cannot tell chaos from a torus
+    ("aperiodic", -0.01, 0.01, 0, "quasi-periodic"),
+    ("aperiodic", -0.3, 0.0, 0, "quasi-periodic"),
+    ("aperiodic", -0.3, -0.01, 0, "unsettled"),
+    ("aperiodic", 0.01, 0.3, 2, "unsettled"),  # sticks again and again: eventually periodic
+    ("aperiodic", -np.inf, -np.inf, 0, "no period found"),
+    ("aperiodic", np.nan, np.nan, 0, "no period found"),
+    ("aperiodic", 0.01, np.inf, 0, "no period found"),
+    ("settles", np.nan, np.nan, 0, "unsettled"),
+    ("stuck", np.nan, np.nan, 0, "unsettled"),
+    ("not run", np.nan, np.nan, 0, "no period found"),
+    ("no restart", 0.01, 0.3, 0, "no period found"),
+])
+def test_a_motion_with_no_period_is_named_by_the_interval_of_its_largest_exponent(status, low, high, sticks, label):
+    assert sweeps.no_period_label(status, low, high, sticks) == label
+
+
+def test_every_label_of_a_motion_with_no_period_is_one():
+    assert list(sweeps.no_period(["chaotic", "quasi-periodic", "unsettled", "no period found", "2:1 period-2",
+                                  "1:1 period-2 with sticking"])) == [True] * 4 + [False] * 2
+
+
+@pytest.fixture(scope="module")
+def across_chaos():
+    """pi/3 from the 2:1 period-2 orbit (d = 0.20) into the chaotic window of Fig 0 (a) (d = 0.235, the
+    chaotic scene of the benchmarks) and on to the period-doubled 1:1 orbit (d = 0.30)."""
+    return sweep("s", np.array([0.20, 0.235, 0.30]) / K_S, beta=math.pi / 3, phi=0.42, v0=0.87, long_impacts=4000)
+
+
+def test_a_sweep_gives_lambda_1_exact_on_solved_cycles_and_estimated_on_the_chaotic_point(across_chaos):
+    """Each point's lambda_1: on a Newton-solved cycle the log of its largest multiplier per impact (and per
+    unit time over its period), which the tangent estimate of a run from the cycle (vibroimpact.lyapunov,
+    another method) confirms within its interval; on the chaotic point the long run's estimate, positive,
+    whose interval meets that of an independent run of 22 000 impacts from another start."""
+    sw = across_chaos
+    lab = sw.label.values.astype(str)
+    assert list(lab[0]) == ["2:1 period-2", "chaotic", "1:1 period-4"]
+    assert (lab[1] == lab[0]).all()
+    for i in (0, 2):
+        pt = sw.isel(direction=0, point=i)
+        assert str(pt.lyap1_source.values) == "multipliers of the Newton-solved cycle"
+        lam1 = float(pt.lyap1)
+        assert lam1 < 0 and float(pt.lyap1_low) == lam1 == float(pt.lyap1_high)
+        n = int(pt.period_events)
+        assert float(pt.lyap1_time) == pytest.approx(lam1 * n / (2 * int(pt.period)), rel=1e-12)
+        p = vi.Params(d=float(pt.d), gbar=float(pt.gbar), r=0.5)
+        est = vi.lyapunov(p, float(pt.cycle_phase[0]), float(pt.cycle_v_minus[0]), 4000, transient=400)
+        lo, hi = est.interval[0]
+        assert lo <= lam1 <= hi and hi - lo < 0.05 * abs(lam1)
+    chaos = sw.isel(direction=0, point=1)
+    assert float(chaos.lyap1_low) > 0 and "long run of 4000 impacts" == str(chaos.lyap1_source.values)
+    assert float(chaos.lyap1_time) == pytest.approx(float(chaos.lyap1) * 4000 / 4000, rel=0.6)
+    ref = vi.lyapunov(vi.Params(d=0.235, gbar=float(chaos.gbar), r=0.5), 0.0, 0.5, 22_000, transient=2000)
+    assert float(chaos.lyap1_low) <= ref.interval[0][1] and ref.interval[0][0] <= float(chaos.lyap1_high)
+
+
+def test_a_located_loss_of_period_names_what_follows_by_its_long_run(across_chaos):
+    """The 2:1 period-2 orbit of pi/3 is lost near d = 0.22007 going up; a hair beyond it the motion is
+    intermittent (lambda_1 about 0.02 over 40 000 impacts, 0.1 at 1e-5 beyond): the 4000 impacts of the
+    continuation tell it from a torus or not, but never call it periodic, unsettled or unknown."""
+    tr = locate_transitions(across_chaos.isel(point=[0, 1]), xtol=1e-6)
+    up = tr.where(tr.direction == "up", drop=True)
+    after = [str(a) for a in up.after.values]
+    assert len(after) == 1 and after[0] in ("chaotic", "quasi-periodic")
+    assert list(up.kind.values) == [f"period lost ({after[0]})"]
+    assert float(up.d[0]) == pytest.approx(0.22007, abs=1e-5)
+
+
+def test_a_regime_map_splits_its_cells_with_no_period():
+    m = regime_map("s", np.array([0.235, 0.30]) / K_S, "beta", [math.pi / 3], phi=0.42, v0=0.87)
+    assert list(m.label.values[0]) == ["chaotic", "1:1 period-4"]
+    assert 0 < float(m.lyap1_low[0, 0]) < float(m.lyap1[0, 0]) < float(m.lyap1_high[0, 0])
+    assert np.isnan(m.lyap1.values[0, 1])  # a periodic cell has no long run
+
+
+def test_without_a_long_run_a_motion_with_no_period_keeps_its_label_and_says_why_it_has_no_exponent():
+    sw = sweep("s", [0.235 / K_S], beta=math.pi / 3, phi=0.42, v0=0.87, long_impacts=0)
+    assert set(sw.label.values.ravel()) == {"no period found"}
+    assert np.isnan(sw.lyap1.values).all()
+    assert set(sw.lyap1_source.values.ravel()) == {"not estimated: no long run (long_impacts = 0)"}

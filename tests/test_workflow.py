@@ -26,12 +26,13 @@ def test_workflow_runs_end_to_end_on_a_tiny_config(tmp_path):
     cfg["branches"]["words"]["BBBT"] = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["branches"]["words"]["BBBT"]
     cfg["bifurcation"]["words"] = ["BBT", "BBBT"]  # the bifurcation set starts from continued branches only
     cfg["energy"]["figures"] = {"fig5": {"panels": ["figBiS"]}}
+    cfg["chaos"] = {"panels": ["figBiS"]}
     cfg["energy"]["design"] = {"s": ["figBiS"], "F": []}
     cfg["checks"]["known"] = {}
     for scene in ("fig2", "fig3"):
         cfg["branch_scenes"][scene] = {"word": "BBT", "betas": [1.0471975511965976], "s_ranges": [[0.25, 0.37]]}
     (tmp_path / "config" / "config.yaml").write_text(yaml.safe_dump(cfg))
-    stems = ("fig0b", "fig4", "fig2", "fig3", "figBiS", "basins", "regime_map", "fig5", "design")
+    stems = ("fig0b", "fig4", "fig2", "fig3", "figBiS", "basins", "regime_map", "fig5", "lyapunov", "design")
     targets = [f"results/figures/{s}.png" for s in stems] + ["results/tables/table1.csv", "results/orbits/captions.nc"]
     res = _snakemake(tmp_path, *targets)
     assert res.returncode == 0, res.stderr[-3000:]
@@ -54,6 +55,13 @@ def test_workflow_runs_end_to_end_on_a_tiny_config(tmp_path):
     # the energy written beside the sweep, from the same job
     en = xr.open_dataset(tmp_path / "results" / "energy" / "beta-0.5236_r-0.5000" / "figBiS.nc", engine="netcdf4")
     assert en.sizes["point"] == 12 and "units" in en["U_T"].attrs
+    # every point's largest Lyapunov exponent with its interval, and the table of chaotic windows
+    for var in ("lyap1", "lyap1_low", "lyap1_high", "lyap1_time", "lyap1_source"):
+        assert var in sw and "long_name" in sw[var].attrs
+    est = sw.lyap1.notnull().values
+    assert (sw.lyap1_low.values[est] <= sw.lyap1_high.values[est]).all()
+    assert all(str(x).startswith("not estimated: ") for x in sw.lyap1_source.values[~est])  # each NaN says why
+    assert "chaotic for d in" in (tmp_path / "results" / "tables" / "chaos.md").read_text()
     table = xr.open_dataset(tmp_path / "results" / "orbits" / "captions.nc", engine="netcdf4")
     assert bool(table["reproduced"].all())
     # a second run has nothing to do

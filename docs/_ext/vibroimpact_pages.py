@@ -24,7 +24,7 @@ CAPTIONS = {
     "figFN2": ("scene.rst", {"scene": "figFN2"}), "fig2": ("fig2.rst", {}), "fig3": ("fig3.rst", {}),
     "figBiS": ("figBiS.rst", {}), "basins": ("basins.rst", {}), "regime_map": ("regime_map.rst", {}),
     "fig0": ("energy.rst", {"efig": "fig0"}), "fig5": ("energy.rst", {"efig": "fig5"}),
-    "design": ("design.rst", {}),
+    "design": ("design.rst", {}), "lyapunov": ("lyapunov.rst", {}),
     "work_precision": ("bench.rst", {"bench": "work_precision"}),
     "failure_map": ("bench.rst", {"bench": "failure_map"}),
     "analytics_accuracy": ("bench.rst", {"bench": "analytics_accuracy"}),
@@ -34,7 +34,7 @@ TITLES = {"bifurcation_set_s_beta": "Bifurcation set over (s, β)", "bifurcation
           "design_map_s_beta": "Design map over (s, β)", "design_map_s_F": "Design map over (s, ‖F̂‖)",
           "fig0b": "Fig 0b", "fig4": "Fig 4", "figFN2": "Fig FN2", "fig2": "Fig 2", "fig3": "Fig 3",
           "figBiS": "Fig BiS", "basins": "Basins of attraction", "regime_map": "Regime maps", "fig0": "Fig 0",
-          "fig5": "Fig 5", "design": "Design guidance", "work_precision": "Work-precision",
+          "fig5": "Fig 5", "lyapunov": "Largest Lyapunov exponent", "design": "Design guidance", "work_precision": "Work-precision",
           "failure_map": "Failure map", "analytics_accuracy": "Accuracy of the analytics"}
 
 

@@ -273,6 +273,9 @@ for _fig, _spec in config["energy"]["figures"].items():
                 _p,
                 f"a sweep under sweeps.scenes: {sorted(SWEEPS)}",
             )
+for _p in config["chaos"]["panels"]:
+    if _p not in SWEEPS:
+        _fail("chaos.panels", _p, f"a sweep under sweeps.scenes: {sorted(SWEEPS)}")
 for _v in ("s", "F"):
     for _p in config["energy"]["design"][_v]:
         if _p not in SWEEPS or SWEEPS[_p]["vary"] != _v:
@@ -398,6 +401,7 @@ ALL_FIGURES = (
     + list(BRANCH_SCENES)
     + ["figBiS", "basins", "regime_map"]
     + list(config["energy"]["figures"])
+    + ["lyapunov"]
     + ["design", "work_precision", "failure_map", "analytics_accuracy"]
     + [f"bifurcation_set_{m}" for m in ALL_MAPS]
     + [f"design_map_{m}" for m in config["design"]["maps"]]

@@ -175,3 +175,42 @@ rule transitions_table:
         names=list(SWEEPS),
     script:
         "../scripts/transitions_table.py"
+
+
+# Is the "apparently chaotic" motion chaos? lambda_1 of every sweep point under its velocity bifurcation
+# diagram, with B, the folds, d_graz and G1 of the continued branches; and the chaotic windows of d with
+# their exponents and what a chaotic device delivers (window and long-run averages).
+rule lyapunov_figure:
+    input:
+        sweeps=[sweep_path(p) for p in config["chaos"]["panels"]],
+        energies=[
+            energy_path("sweep", SWEEPS[p]["beta"], p) for p in config["chaos"]["panels"]
+        ],
+        orbits=[
+            branch_path("orbit", SWEEPS[p]["beta"], w, SWEEPS[p]["vary"])
+            for p in config["chaos"]["panels"]
+            for w in ("BT", "BBT")
+            if w in WORDS
+        ],
+    output:
+        **figure_formats("results/figures/lyapunov"),
+        png=report(
+            "results/figures/lyapunov.png",
+            caption="../report/lyapunov.rst",
+            category="Beyond the paper",
+        ),
+        data="results/figures/data/lyapunov.nc",
+        md="results/tables/chaos.md",
+        windows="results/tables/chaos_windows.csv",
+        outputs="results/tables/chaos_outputs.csv",
+    log:
+        "logs/figures/lyapunov.log",
+    benchmark:
+        "benchmarks/lyapunov_figure/lyapunov.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        panels=config["chaos"]["panels"],
+        words=[w for w in ("BT", "BBT") if w in WORDS],
+    script:
+        "../scripts/lyapunov_figure.py"

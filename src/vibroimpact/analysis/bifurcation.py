@@ -28,6 +28,7 @@ from ..dynamics.params import Params
 from .continuation import PARAMETERS, TESTS, _tangent, _tests
 from .grazing import admissibility
 from .orbits import Orbit, OrbitError, _residual_and_jacobian, map_jacobian, orbit_from_vector, parse_word
+from .sweeps import NO_PERIOD_LABELS
 
 __all__ = ["bistable_band", "curve_crossings", "curve_set", "curve_values", "follow_point", "map_boundaries", "plane_cusps"]
 
@@ -544,8 +545,6 @@ def bistable_band(curves: xr.Dataset, at, *, along: str = "beta") -> xr.Dataset:
 #: a simulated boundary within this many grid cells of a curve counts as on the curve (a cell boundary
 #: lies half a cell from the cells' centres, and a curve crossing a cell may pass half a cell beyond)
 ON_CURVE_CELLS = 1.5
-#: the label of a map point whose motion had no period within the run's cap (chaos or a long transient)
-NO_PERIOD = "no period found"
 
 
 def _segment_distance(px, py, xs, ys):
@@ -568,8 +567,8 @@ def map_boundaries(regime_map: xr.Dataset, curves: xr.Dataset, *, cells: float =
     have different labels; its position is the edge's midpoint.  It is ``on_curve`` where a curve of
     ``curves`` (:func:`curve_set` in the map's plane) passes within ``cells`` grid cells of it (distances
     in units of the grid spacing along each axis).  A boundary on no curve gets a ``cause``:
-    ``"aperiodic"`` where one side had no period within the run's cap (chaos or a long transient: no
-    curve of periodic orbits bounds it), ``"jump"`` where both sides are periodic motions (the single
+    ``"aperiodic"`` where one side had no period within the run's cap (chaotic, quasi-periodic or
+    unsettled: no curve of periodic orbits bounds it), ``"jump"`` where both sides are periodic motions (the single
     start fell into another basin where two motions coexist, or an orbit not in the set bifurcates).
     """
     ydim, xdim = regime_map.label.dims
@@ -594,7 +593,7 @@ def map_boundaries(regime_map: xr.Dataset, curves: xr.Dataset, *, cells: float =
             dist = np.minimum(dist, _segment_distance(px / hx, py / hy, curves[xdim].values[sel] / hx,
                                                       curves[ydim].values[sel] / hy))
     on = dist <= cells
-    aperiodic = np.array([NO_PERIOD in (p[2], p[3]) for p in pts], dtype=bool)
+    aperiodic = np.array([p[2] in NO_PERIOD_LABELS or p[3] in NO_PERIOD_LABELS for p in pts], dtype=bool)
     cause = np.where(on, "on a curve", np.where(aperiodic, "aperiodic", "jump"))
     ds = xr.Dataset(
         {

@@ -36,7 +36,7 @@ from .._progress import Progress, _interactive
 from ..datasets import annotate
 from ..dynamics import kernels as K
 from .energy import Membrane, window_averages
-from .sweeps import APERIODIC, _last_bottom, attractor_batch, plane_params
+from .sweeps import APERIODIC, _last_bottom, attractor_batch, no_period, plane_params, split_no_period
 
 __all__ = ["DISTRIBUTIONS", "MIN_STARTS", "AT_REST", "start_states", "check_design", "design_map",
            "merge_chunks", "share_interval", "table_designs", "tolerance_analysis", "curve_margin", "box_minimum", "best_designs"]
@@ -194,7 +194,7 @@ def _settle_attractor(att, events, lag, d, gbar, r, F, membrane, M, omega):
     attractor need not be independent samples: starts at rest all leave the wall at the release phase),
     or keeps its runs' mean with no standard error where the long run settles after all."""
     from .energy import LONG_BATCHES, _batch_averages, speed_si, voltage_gain
-    from .settled import LONG_IMPACTS, STICK_REL, long_run, polish_cycle
+    from .settled import LONG_IMPACTS, STICK_REL, polish_cycle
 
     att["settled"], att["U_T_se"], att["U_I_se"] = False, math.nan, math.nan
     if att["label"] == AT_REST:
@@ -204,7 +204,9 @@ def _settle_attractor(att, events, lag, d, gbar, r, F, membrane, M, omega):
         phi, v0 = att["impact"]
         if not (math.isfinite(phi) and math.isfinite(v0)):
             return
-        run = long_run(d, gbar, r, phi, v0, impacts=LONG_IMPACTS)
+        split = split_no_period(d, gbar, r, phi, v0, impacts=LONG_IMPACTS)
+        att["label"] = split["label"]  # chaotic, quasi-periodic or unsettled, by its largest exponent
+        run = split["run"]
         if run["status"] != "aperiodic":
             return
         u_i, se_i, u_t, se_t = _batch_averages(run, F, membrane, M=M, omega=omega, batches=LONG_BATCHES)
@@ -356,7 +358,8 @@ def _assemble(points, shape, x_name, xs, y_name, ys, d, gbar, fixed, n_st, total
     dims2, dims3 = (y_name, x_name), (y_name, x_name, "attractor")
     ds = xr.Dataset(
         {"label": (dims3, label.astype(str), {"units": "1", "long_name": "attractor: n:m impacts per period and "
-                                                "period, or no period found (largest share first; '' pads)"}),
+                                                "period, or with no period chaotic, quasi-periodic or unsettled by its long run's largest Lyapunov "
+                                                "exponent (largest share first; '' pads)"}),
          "count": (dims3, ints["count"], {"units": "1", "long_name": "starts reaching the attractor"}),
          "share": (dims3, arr["share"], {"units": "1", "long_name": "share of the starts reaching the attractor"}),
          "share_low": (dims3, arr["share_low"], {"units": "1", "long_name": "lower end of the share's "
@@ -413,8 +416,8 @@ def summarise(ds: xr.Dataset) -> xr.Dataset:
     ds["n_attractors"].attrs.update(units="1", long_name="attractors with share >= min_share")
     ds["multistable"] = ds["n_attractors"] >= 2
     ds["multistable"].attrs.update(units="1", long_name="two or more attractors with share >= min_share")
-    ds["aperiodic_share"] = share.where(ds["label"] == APERIODIC, 0.0).sum("attractor")
-    ds["aperiodic_share"].attrs.update(units="1", long_name="share of the starts with no period found")
+    ds["aperiodic_share"] = share.where(no_period(ds["label"].values), 0.0).sum("attractor")
+    ds["aperiodic_share"].attrs.update(units="1", long_name="share of the starts with no period found (chaotic, quasi-periodic or unsettled)")
     # how well E_U_T is known: the starts are a sample of the start distribution (the sampling error of
     # the mean over them), and a motion with no period contributes its runs' own spread
     present = ds["share"].notnull()

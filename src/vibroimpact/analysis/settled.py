@@ -74,7 +74,8 @@ def polish_cycle(d, gbar, r, t, wall, v_minus, phase, kind, span) -> dict:
         settled), or why it is not settled (a grazing
         contact, Newton failed, another orbit, not admissible); ``settled`` (bool); and the cycle from
         its canonical first event (:func:`canonical_start`): ``t`` (from 0), ``wall``, ``v_minus``,
-        ``phase``, ``kind``.
+        ``phase``, ``kind``; where settled, the orbit's ``multipliers`` (the eigenvalues of its map over
+        one period, eq. ``Lin2``).
     """
     from ..dynamics.params import Params
     from .orbits import OrbitError, orbit_from_vector, solve_orbit
@@ -109,7 +110,8 @@ def polish_cycle(d, gbar, r, t, wall, v_minus, phase, kind, span) -> dict:
         return out | dict(status=f"not settled: the Newton orbit lies {dev:.1e} from the cycle")
     if not o.admissible:
         return out | dict(status=f"not settled: the Newton orbit is not admissible ({o.reason})")
-    return out | dict(t=o.t, v_minus=np.array(o.v_minus), phase=np.array(o.phase), status="newton", settled=True)
+    return out | dict(t=o.t, v_minus=np.array(o.v_minus), phase=np.array(o.phase), status="newton", settled=True,
+                      multipliers=np.asarray(o.eigenvalues))
 
 
 def batch_means(values, batches: int = LONG_BATCHES):
@@ -142,16 +144,21 @@ def long_run(d, gbar, r, phi, v0, *, impacts: int = LONG_IMPACTS, tol: float = 1
     dict
         ``status``: ``"aperiodic"``, or ``"settles"`` when the continuation becomes periodic after all (a
         transient longer than the run that found no period: its statistics depend on where it settles, so
-        none are given), or ``"stuck"``; and the events ``t``, ``v_minus``, ``kind`` of the continuation
-        (impacts and grazing contacts are ``kind`` 0 and 1).
+        none are given), or ``"stuck"``; the events ``t``, ``v_minus``, ``kind`` of the continuation
+        (impacts and grazing contacts are ``kind`` 0 and 1); and ``exponents``, its Lyapunov exponents
+        (:class:`~vibroimpact.analysis.lyapunov.Lyapunov`, the first tenth of it discarded) where it is
+        aperiodic, else None.
     """
     from ..dynamics.params import Params
     from ..dynamics.simulate import simulate
 
     run = simulate(Params(d=float(d), gbar=float(gbar), r=float(r)), float(phi), float(v0),
                    n_impacts=int(impacts), stop_when_periodic=True, tol=tol)
+    from .lyapunov import exponents_of_run
+
     status = {"periodic": "settles", "stuck_forever": "stuck"}.get(run.attrs["status"], "aperiodic")
-    return dict(status=status, t=run.t.values, v_minus=run.v_minus.values, kind=run.kind.values)
+    lam = exponents_of_run(run, transient=int(impacts) // 10, batches=LONG_BATCHES) if status == "aperiodic" else None
+    return dict(status=status, t=run.t.values, v_minus=run.v_minus.values, kind=run.kind.values, exponents=lam)
 
 
 def long_statistics(events: dict, batches: int = LONG_BATCHES):

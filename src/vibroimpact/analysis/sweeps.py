@@ -22,11 +22,63 @@ from ..dynamics.params import Params
 from ..dynamics.simulate import cycle_class
 
 __all__ = ["parameter_grid", "attractor_batch", "sweep", "settle", "locate_transitions", "bistable_intervals",
-           "basins", "regime_map", "plane_params", "APERIODIC"]
+           "basins", "regime_map", "plane_params", "split_no_period", "no_period", "no_period_label", "APERIODIC",
+           "CHAOTIC", "QUASI_PERIODIC", "UNSETTLED", "NO_PERIOD_LABELS"]
 
 #: Label of a run whose motion did not repeat within the allowed transient: chaotic, quasi-periodic,
 #: of a period longer than ``pmax`` events, or converging too slowly (near a period doubling or fold).
 APERIODIC = "no period found"
+#: What such a motion is, by the largest Lyapunov exponent lambda_1 of its continuation over
+#: ``LONG_IMPACTS`` impacts (:func:`split_no_period`); defined here once, for the sweeps, the maps, the
+#: tables and the figures.  Chaotic: the interval of lambda_1 lies above 0.
+CHAOTIC = "chaotic"
+#: The interval of lambda_1 contains 0: neighbouring motions neither separate nor approach at a rate the
+#: continuation can tell from 0 (a torus, or a period beyond the cap's reach, or the edge of chaos).
+QUASI_PERIODIC = "quasi-periodic"
+#: Neither: the interval lies below 0 (the motion converges, more slowly than the cap allows), or the
+#: continuation finds a period, sticks (a motion that sticks again and again is eventually periodic: each
+#: release starts from the same state) or comes to rest: a transient longer than the cap.
+UNSETTLED = "unsettled"
+#: every label of a motion without a period within the cap ("no period found" where it was not split)
+NO_PERIOD_LABELS = (APERIODIC, CHAOTIC, QUASI_PERIODIC, UNSETTLED)
+
+
+def no_period(labels):
+    """Where a label (or array of labels) is one of a motion with no period within the cap."""
+    return np.isin(np.asarray(labels).astype(str), NO_PERIOD_LABELS)
+
+
+def no_period_label(long_status: str, low: float, high: float, sticks: int = 0) -> str:
+    """The label of a motion with no period from its continuation (:func:`vibroimpact.long_run`): its status
+    and the confidence interval ``[low, high]`` of its largest Lyapunov exponent.  Without a
+    continuation (``"not run"``, ``"no restart"``) it stays :data:`APERIODIC`."""
+    if long_status in ("settles", "stuck"):
+        return UNSETTLED
+    if long_status != "aperiodic" or not (np.isfinite(low) and np.isfinite(high)):
+        return APERIODIC
+    if sticks:
+        return UNSETTLED
+    if low > 0:
+        return CHAOTIC
+    if high < 0:
+        return UNSETTLED
+    return QUASI_PERIODIC
+
+
+def split_no_period(d, gbar, r, phi, v0, *, impacts: int | None = None, tol: float = 1e-9) -> dict:
+    """Continue a motion with no period from a bottom impact ``(phi, v0)`` (e.g. the last of its window)
+    and say what it is: ``label`` (:func:`no_period_label`), ``status`` of the continuation, its largest
+    Lyapunov exponent ``lyap1`` per impact with the interval ``lyap1_low``, ``lyap1_high``, and per unit
+    time ``lyap1_time``, and the continuation itself (``run``, :func:`vibroimpact.long_run`'s dict)."""
+    from .settled import LONG_IMPACTS, long_run
+
+    run = long_run(d, gbar, r, phi, v0, impacts=LONG_IMPACTS if impacts is None else int(impacts), tol=tol)
+    lam = run["exponents"]
+    nan = float("nan")
+    lyap = (lam.per_impact[0], *lam.interval[0], lam.per_time[0]) if lam is not None else (nan,) * 4
+    label = no_period_label(run["status"], lyap[1], lyap[2], lam.sticks if lam is not None else 0)
+    return dict(label=label, status=run["status"], lyap1=lyap[0], lyap1_low=lyap[1], lyap1_high=lyap[2],
+                lyap1_time=lyap[3], run=run)
 _EVENT_VARS = ("t", "wall", "v_minus", "phase", "kind")
 
 
@@ -156,16 +208,22 @@ def _window_dataset(win, st, lag, tot, nw, dims):
 def settle(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None, tol: float = 1e-9) -> xr.Dataset:
     """Add what is well-posed about each attractor of a window dataset (a sweep's or
     :func:`attractor_batch`'s): the exact cycle of a periodic one, the long-run statistics of an
-    aperiodic one (:mod:`vibroimpact.analysis.settled`).
+    aperiodic one (:mod:`vibroimpact.analysis.settled`), and the largest Lyapunov exponent of each.
 
     ``d``, ``gbar``, ``r`` broadcast to the dataset's per-run shape.  Added, per run: ``settled`` and
     ``settle_status``; ``cycle_t``, ``cycle_wall``, ``cycle_v_minus``, ``cycle_phase``, ``cycle_kind``
     on a ``cycle`` dimension (the Newton-solved orbit from its canonical first impact, or the recorded
     cycle where it is not settled; NaN-padded); for runs with no period, ``long_status``, the restart
     ``long_phi``, ``long_v0`` (the window's last bottom impact) and ``abs_v_mean``, ``abs_v_se`` (batch
-    means of ``|Zdot-|`` over ``long_impacts`` impacts; ``long_impacts = 0`` skips the long runs).
+    means of ``|Zdot-|`` over ``long_impacts`` impacts; ``long_impacts = 0`` skips the long runs), and
+    their ``label`` split into :data:`CHAOTIC`, :data:`QUASI_PERIODIC` and :data:`UNSETTLED`
+    (:func:`no_period_label`); for every run ``lyap1`` (per impact) with its interval ``lyap1_low``,
+    ``lyap1_high``, ``lyap1_time`` (per unit time) and ``lyap1_source``: the multipliers of the
+    Newton-solved cycle (exact, ``ln max|mu| / N``), ``-inf`` for a sticking cycle (its map is constant)
+    or a ball at rest, else the long run's tangent estimate (:func:`vibroimpact.lyapunov`).
     """
-    from .settled import LONG_BATCHES, LONG_IMPACTS, long_run, long_statistics, polish_cycle
+    from .lyapunov import exponents_of_run
+    from .settled import LONG_BATCHES, LONG_IMPACTS, long_statistics, polish_cycle
 
     long_impacts = LONG_IMPACTS if long_impacts is None else int(long_impacts)
     shape = ds["status"].shape
@@ -179,33 +237,64 @@ def settle(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None, tol: 
     long_status = np.full(shape, "", dtype=object)
     long_start = np.full((*shape, 2), np.nan)
     stats = np.full((*shape, 2), np.nan)
+    lyap = np.full((*shape, 4), np.nan)  # lambda_1 per impact, its interval, per unit time
+    source = np.full(shape, "", dtype=object)
+    labels = ds["label"].values.astype(object)
     ev = {v: ds[v].values for v in _EVENT_VARS}
     n_real = np.isfinite(ev["t"]).sum(axis=-1)
     for idx in np.ndindex(shape):
         n, lag = int(n_real[idx]), int(lags[idx])
         rows = {v: ev[v][idx][:n] for v in _EVENT_VARS}
+        start = _last_bottom(*(rows[v] for v in _EVENT_VARS), n)
         if lag and n > lag:
-            sl = slice(n - lag, n)
-            res = polish_cycle(d[idx], gbar[idx], r[idx], *(rows[v][sl] for v in _EVENT_VARS),
-                               span=rows["t"][n - 1] - rows["t"][n - 1 - lag])
+            span = rows["t"][n - 1] - rows["t"][n - 1 - lag]
+            res = polish_cycle(d[idx], gbar[idx], r[idx], *(rows[v][n - lag:n] for v in _EVENT_VARS), span=span)
             for v in cyc:
                 cyc[v][idx][:lag] = res[v]
             settled[idx], status[idx] = res["settled"], res["status"]
+            if res["settled"]:  # exact: the multipliers of the Newton-solved cycle
+                top = float(np.log(np.abs(res["multipliers"]).max()))
+                lyap[idx] = (top / lag, top / lag, top / lag, top / (2.0 * round(span / 2.0)))
+                source[idx] = "multipliers of the Newton-solved cycle"
+            elif res["status"] == "sticking":
+                lyap[idx] = -np.inf
+                source[idx] = "sticking cycle: its map over a period is constant (multipliers 0)"
+            elif start is not None and long_impacts:  # periodic, not solved: the tangent estimate of a run
+                from ..dynamics.simulate import simulate
+
+                run = simulate(Params(d=float(d[idx]), gbar=float(gbar[idx]), r=float(r[idx])), *start,
+                               n_impacts=long_impacts)
+                lam = exponents_of_run(run, transient=long_impacts // 10, batches=LONG_BATCHES)
+                lyap[idx] = (lam.per_impact[0], *lam.interval[0], lam.per_time[0])
+                source[idx] = f"long run of {long_impacts} impacts ({res['status']})"
+            else:
+                source[idx] = f"not estimated: the cycle is not solved ({res['status']}) and no long run " + (
+                    "(long_impacts = 0)" if not long_impacts else "(no bottom impact to restart from)")
             continue
         if int(ds["status"].values[idx]) == K.STUCK_FOREVER:  # at rest on the bottom for good: exact
             settled[idx], status[idx], long_status[idx] = True, "stuck", "stuck"
+            lyap[idx] = -np.inf
+            source[idx] = "at rest on the bottom for good"
             continue
         status[idx] = "aperiodic"
-        start = _last_bottom(*(rows[v] for v in _EVENT_VARS), n)
         if start is None or not long_impacts:
             long_status[idx] = "no restart" if start is None else "not run"
+            source[idx] = ("not estimated: no bottom impact in the window to restart a long run from" if start is None
+                           else "not estimated: no long run (long_impacts = 0)")
             continue
         long_start[idx] = start
-        run = long_run(d[idx], gbar[idx], r[idx], *start, impacts=long_impacts, tol=tol)
-        long_status[idx] = run["status"]
-        stats[idx] = long_statistics(run, LONG_BATCHES)
+        split = split_no_period(d[idx], gbar[idx], r[idx], *start, impacts=long_impacts, tol=tol)
+        long_status[idx] = split["status"]
+        labels[idx] = split["label"]
+        stats[idx] = long_statistics(split["run"], LONG_BATCHES)
+        lyap[idx] = (split["lyap1"], split["lyap1_low"], split["lyap1_high"], split["lyap1_time"])
+        source[idx] = f"long run of {long_impacts} impacts" + ("" if split["status"] == "aperiodic" else
+                                                              f" ({split['status']}: no estimate)")
     edims = (*ds["status"].dims, "cycle")
     pdims = ds["status"].dims
+    ds["label"] = (pdims, labels.astype(str), ds["label"].attrs | {
+        "long_name": "motion: n:m impacts per period and period, or (no period within the cap) chaotic, "
+                     "quasi-periodic or unsettled by the largest Lyapunov exponent of its long run"})
     ds["settled"] = (pdims, settled, {"units": "1", "long_name": "the attractor's values are well-posed: a Newton-solved or sticking (exact) cycle"})
     ds["settle_status"] = (pdims, status.astype(str), {"units": "1", "long_name": "how the cycle was settled, or why not"})
     names = {"t": ("time from the cycle's canonical first event", "1"), "wall": ("wall (1 bottom, -1 top)", "1"),
@@ -217,6 +306,12 @@ def settle(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None, tol: 
     ds["long_v0"] = (pdims, long_start[..., 1], {"units": "1", "long_name": "long run: pre-impact velocity of its first bottom impact"})
     ds["abs_v_mean"] = (pdims, stats[..., 0], {"units": "1", "long_name": "long run: mean |Zdot-| over its impacts (batch means)"})
     ds["abs_v_se"] = (pdims, stats[..., 1], {"units": "1", "long_name": "long run: standard error of abs_v_mean (batch means)"})
+    level = "95 % confidence interval (batch means over the long run; the exact value twice for a solved cycle)"
+    ds["lyap1"] = (pdims, lyap[..., 0], {"units": "1", "long_name": "largest Lyapunov exponent lambda_1, per impact"})
+    ds["lyap1_low"] = (pdims, lyap[..., 1], {"units": "1", "long_name": f"lambda_1 per impact: lower end of its {level}"})
+    ds["lyap1_high"] = (pdims, lyap[..., 2], {"units": "1", "long_name": f"lambda_1 per impact: upper end of its {level}"})
+    ds["lyap1_time"] = (pdims, lyap[..., 3], {"units": "1", "long_name": "largest Lyapunov exponent lambda_1, per unit of non-dimensional time"})
+    ds["lyap1_source"] = (pdims, source.astype(str), {"units": "1", "long_name": "how lambda_1 was obtained"})
     ds.attrs.update(long_impacts=long_impacts, long_batches=LONG_BATCHES)
     return ds
 
@@ -329,7 +424,7 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
 
 def _ratio(label):
     """(n, m, period) of a periodic label like '2:1 period-2', else None."""
-    if label == APERIODIC or "over" in label or "sticking" in label:
+    if label in NO_PERIOD_LABELS or "over" in label or "sticking" in label:
         return None
     nm, per = label.split(" period-")
     n, m = nm.split(":")
@@ -338,11 +433,11 @@ def _ratio(label):
 
 def transition_kind(before: str, after: str) -> str:
     """Name the change of motion from ``before`` to ``after`` (in the sweep's direction)."""
-    if before == APERIODIC and after == APERIODIC:
+    if before in NO_PERIOD_LABELS and after in NO_PERIOD_LABELS:
         return "none"
-    if after == APERIODIC:
-        return "period lost (no period found)"
-    if before == APERIODIC:
+    if after in NO_PERIOD_LABELS:
+        return f"period lost ({after})"
+    if before in NO_PERIOD_LABELS:
         return "period found"
     a, b = _ratio(before), _ratio(after)
     if a is None or b is None:
@@ -415,7 +510,7 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
         for i in order:
             bar.update()
             j = i + 1 if name == "up" else i - 1
-            if labels[i] == labels[j] or labels[i] == APERIODIC:
+            if labels[i] == labels[j] or labels[i] in NO_PERIOD_LABELS:
                 continue
             if last_end is not None and sign * (dvals[i] - last_end) < 0:
                 continue  # this change was already passed by the previous located transition
@@ -435,6 +530,7 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
             h = h_grid
             x, y = dvals[i], dvals[j]  # x: last d with the old motion; y: nearest d beyond it without
             after = labels[j]
+            after_start = None  # where the motion beyond was last seen (its window's last bottom impact)
             y_checked = False  # y re-run from an attractor within 1e-3 grid steps of it
             refined = False
             for _ in range(max_trials):
@@ -457,9 +553,11 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
                     x, start = trial, nxt
                     h = min(2 * h, h_grid, 0.5 * abs(y - x))
                 else:
-                    y, after, y_checked = trial, lab, False
+                    y, after, after_start, y_checked = trial, lab, nxt, False
                     h = min(0.5 * h, 0.5 * abs(y - x))
             last_end = y
+            if after == APERIODIC and after_start is not None:  # what the motion beyond is: its long run says
+                after = split_no_period(y, g0[i] + slope * (y - dvals[i]), r, *after_start, tol=tol)["label"]
             status = "refined" if refined else f"not refined: {max_trials} runs (max_trials) left a bracket of {abs(y - x):.1e}"
             rows.append((name, 0.5 * (x + y), abs(y - x), before, after, transition_kind(before, after), status))
     bar.close()
@@ -715,6 +813,22 @@ def plane_params(x_name: str, xs, y_name: str, ys, **physical):
     return X, Y, d, gbar, r, fixed
 
 
+def _split_cells(ds, d, gbar, r, tol):
+    """Labels of an :func:`attractor_batch` with every run that found no period split by its long run
+    (:func:`split_no_period`, from its window's last bottom impact), and ``(lambda_1, low, high)`` of those."""
+    labels = ds["label"].values.astype(object)
+    lyap = np.full((labels.size, 3), np.nan)
+    ev = [ds[v].values for v in _EVENT_VARS]
+    for i in np.flatnonzero(labels == APERIODIC):
+        start = _last_bottom(*(e[i] for e in ev), int(np.isfinite(ev[0][i]).sum()))
+        if start is None:
+            continue
+        split = split_no_period(d[i], gbar[i], r[i], *start, tol=tol)
+        labels[i] = split["label"]
+        lyap[i] = split["lyap1"], split["lyap1_low"], split["lyap1_high"]
+    return labels.astype(str), lyap
+
+
 def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float = 0.5, max_periods: float = 200,
                tol: float = 1e-9, window: int = 65, progress: bool | None = None, **physical) -> xr.Dataset:
     """Attractor class over a grid of two parameters, each run from the same bottom impact.
@@ -738,7 +852,9 @@ def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float 
     Returns
     -------
     xarray.Dataset
-        On ``(y_name, x_name)``: ``label``, ``period``, ``d``, ``gbar`` and ``code``.
+        On ``(y_name, x_name)``: ``label`` (a cell with no period split into chaotic, quasi-periodic or
+        unsettled by its long run, :func:`no_period_label`), ``lyap1`` with ``lyap1_low``, ``lyap1_high``
+        for those cells, ``period``, ``d``, ``gbar`` and ``code``.
     """
     X, Y, d, gbar, r, fixed = plane_params(x_name, xs, y_name, ys, **physical)
     axes = {x_name, y_name}
@@ -746,8 +862,13 @@ def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float 
     ds = attractor_batch(d, gbar, r, phi, v0, max_periods=max_periods, tol=tol, window=window, progress=progress,
                          desc=f"regime map over ({x_name}, {y_name})")
     shape = X.shape
+    labels, lyap = _split_cells(ds, d, gbar, r, tol)
+    level = "its 95 % confidence interval (batch means over the long run)"
     data = {
-        "label": ((y_name, x_name), ds["label"].values.reshape(shape)),
+        "label": ((y_name, x_name), labels.reshape(shape)),
+        "lyap1": ((y_name, x_name), lyap[:, 0].reshape(shape), {"units": "1", "long_name": "largest Lyapunov exponent per impact of a cell with no period (its long run; NaN elsewhere)"}),
+        "lyap1_low": ((y_name, x_name), lyap[:, 1].reshape(shape), {"units": "1", "long_name": f"lambda_1: lower end of {level}"}),
+        "lyap1_high": ((y_name, x_name), lyap[:, 2].reshape(shape), {"units": "1", "long_name": f"lambda_1: upper end of {level}"}),
         "period": ((y_name, x_name), ds["period"].values.reshape(shape), ds["period"].attrs),
         "d": ((y_name, x_name), d.reshape(shape)),
         "gbar": ((y_name, x_name), gbar.reshape(shape)),

@@ -15,7 +15,7 @@ by what is well-posed about it, which its figure recorded when drawing it
     motion differs, only at a point on a boundary of its motion in the reference (a neighbouring point
     has another motion, or the new motion's region lies within :data:`REACH` points: coexisting motions'
     basins interleave) or where one of the two is a transient that outlasted the cap (on a map of
-    motions only: "no period found" on either side).
+    motions only: no period within the cap on either side, whether chaotic, quasi-periodic or unsettled).
 ``run``
     a text naming a run of one motion, at its middle: the same text, within one sweep step.
 ``curve``
@@ -39,10 +39,10 @@ import math
 
 import numpy as np
 
+from ..analysis.sweeps import no_period
+
 __all__ = ["Z_CRIT", "RULES", "compare_artist", "strict_close", "artist_base"]
 
-#: the label of a run with no period within its cap (vibroimpact.analysis.sweeps.APERIODIC)
-APERIODIC = "no period found"
 
 #: two estimates of one statistic differ by more than this many combined standard errors with
 #: probability 1e-6 (Student's t with 19 degrees of freedom: the long runs' 20 batch means); a full
@@ -125,9 +125,10 @@ def _per_key(ds, base, index, n_keys, values):
     se = _aux(ds, base, "se", np.full(n, np.nan)).astype(float)
     labels_only = f"{base}_wp_settled" not in ds
     if labels_only:
-        # a map of motions only: "no period found" is chaos or a transient longer than the cap, and whether
-        # such a transient ends within the cap is for rounding to decide
-        unsettled = unsettled | (motion == APERIODIC)
+        # a map of motions only: a motion with no period within the cap is chaos, quasi-periodic or a transient
+        # longer than the cap (split by a statistic, its long run's exponent), and whether such a transient
+        # ends within the cap is for rounding to decide
+        unsettled = unsettled | no_period(motion)
     out = []
     for u in range(n_keys):
         sel = np.flatnonzero(index == u)

@@ -360,3 +360,107 @@ def design_cost_markdown(maps: dict[str, tuple[int, int]], seconds: dict[str, fl
     rows = [{"map": m, "runs (points x starts)": runs, "events simulated": ev, "job time (s)": round(seconds[m], 1),
              "events per second": f"{ev / seconds[m]:.3g}"} for m, (runs, ev) in maps.items()]
     return pd.DataFrame(rows).to_markdown(index=False) + "\n"
+
+
+def chaotic_windows(named: dict[str, xr.Dataset]) -> pd.DataFrame:
+    """The windows of d where a sweep's motion is chaotic (:data:`vibroimpact.analysis.sweeps.CHAOTIC`: the
+    95 % interval of its largest Lyapunov exponent lies above 0), per sweep and direction: maximal runs of
+    consecutive chaotic points, their ends (each known to one grid step), the swept parameter there, and
+    lambda_1 over the window (median, range, the lowest lower interval end), per impact and per unit time."""
+    from ..analysis.sweeps import CHAOTIC
+
+    rows = []
+    for name, sw in named.items():
+        vary = sw.attrs["vary"]
+        for direction in sw.direction.values:
+            s = sw.sel(direction=direction)
+            order = np.argsort(s.d.values)
+            d = s.d.values[order]
+            chaotic = s.label.values.astype(str)[order] == CHAOTIC
+            edges = np.flatnonzero(np.diff(chaotic.astype(int))) + 1
+            for seg in np.split(np.arange(d.size), edges):
+                if not seg.size or not chaotic[seg[0]]:
+                    continue
+                lam = s.lyap1.values[order][seg]
+                per_t = s.lyap1_time.values[order][seg]
+                par = s[vary].values[order][seg]
+                step = float(np.max(np.diff(d))) if d.size > 1 else math.nan
+                rows.append({
+                    "sweep": name, "beta": float(sw.attrs["beta"]), "vary": vary, "direction": str(direction),
+                    "d_lo": float(d[seg[0]]), "d_hi": float(d[seg[-1]]), "step": step, "points": int(seg.size),
+                    f"{vary}_lo": float(par.min()), f"{vary}_hi": float(par.max()),
+                    "lyap1_median": float(np.median(lam)), "lyap1_min": float(lam.min()),
+                    "lyap1_max": float(lam.max()), "lyap1_low_min": float(s.lyap1_low.values[order][seg].min()),
+                    "lyap1_time_median": float(np.median(per_t)),
+                })
+    return pd.DataFrame(rows)
+
+
+def chaotic_outputs(named: dict[str, xr.Dataset]) -> pd.DataFrame:
+    """At every chaotic point of the sweep energies (:func:`vibroimpact.sweep_energy`): the averages U_T
+    and U_I of the paper's fixed window (``window_time`` units of time after the transient) beside the
+    long run's, with its 95 % interval (batch means, Student's t), and their difference in volts and in
+    the long run's standard errors."""
+    from scipy.stats import t as student
+
+    from ..analysis.settled import LONG_BATCHES
+    from ..analysis.sweeps import CHAOTIC
+
+    crit = float(student.ppf(0.975, LONG_BATCHES - 1))
+    rows = []
+    for name, en in named.items():
+        vary = en.attrs["vary"]
+        for a, direction in enumerate(en.direction.values):
+            lab = en.label.values[a].astype(str)
+            for i in np.flatnonzero(lab == CHAOTIC):
+                row = {"sweep": name, "beta": float(en.attrs["beta"]), "vary": vary, "direction": str(direction),
+                       "d": float(en.d.values[i]), vary: float(en[vary].values[i]),
+                       "window_time": float(en.window_time.values[a, i])}
+                for q in ("U_T", "U_I"):
+                    win, long, se = (float(en[v].values[a, i]) for v in (q, f"{q}_long", f"{q}_long_se"))
+                    row |= {f"{q}_window": win, f"{q}_long": long, f"{q}_long_ci": crit * se,
+                            f"{q}_diff": win - long, f"{q}_diff_se": (win - long) / se if se > 0 else math.nan}
+                rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def chaos_markdown(windows: pd.DataFrame, outputs: pd.DataFrame) -> str:
+    """The chaotic windows and what a chaotic device delivers, as Markdown: per window, lambda_1 and, at
+    the window's middle point, the paper's window averages beside the long run's with its 95 % interval;
+    the largest difference over the window in the long run's standard errors."""
+    lines = ["| sweep | β | direction | chaotic for d in | points | swept | λ₁ per impact: median (range) | "
+             "lowest lower end | λ₁ per unit time (median) |", "|---|---|---|---|---|---|---|---|---|"]
+    for _, w in windows.iterrows():
+        v = w.vary
+        unit = "m" if v == "s" else "N"
+        lines.append(f"| {w.sweep} | {_pi_name(w.beta)} | {w.direction} | [{w.d_lo:.4f}, {w.d_hi:.4f}] ± {w.step:.1e} | "
+                     f"{w.points} | {v} in [{w[f'{v}_lo']:.4g}, {w[f'{v}_hi']:.4g}] {unit} | "
+                     f"{w.lyap1_median:.3f} ({w.lyap1_min:.3f} – {w.lyap1_max:.3f}) | {w.lyap1_low_min:.3f} | "
+                     f"{w.lyap1_time_median:.3f} |")
+    lines += ["", "What a chaotic device delivers: at the middle point of each window, Ū_T and Ū_I of the paper's "
+              "fixed window (its length in non-dimensional time) beside the long run's mean ± its 95 % interval; "
+              "the last columns give the largest |window − long run| over all the window's points, in the long "
+              "run's standard errors.", "",
+              "| sweep | direction | d | window | Ū_T window (V) | Ū_T long run (V) | Ū_I window (V) | "
+              "Ū_I long run (V) | largest Ū_T difference | largest Ū_I difference |",
+              "|---|---|---|---|---|---|---|---|---|---|"]
+    for _, w in windows.iterrows():
+        pts = outputs[(outputs.sweep == w.sweep) & (outputs.direction == w.direction) & (outputs.d >= w.d_lo - 1e-12)
+                      & (outputs.d <= w.d_hi + 1e-12)].sort_values("d")
+        if pts.empty:
+            continue
+        m = pts.iloc[len(pts) // 2]
+        big = {q: pts.loc[pts[f"{q}_diff_se"].abs().idxmax()] if pts[f"{q}_diff_se"].notna().any() else None
+               for q in ("U_T", "U_I")}
+
+        def largest(q):
+            r = big[q]
+            if r is None:
+                return "—"
+            rel = 100 * r[f"{q}_diff"] / r[f"{q}_long"]
+            return f"{r[f'{q}_diff']:+.4g} V ({rel:+.1f} %, {r[f'{q}_diff_se']:+.0f} SE) at d = {r.d:.4f}"
+
+        lines.append(f"| {w.sweep} | {w.direction} | {m.d:.4f} | {m.window_time:.3g} | {m.U_T_window:.4g} | "
+                     f"{m.U_T_long:.4g} ± {m.U_T_long_ci:.2g} | {m.U_I_window:.4g} | {m.U_I_long:.4g} ± "
+                     f"{m.U_I_long_ci:.2g} | {largest('U_T')} | {largest('U_I')} |")
+    return "\n".join(lines) + "\n"

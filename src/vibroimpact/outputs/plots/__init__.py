@@ -4,6 +4,7 @@
 - :mod:`.branches`: analytic branches and their stability (paper Figs 2, 3);
 - :mod:`.sweeps`: sweeps and bistability (paper Fig BiS), basins, regime maps;
 - :mod:`.energy`: voltages (paper Figs 0, 5) and design guidance;
+- :mod:`.chaos`: the largest Lyapunov exponent under the bifurcation diagrams of Figs 0 and 5;
 - :mod:`.design`: design maps under multistability;
 - :mod:`.bench`: speed against accuracy.
 
@@ -14,11 +15,12 @@ and the arrays the figure draws.
 from ._common import STYLE_FILE, save, save_outputs, use_style
 from .bench import fig_analytics_accuracy, fig_failure_map, fig_work_precision
 from .branches import critical_markers, fig2, fig3
+from .chaos import fig_lyapunov
 from .design import fig_design_map
 from .energy import fig_design, fig_energy
 from .orbits import NEAR_GRAZING, fig0b, fig4, figFN2, phase_portrait, time_series
 from .sweeps import fig_basins, fig_bifurcation_set, fig_bis, fig_regime_map
 
 __all__ = ["NEAR_GRAZING", "STYLE_FILE", "critical_markers", "fig0b", "fig2", "fig3", "fig4", "figFN2",
-           "fig_analytics_accuracy", "fig_basins", "fig_bis", "fig_design", "fig_design_map", "fig_energy", "fig_failure_map",
+           "fig_analytics_accuracy", "fig_basins", "fig_bis", "fig_design", "fig_design_map", "fig_energy", "fig_failure_map", "fig_lyapunov",
            "fig_bifurcation_set", "fig_regime_map", "fig_work_precision", "phase_portrait", "save", "save_outputs", "time_series", "use_style"]

@@ -65,9 +65,14 @@ def _motion_runs(ax, sw, direction="down", min_share=0.07):
     at least ``min_share`` of the points (so every cloud of points can be read against it)."""
     from matplotlib.transforms import blended_transform_factory
 
+    from ...analysis.sweeps import CHAOTIC, no_period
+
     lab = sw.label.sel(direction=direction).values.astype(str)
+    # the motions with no period (chaotic, quasi-periodic, unsettled) make one run, named "chaotic" where
+    # most of its points are, else "aperiodic"
+    runs = np.where(no_period(lab), "no period found", lab)
     d = sw.d.values
-    edges = np.flatnonzero(lab[1:] != lab[:-1]) + 1
+    edges = np.flatnonzero(runs[1:] != runs[:-1]) + 1
     starts, ends = np.r_[0, edges], np.r_[edges, lab.size]
     tr = blended_transform_factory(ax.transData, ax.transAxes)
     step = float(np.max(np.diff(d))) if d.size > 1 else 0.0
@@ -76,7 +81,8 @@ def _motion_runs(ax, sw, direction="down", min_share=0.07):
             continue
         ax.annotate("", (d[a], 0.985), (d[b - 1], 0.985), xycoords=tr, arrowprops=dict(arrowstyle="|-|", lw=0.5,
                     color="0.4", shrinkA=0, shrinkB=0, mutation_scale=2))
-        wellposed(ax.text(0.5 * (d[a] + d[b - 1]), 0.965, _short(lab[a]), transform=tr, ha="center", va="top",
+        name = _short(runs[a]) if runs[a] != "no period found" or np.mean(lab[a:b] == CHAOTIC) < 0.5 else CHAOTIC
+        wellposed(ax.text(0.5 * (d[a] + d[b - 1]), 0.965, name, transform=tr, ha="center", va="top",
                           fontsize=5, color="0.25"), "run", step=step)
 
 
@@ -255,7 +261,8 @@ def fig_design(s_sets, F_sets, table):
         ax.set_ylabel("average output voltage (V)")
         ax.set_title(("(a) length sweep at fixed force" if vary == "s" else "(b) force sweep at s = 0.85 m")
                      + r"; dashed: $\overline{U}_I$; circles/squares: maxima" + "\nperiodic: the exact cycle's "
-                     "average; no period found: the long run's; a gap: a transient longer than the cap", fontsize=8)
+                     "average; no period (chaotic, quasi-periodic): the long run's; a gap: a transient longer than the cap",
+                     fontsize=8)
     axes[0].legend(loc="best", fontsize=6)
     return fig
 

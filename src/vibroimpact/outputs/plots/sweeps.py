@@ -5,6 +5,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ...analysis.sweeps import no_period
 from ._common import BOTTOM, TOP, branch_line, use_style, wellposed
 
 #: the statistic of a motion with no period that each drawn quantity is compared by (the long run's)
@@ -22,7 +23,7 @@ def point_info(s, idx, var):
     lab = s["label"].values.astype(str)[idx]
     settled = s["settled"].values[idx] if "settled" in s else np.zeros(idx.size, bool)
     long = s["long_status"].values.astype(str)[idx] if "long_status" in s else np.full(idx.size, "")
-    unsettled = (lab == "no period found") & (long != "aperiodic")
+    unsettled = no_period(lab) & (long != "aperiodic")
     m, e = _LONG_STAT.get(var, (None, None))
     mean = s[m].values[idx] if m in s else np.full(idx.size, np.nan)
     se = s[e].values[idx] if e in s else np.full(idx.size, np.nan)
@@ -135,11 +136,13 @@ def fig_bis(sw, transitions, portraits, branches):
 
 
 #: what the motion labels mean, printed with every legend of motions
-MOTION_KEY = ("n:m = bottom:top impacts per period; period-k = period k in t (2 = one forcing period);\n"
-              "no period found = none within the run's cap of forcing periods")
+MOTION_KEY = ("n:m = bottom:top impacts per period;\nperiod-k = period k in t (2 = one forcing period);\n"
+              "no period within the cap, by the largest Lyapunov\nexponent of its long run: chaotic (interval above 0),\n"
+              "quasi-periodic (contains 0), unsettled (below 0,\nor a longer transient); no period found: not split")
 
 #: fixed colours for labels that are not a periodic motion
-SPECIAL_COLORS = {"no period found": (0.92, 0.92, 0.92), "other": (0.6, 0.6, 0.6)}
+SPECIAL_COLORS = {"no period found": (0.92, 0.92, 0.92), "chaotic": (0.15, 0.15, 0.15),
+                  "quasi-periodic": (0.45, 0.45, 0.45), "unsettled": (0.8, 0.8, 0.8), "other": (0.6, 0.6, 0.6)}
 
 
 def _class_colors(names):

@@ -1,0 +1,152 @@
+"""Where the motion is chaotic: the largest Lyapunov exponent lambda_1 of every sweep point aligned under
+the velocity bifurcation diagram (paper Fig 0 (a), (c) and Fig 5's inclines)."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from ._common import wellposed
+from .energy import _mark_grazing, _motion_runs, _panel_title, _secondary_axis, _sim_points, grazing_marks, use_style
+from .sweeps import point_info
+
+#: colour of lambda_1 by what the point's motion is (a periodic point: black)
+KIND_COLORS = {"chaotic": "tab:red", "quasi-periodic": "tab:orange", "unsettled": "0.55", "no period found": "0.55"}
+PERIODIC_COLOR = "k"
+#: a point whose lambda_1 is -inf (a sticking cycle, a ball at rest) is drawn this far below ln r
+MINUS_INF_BELOW = 0.35
+MINUS_INF_COLOR = "tab:blue"
+
+
+def critical_marks(orbit_branches):
+    """The period doublings B and folds of the continued 1:1 and 2:1 branches (admissible ones), with the
+    grazing points d_graz and G1 of :func:`~vibroimpact.outputs.plots.energy.grazing_marks`: ``[(name, d)]``."""
+    marks = list(grazing_marks(orbit_branches))
+    names = {"BT": "1:1", "BBT": "2:1"}
+    for br in orbit_branches:
+        if br.attrs.get("status") == "failed" or "critical_d" not in br:
+            continue
+        word = names.get(br.attrs.get("word"))
+        kinds, crit, adm = br.critical_kind.values.astype(str), br.critical_d.values, br.critical_admissible.values
+        for kind, name in (("B", "B"), ("fold", "fold")):
+            for d in crit[(kinds == kind) & adm]:
+                marks.append((f"{name} ({word})", float(d)))
+    return marks
+
+
+def _mark(ax, marks, *, names=True):
+    """Vertical lines at the critical points: grazing dash-dotted (as Figs 0 and 5), B and folds dotted (named
+    with ``names``: under the velocities they would cover the motions written over the panel)."""
+    grazing = [(n, d) for n, d in marks if n in ("G1",) or "graz" in n]
+    _mark_grazing(ax, grazing)
+    for name, d in marks:
+        if (name, d) in grazing:
+            continue
+        color = "tab:brown" if name.startswith("B") else "tab:olive"
+        ax.axvline(d, color=color, ls=":", lw=0.8, zorder=3)
+        if names:
+            ax.annotate(name, (d, 0.97), xycoords=("data", "axes fraction"), xytext=(2, 0), textcoords="offset points",
+                        fontsize=5, color=color, rotation=90, va="top")
+
+
+def minus_inf_level(r: float) -> float:
+    """Where lambda_1 = -inf is drawn: below every finite value.  Without sticking the exponents sum to
+    2 ln r per impact (up to the ends of the run) and lambda_1 >= lambda_2, so lambda_1 >= ln r."""
+    return float(np.log(r)) - MINUS_INF_BELOW
+
+
+def _lyapunov_points(ax, sw, direction, marker, keep):
+    """lambda_1 per impact of every other point of one sweep direction, in one artist (so that a point whose
+    motion changes under rounding stays the same point for the check): exact on Newton-solved cycles, the
+    long runs' estimates with their 95 % intervals (a collection of bars), coloured by motion; -inf at
+    :func:`minus_inf_level`."""
+    from scipy.stats import t as student
+
+    from ...analysis.settled import LONG_BATCHES
+    from ...analysis.sweeps import no_period
+
+    s = sw.sel(direction=direction).isel(point=slice(keep, None, 2))
+    idx = np.arange(s.sizes["point"])
+    d, lam = s.d.values, s.lyap1.values
+    lo, hi = s.lyap1_low.values, s.lyap1_high.values
+    lab = s.label.values.astype(str)
+    info = point_info(s, idx, "lyap1")
+    exact = (lo == hi) | np.isneginf(lam)  # a solved cycle's value, or -inf: no interval
+    info["settled"] = info["settled"] | exact
+    # a long run's estimate is a statistic: its standard error from the interval (Student's t, batch means)
+    crit = student.ppf(0.975, LONG_BATCHES - 1)
+    info["mean"] = np.where(exact, np.nan, lam)
+    info["se"] = np.where(exact, np.nan, (hi - lo) / (2 * crit))
+    colors = np.array([KIND_COLORS.get(x, PERIODIC_COLOR) for x in lab], dtype=object)
+    colors[np.isneginf(lam)] = MINUS_INF_COLOR
+    y = np.where(np.isneginf(lam), minus_inf_level(float(sw.attrs.get("r", 0.5))), lam)
+    bars = np.flatnonzero(no_period(lab) & np.isfinite(lo) & np.isfinite(hi) & ~exact)
+    if bars.size:
+        ax.vlines(d[bars], lo[bars], hi[bars], colors=list(colors[bars]), lw=0.5, zorder=2)
+    style = dict(s=5, facecolors="none", edgecolors=list(colors)) if marker == "o" else dict(s=7, c=list(colors))
+    art = ax.scatter(d, y, marker=marker, linewidths=0.5, zorder=3, **style)
+    wellposed(art, "motions", **info, low=lo, high=hi)
+
+
+def fig_lyapunov(sweeps, orbit_sets, *, ncols=3):
+    """For each sweep: the impact velocities |Zdot_k| of the last period of every point (the bifurcation
+    diagram of paper Figs 0 (a), (c) and 5; o: d decreasing, +: d increasing), and under it, on the same d
+    axis, the largest Lyapunov exponent lambda_1 per impact (:func:`vibroimpact.lyapunov`): exact on a
+    Newton-solved cycle (black), the long run's estimate with its 95 % interval where no period was found
+    (red chaotic, orange quasi-periodic, grey unsettled), -inf (sticking, at rest) as triangles at the foot.
+    B, folds, d_graz and G1 of the continued 1:1 and 2:1 branches (``orbit_sets``) are marked."""
+    from matplotlib.lines import Line2D
+
+    use_style()
+    n = len(sweeps)
+    nrows = int(np.ceil((n + 1) / ncols))  # a slot for the legend
+    fig = plt.figure(figsize=(4.4 * ncols, 4.6 * nrows))
+    outer = fig.add_gridspec(nrows, ncols, hspace=0.42, wspace=0.28)
+    letters = iter("abcdefghijklmnop")
+    drawn = set()
+    for k, (sw, obs) in enumerate(zip(sweeps, orbit_sets, strict=True)):
+        inner = outer[k // ncols, k % ncols].subgridspec(2, 1, hspace=0.06, height_ratios=[1.0, 0.8])
+        vax = fig.add_subplot(inner[0])
+        lax = fig.add_subplot(inner[1], sharex=vax)
+        marks = critical_marks(obs)
+        drawn |= {name.split(" ")[0] for name, _ in marks}
+        _sim_points(vax, sw, "v_minus")
+        vax.set_ylabel(r"$|\dot Z_k|$", fontsize=7)
+        vax.set_title(_panel_title(sw, next(letters)), fontsize=7)
+        vax.tick_params(labelbottom=False)
+        _motion_runs(vax, sw)
+        _secondary_axis(vax, sw)
+        vax.set_ylim(top=vax.get_ylim()[1] * 1.15)
+        for direction, marker, keep in (("down", "o", 0), ("up", "+", 1)):
+            _lyapunov_points(lax, sw, direction, marker, keep)
+        lax.axhline(0.0, color="0.3", lw=0.6, zorder=1)
+        lax.set_xlabel("d")
+        lax.set_ylabel(r"$\lambda_1$ per impact", fontsize=7)
+        _mark(vax, marks, names=False)
+        _mark(lax, marks)
+    ax = fig.add_subplot(outer[(n) // ncols, n % ncols]) if n % ncols else None
+    h = [Line2D([], [], color="0.45", marker="o", mfc="none", ls="", label="simulated, d decreasing"),
+         Line2D([], [], color="0.45", marker="+", ls="", label="simulated, d increasing"),
+         Line2D([], [], color=PERIODIC_COLOR, marker="o", mfc="none", ls="",
+                label=r"$\lambda_1 = \ln\max|\mu| / N$ of the Newton-solved cycle (exact)"),
+         Line2D([], [], color=KIND_COLORS["chaotic"], marker="o", mfc="none", label=r"chaotic: 95 % interval of $\lambda_1$ above 0"),
+         Line2D([], [], color=KIND_COLORS["quasi-periodic"], marker="o", mfc="none",
+                label=r"quasi-periodic: interval contains 0"),
+         Line2D([], [], color=KIND_COLORS["unsettled"], marker="o", mfc="none",
+                label="unsettled: a transient longer than the cap"),
+         Line2D([], [], color=MINUS_INF_COLOR, marker="o", mfc="none", ls="",
+                label=r"$\lambda_1 = -\infty$ (sticking, at rest), drawn at $\ln r - 0.35$"),
+         Line2D([], [], color="tab:purple", ls="-.", label=r"$d_{\rm graz}$: 1:1 grazes, 2:1 born")]
+    if "G1" in drawn:
+        h.append(Line2D([], [], color="k", ls="-.", label="G1: 2:1 grazes, 3:1 born"))
+    h += [Line2D([], [], color="tab:brown", ls=":", label="B: period doubling (1:1 or 2:1 branch)"),
+          Line2D([], [], color="tab:olive", ls=":", label="fold of the 2:1 branch")]
+    note = ("Largest Lyapunov exponent of each sweep point, per impact\n(long runs: batch means over "
+            f"{int(sweeps[0].attrs.get('long_impacts', 0))} impacts, transient 1/10 discarded;\n"
+            r"a focus, complex multipliers: $\lambda_1 = \lambda_2 = \ln r$)")
+    if ax is not None:
+        ax.axis("off")
+        ax.legend(handles=h, loc="center", fontsize=6, title=note, title_fontsize=6, frameon=False)
+    else:
+        fig.legend(handles=h, loc="outside lower center", ncol=3, fontsize=6, title=note, title_fontsize=6)
+    return fig

@@ -1,0 +1,26 @@
+"""The lambda_1 figure (under the velocity bifurcation diagrams of Figs 0 and 5) and the table of chaotic
+windows and chaotic outputs, from the saved sweeps, their energies and the continued branches."""
+import logging
+
+import xarray as xr
+
+from vibroimpact.datasets import provenance
+from vibroimpact.outputs import plots
+from vibroimpact.outputs.tables import chaos_markdown, chaotic_outputs, chaotic_windows
+
+logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+load = lambda f: xr.load_dataset(f, engine="netcdf4")
+i, o = snakemake.input, snakemake.output
+panels = snakemake.params.panels
+n_w = len(snakemake.params.words)
+sweeps = [load(f) for f in i.sweeps]
+energies = [load(f) for f in i.energies]
+orbits = [[load(f) for f in i.orbits[k * n_w:(k + 1) * n_w]] for k in range(len(panels))]
+fig = plots.fig_lyapunov(sweeps, orbits)
+plots.save_outputs(fig, o, data=o.data, attrs=provenance(**dict(snakemake.params)))
+windows = chaotic_windows(dict(zip(panels, sweeps, strict=True)))
+outputs = chaotic_outputs(dict(zip(panels, energies, strict=True)))
+windows.to_csv(o.windows, index=False)
+outputs.to_csv(o.outputs, index=False)
+with open(o.md, "w") as fh:
+    fh.write(chaos_markdown(windows, outputs))

@@ -525,3 +525,27 @@ def test_a_horizontal_curve_and_a_bent_middle_of_a_short_piece():
     a = np.array([0.7, 0.8, 0.9])
     bent = line(np.cos(a) * [1.0, 1.03, 1.0], np.sin(a) * [1.0, 1.03, 1.0])
     assert "fail" in set(compare(bent, short, rtol=RTOL, atol=ATOL, ill=ill).status)
+
+
+def _exact_exponents(values, sensitivity):
+    """Exact lambda_1 of solved cycles at d = 0, 1, 2, with each value's sensitivity to its matrix."""
+    fig, ax = plt.subplots()
+    line = ax.plot(np.arange(len(values), dtype=float), values, "o", ls="none")[0]
+    n = len(values)
+    wellposed(line, "motions", motion=np.array(["2:1"] * n), settled=np.ones(n, bool), unsettled=np.zeros(n, bool),
+              mean=np.full(n, np.nan), se=np.full(n, np.nan), sensitivity=np.asarray(sensitivity, float))
+    ds = figure_data(fig)
+    plt.close(fig)
+    return ds
+
+
+@pytest.mark.parametrize("sensitivity, move, ok", [
+    (0.0, 0.9e-9, True), (0.0, 1.1e-9, False),  # |ref| = 1: the strict tolerance
+    (0.5, 1.1e-9, False),  # a sensitivity below |ref| changes nothing
+    (1e4, 0.9e-5, True), (1e4, 1.1e-5, False),  # rtol times the sensitivity where it is larger
+])
+def test_an_exact_value_from_a_matrix_is_held_to_the_strict_tolerance_times_its_sensitivity(sensitivity, move, ok):
+    ref = _exact_exponents([-1.0, -0.5, -0.2], [sensitivity] * 3)
+    new = _exact_exponents([-1.0 + move, -0.5, -0.2], [sensitivity] * 3)
+    df = _check(new, ref)
+    assert (set(df.status) == {"pass"}) == ok, df.detail.iloc[0]

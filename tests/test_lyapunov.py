@@ -300,3 +300,27 @@ def test_the_guide_s_example_runs_and_finds_chaos():
     exec(compile(blocks[0], "docs/guide/chaos.md", "exec"), scope)
     lam = scope["lam"]
     assert lam.interval[0][0] > 0 and lam.status == "ok" and lam.sticks == 0
+
+
+@pytest.mark.parametrize("J", [
+    [[0.5, 0.0], [0.0, 0.1]],                       # diagonal: 1
+    [[40.0, -3.0e3], [0.5, -37.6]],                 # far from normal, real multipliers
+    [[0.3, -0.8], [0.9, 0.2]],                      # a complex pair
+    [[1.0, 1e-3], [1e-3, 0.999]],                   # nearly coalescing
+])
+def test_the_sensitivity_of_the_largest_multiplier_is_the_worst_first_order_change(J):
+    """The componentwise condition of ln max|mu|, against finite differences of numpy's eigenvalues over
+    every sign pattern of a relative perturbation of the entries (the first-order change is largest at
+    one of them)."""
+    from itertools import product
+
+    from vibroimpact.analysis.lyapunov import multiplier_sensitivity
+
+    J = np.array(J)
+    top = lambda M: math.log(np.max(np.abs(np.linalg.eigvals(M))))
+    h = 1e-7
+    worst = max(abs(top(J * (1 + h * np.array(signs).reshape(2, 2))) - top(J)) / h
+                for signs in product((-1.0, 1.0), repeat=4))
+    assert multiplier_sensitivity(J) == pytest.approx(worst, rel=1e-4)
+    if not J[0, 1] and not J[1, 0]:
+        assert multiplier_sensitivity(J) == pytest.approx(1.0, rel=1e-12)

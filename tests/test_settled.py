@@ -109,6 +109,9 @@ def test_the_long_run_of_a_chaotic_motion_and_of_a_transient_that_settles():
     q = vi.Params(d=0.16, gbar=gbar_of(math.pi / 6), r=0.5)
     settled = long_run(q.d, q.gbar, q.r, 1.015, 0.1924, impacts=4000)
     assert settled["status"] == "settles" and np.isnan(long_statistics(settled)[0])
+    # its exponents are those of its way into the stable orbit it settles on: below 0
+    lam = settled["exponents"]
+    assert lam is not None and lam.interval[0][1] < 0
     # near B the 2:1 orbit attracts slowly: the continuation settles to the periodicity tolerance within
     # its impacts, not to the last bit
     slow = vi.Params(d=0.16, gbar=gbar_of(math.pi / 3), r=0.5)  # B at 0.1582

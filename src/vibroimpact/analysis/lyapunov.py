@@ -36,7 +36,7 @@ from ..dynamics import kernels as K
 from ..dynamics.flight import INV_PI, INV_PI2, PI, one_minus_cos, sin_minus_x
 from ..dynamics.params import Params
 
-__all__ = ["Lyapunov", "lyapunov", "tangent_pass", "exponents_of_run", "MIN_PER_BATCH"]
+__all__ = ["Lyapunov", "lyapunov", "tangent_pass", "exponents_of_run", "multiplier_sensitivity", "MIN_PER_BATCH"]
 
 #: fewest impacts per batch of the confidence interval
 MIN_PER_BATCH = 10
@@ -311,3 +311,21 @@ def lyapunov(params: Params, phi: float, v0: float, n_impacts: int = 20_000, *, 
     run = simulate(params, phi, v0, n_impacts=int(n_impacts), Z0=Z0, t0=t0)
     return exponents_of_run(run, transient=int(transient), batches=batches, slow_speed=slow_speed,
                             confidence=confidence)
+
+
+def multiplier_sensitivity(jacobian) -> float:
+    """How much ``ln max|mu|`` of a map's Jacobian moves per unit of componentwise relative perturbation of
+    its entries, to first order: ``|y|^T |J| |x| / (|y^H x| |mu|)`` for the eigenvalue ``mu`` of largest
+    modulus with right and left eigenvectors ``x``, ``y`` (the componentwise condition number of an
+    eigenvalue).  1 for a diagonal matrix; large where the monodromy matrix of a long orbit is far from
+    normal (entries much larger than its eigenvalues) or two multipliers nearly coalesce.  A
+    pair of complex multipliers has ``|mu| = sqrt(det J)``: ``(|J11 J22| + |J12 J21|) / |det J|``."""
+    J = np.asarray(jacobian, dtype=float)
+    w, V = np.linalg.eig(J)
+    k = int(np.argmax(np.abs(w)))
+    if abs(w[k].imag) > 0:  # |mu|^2 = det J
+        det = J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]
+        return float((abs(J[0, 0] * J[1, 1]) + abs(J[0, 1] * J[1, 0])) / abs(det))
+    wl, U = np.linalg.eig(J.T)
+    x, y = V[:, k], U[:, int(np.argmin(np.abs(wl - w[k])))]
+    return float(np.abs(y) @ np.abs(J) @ np.abs(x) / (abs(y @ x) * abs(w[k])))

@@ -74,8 +74,8 @@ def polish_cycle(d, gbar, r, t, wall, v_minus, phase, kind, span) -> dict:
         settled), or why it is not settled (a grazing
         contact, Newton failed, another orbit, not admissible); ``settled`` (bool); and the cycle from
         its canonical first event (:func:`canonical_start`): ``t`` (from 0), ``wall``, ``v_minus``,
-        ``phase``, ``kind``; where settled, the orbit's ``multipliers`` (the eigenvalues of its map over
-        one period, eq. ``Lin2``).
+        ``phase``, ``kind``; where settled, the orbit's ``jacobian`` (its map's over one period, eq.
+        ``Lin2``) and ``multipliers`` (its eigenvalues).
     """
     from ..dynamics.params import Params
     from .orbits import OrbitError, orbit_from_vector, solve_orbit
@@ -111,7 +111,7 @@ def polish_cycle(d, gbar, r, t, wall, v_minus, phase, kind, span) -> dict:
     if not o.admissible:
         return out | dict(status=f"not settled: the Newton orbit is not admissible ({o.reason})")
     return out | dict(t=o.t, v_minus=np.array(o.v_minus), phase=np.array(o.phase), status="newton", settled=True,
-                      multipliers=np.asarray(o.eigenvalues))
+                      multipliers=np.asarray(o.eigenvalues), jacobian=np.asarray(o.jacobian))
 
 
 def batch_means(values, batches: int = LONG_BATCHES):
@@ -147,7 +147,8 @@ def long_run(d, gbar, r, phi, v0, *, impacts: int = LONG_IMPACTS, tol: float = 1
         none are given), or ``"stuck"``; the events ``t``, ``v_minus``, ``kind`` of the continuation
         (impacts and grazing contacts are ``kind`` 0 and 1); and ``exponents``, its Lyapunov exponents
         (:class:`~vibroimpact.analysis.lyapunov.Lyapunov`, the first tenth of it discarded) where it is
-        aperiodic, else None.
+        aperiodic; where it settles, those of the same run continued to ``impacts`` impacts (the orbit it
+        settles on); else None.
     """
     from ..dynamics.params import Params
     from ..dynamics.simulate import simulate
@@ -157,7 +158,12 @@ def long_run(d, gbar, r, phi, v0, *, impacts: int = LONG_IMPACTS, tol: float = 1
     from .lyapunov import exponents_of_run
 
     status = {"periodic": "settles", "stuck_forever": "stuck"}.get(run.attrs["status"], "aperiodic")
-    lam = exponents_of_run(run, transient=int(impacts) // 10, batches=LONG_BATCHES) if status == "aperiodic" else None
+    lam = None
+    if status == "aperiodic":
+        lam = exponents_of_run(run, transient=int(impacts) // 10, batches=LONG_BATCHES)
+    elif status == "settles":  # its exponents are those of the orbit it settles on: run on, all the impacts
+        on = simulate(Params(d=float(d), gbar=float(gbar), r=float(r)), float(phi), float(v0), n_impacts=int(impacts))
+        lam = exponents_of_run(on, transient=int(impacts) // 10, batches=LONG_BATCHES)
     return dict(status=status, t=run.t.values, v_minus=run.v_minus.values, kind=run.kind.values, exponents=lam)
 
 

@@ -222,7 +222,7 @@ def settle(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None, tol: 
     Newton-solved cycle (exact, ``ln max|mu| / N``), ``-inf`` for a sticking cycle (its map is constant)
     or a ball at rest, else the long run's tangent estimate (:func:`vibroimpact.lyapunov`).
     """
-    from .lyapunov import exponents_of_run
+    from .lyapunov import exponents_of_run, multiplier_sensitivity
     from .settled import LONG_BATCHES, LONG_IMPACTS, long_statistics, polish_cycle
 
     long_impacts = LONG_IMPACTS if long_impacts is None else int(long_impacts)
@@ -238,6 +238,7 @@ def settle(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None, tol: 
     long_start = np.full((*shape, 2), np.nan)
     stats = np.full((*shape, 2), np.nan)
     lyap = np.full((*shape, 4), np.nan)  # lambda_1 per impact, its interval, per unit time
+    sens = np.full(shape, np.nan)  # of an exact lambda_1: its sensitivity to the monodromy matrix's entries
     source = np.full(shape, "", dtype=object)
     labels = ds["label"].values.astype(object)
     ev = {v: ds[v].values for v in _EVENT_VARS}
@@ -255,6 +256,7 @@ def settle(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None, tol: 
             if res["settled"]:  # exact: the multipliers of the Newton-solved cycle
                 top = float(np.log(np.abs(res["multipliers"]).max()))
                 lyap[idx] = (top / lag, top / lag, top / lag, top / (2.0 * round(span / 2.0)))
+                sens[idx] = multiplier_sensitivity(res["jacobian"]) / lag
                 source[idx] = "multipliers of the Newton-solved cycle"
             elif res["status"] == "sticking":
                 lyap[idx] = -np.inf
@@ -288,8 +290,11 @@ def settle(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None, tol: 
         labels[idx] = split["label"]
         stats[idx] = long_statistics(split["run"], LONG_BATCHES)
         lyap[idx] = (split["lyap1"], split["lyap1_low"], split["lyap1_high"], split["lyap1_time"])
-        source[idx] = f"long run of {long_impacts} impacts" + ("" if split["status"] == "aperiodic" else
-                                                              f" ({split['status']}: no estimate)")
+        source[idx] = f"long run of {long_impacts} impacts" + {
+            "aperiodic": "", "settles": " (it settles: the estimate over the orbit it settles on)",
+            "stuck": " (it comes to rest for good)"}.get(split["status"], f" ({split['status']})")
+        if split["status"] == "stuck":  # at rest on the bottom for good: exact
+            lyap[idx] = -np.inf
     edims = (*ds["status"].dims, "cycle")
     pdims = ds["status"].dims
     ds["label"] = (pdims, labels.astype(str), ds["label"].attrs | {
@@ -311,6 +316,7 @@ def settle(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None, tol: 
     ds["lyap1_low"] = (pdims, lyap[..., 1], {"units": "1", "long_name": f"lambda_1 per impact: lower end of its {level}"})
     ds["lyap1_high"] = (pdims, lyap[..., 2], {"units": "1", "long_name": f"lambda_1 per impact: upper end of its {level}"})
     ds["lyap1_time"] = (pdims, lyap[..., 3], {"units": "1", "long_name": "largest Lyapunov exponent lambda_1, per unit of non-dimensional time"})
+    ds["lyap1_sensitivity"] = (pdims, sens, {"units": "1", "long_name": "exact lambda_1 (a solved cycle): its change per unit of relative perturbation of the monodromy matrix's entries (componentwise condition of the largest multiplier, over the period's impacts)"})
     ds["lyap1_source"] = (pdims, source.astype(str), {"units": "1", "long_name": "how lambda_1 was obtained"})
     ds.attrs.update(long_impacts=long_impacts, long_batches=LONG_BATCHES)
     return ds

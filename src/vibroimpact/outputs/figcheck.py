@@ -9,7 +9,10 @@ by what is well-posed about it, which its figure recorded when drawing it
 
 ``motions``
     values at simulated attractors (sweep points, map cells), grouped by the point they belong to.
-    Where the motion is the same and settled (an exact cycle) in both, its values pointwise; where the
+    Where the motion is the same and settled (an exact cycle) in both, its values pointwise (a value
+    computed from the cycle's monodromy matrix, its largest Lyapunov exponent, with ``|ref|`` replaced by
+    its recorded ``sensitivity`` to the matrix's entries where that is larger: the strict tolerance on
+    the entries, carried through the eigenvalue's condition number); where the
     value is a statistic (a motion with no period: the long run's batch mean; an expectation over
     random starts), the two estimates agree within :data:`Z_CRIT` combined standard errors; where the
     motion differs, only at a point on a boundary of its motion in the reference (a neighbouring point
@@ -123,6 +126,7 @@ def _per_key(ds, base, index, n_keys, values):
     unsettled = _aux(ds, base, "unsettled", np.zeros(n)).astype(bool)
     mean = _aux(ds, base, "mean", np.full(n, np.nan)).astype(float)
     se = _aux(ds, base, "se", np.full(n, np.nan)).astype(float)
+    sensitivity = _aux(ds, base, "sensitivity", np.zeros(n)).astype(float)
     labels_only = f"{base}_wp_settled" not in ds
     if labels_only:
         # a map of motions only: a motion with no period within the cap is chaos, quasi-periodic or a transient
@@ -134,6 +138,7 @@ def _per_key(ds, base, index, n_keys, values):
         sel = np.flatnonzero(index == u)
         v = values[sel]
         out.append(dict(motion=motion[sel[0]], settled=bool(settled[sel].all()) and not labels_only,
+                        sensitivity=float(np.nanmax(np.r_[0.0, sensitivity[sel]])),
                         unsettled=bool(unsettled[sel].any()), mean=float(mean[sel[0]]), se=float(se[sel[0]]),
                         values=np.sort(v[np.isfinite(v)]), labels_only=labels_only))
     return out
@@ -155,7 +160,12 @@ def motions(new, ref, base, *, rtol, atol):
         where = ", ".join(f"{x:.6g}" for x in ur[u])
         if a["motion"] == b["motion"] and a["settled"] and b["settled"]:
             counts["exact"] += 1
-            if a["values"].shape != b["values"].shape or not strict_close(b["values"], a["values"], rtol, atol):
+            # an exact value derived from a matrix (a cycle's lambda_1) is known to the strict tolerance of
+            # its matrix's entries times its sensitivity to them
+            scale = np.maximum(np.abs(a["values"]), a["sensitivity"]) if a["values"].shape == b["values"].shape else 0
+            if a["values"].shape != b["values"].shape or not np.all(
+                    (np.isnan(a["values"]) == np.isnan(b["values"]))
+                    & ~(np.abs(b["values"] - a["values"]) > atol + rtol * scale)):
                 fails.append(f"at ({where}) {a['motion']}: values differ")
             elif a["values"].size:
                 worst = max(worst, float(np.max(np.abs(b["values"] - a["values"]))))

@@ -16,6 +16,9 @@ PERIODIC_COLOR = "k"
 #: a point whose lambda_1 is -inf (a sticking cycle, a ball at rest) is drawn this far below ln r
 MINUS_INF_BELOW = 0.35
 MINUS_INF_COLOR = "tab:blue"
+#: a point whose lambda_1 was not estimated (no long run: its lyap1_source says why), this far below that
+NOT_ESTIMATED_BELOW = 0.12
+NOT_ESTIMATED_COLOR = "0.8"
 
 
 def critical_marks(orbit_branches):
@@ -77,9 +80,16 @@ def _lyapunov_points(ax, sw, direction, marker, keep):
     crit = student.ppf(0.975, LONG_BATCHES - 1)
     info["mean"] = np.where(exact, np.nan, lam)
     info["se"] = np.where(exact, np.nan, (hi - lo) / (2 * crit))
+    # an exact value's sensitivity to its monodromy matrix (the check scales its tolerance by it)
+    info["sensitivity"] = s.lyap1_sensitivity.values if "lyap1_sensitivity" in s else np.zeros(idx.size)
     colors = np.array([KIND_COLORS.get(x, PERIODIC_COLOR) for x in lab], dtype=object)
     colors[np.isneginf(lam)] = MINUS_INF_COLOR
-    y = np.where(np.isneginf(lam), minus_inf_level(float(sw.attrs.get("r", 0.5))), lam)
+    colors[np.isnan(lam)] = NOT_ESTIMATED_COLOR
+    # every point is drawn, so that the check finds the same points whatever their motion: -inf and a
+    # value not estimated (lyap1_source says why) at fixed levels below every finite value
+    floor = minus_inf_level(float(sw.attrs.get("r", 0.5)))
+    y = np.where(np.isneginf(lam), floor, np.where(np.isnan(lam), floor - NOT_ESTIMATED_BELOW, lam))
+    info["settled"] = info["settled"] | np.isnan(lam)
     bars = np.flatnonzero(no_period(lab) & np.isfinite(lo) & np.isfinite(hi) & ~exact)
     if bars.size:
         ax.vlines(d[bars], lo[bars], hi[bars], colors=list(colors[bars]), lw=0.5, zorder=2)
@@ -136,6 +146,8 @@ def fig_lyapunov(sweeps, orbit_sets, *, ncols=3):
                 label="unsettled: a transient longer than the cap"),
          Line2D([], [], color=MINUS_INF_COLOR, marker="o", mfc="none", ls="",
                 label=r"$\lambda_1 = -\infty$ (sticking, at rest), drawn at $\ln r - 0.35$"),
+         Line2D([], [], color=NOT_ESTIMATED_COLOR, marker="o", mfc="none", ls="",
+                label=r"not estimated (no long run), drawn at $\ln r - 0.47$"),
          Line2D([], [], color="tab:purple", ls="-.", label=r"$d_{\rm graz}$: 1:1 grazes, 2:1 born")]
     if "G1" in drawn:
         h.append(Line2D([], [], color="k", ls="-.", label="G1: 2:1 grazes, 3:1 born"))

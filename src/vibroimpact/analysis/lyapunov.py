@@ -313,19 +313,33 @@ def lyapunov(params: Params, phi: float, v0: float, n_impacts: int = 20_000, *, 
                             confidence=confidence)
 
 
-def multiplier_sensitivity(jacobian) -> float:
-    """How much ``ln max|mu|`` of a map's Jacobian moves per unit of componentwise relative perturbation of
-    its entries, to first order: ``|y|^T |J| |x| / (|y^H x| |mu|)`` for the eigenvalue ``mu`` of largest
-    modulus with right and left eigenvectors ``x``, ``y`` (the componentwise condition number of an
-    eigenvalue).  1 for a diagonal matrix; large where the monodromy matrix of a long orbit is far from
-    normal (entries much larger than its eigenvalues) or two multipliers nearly coalesce.  A
-    pair of complex multipliers has ``|mu| = sqrt(det J)``: ``(|J11 J22| + |J12 J21|) / |det J|``."""
-    J = np.asarray(jacobian, dtype=float)
-    w, V = np.linalg.eig(J)
+def multiplier_sensitivity(factors) -> float:
+    """How much ``ln max|mu|`` of a product of 2x2 Jacobians ``F_N ... F_1`` (a cycle's map over one period,
+    ``factors`` in order of application; a single matrix is a product of one) moves per unit of
+    componentwise relative perturbation of the factors' entries, to first order.
+
+    With ``x``, ``y`` the right and left eigenvectors of the product ``P`` for its eigenvalue ``mu`` of
+    largest modulus, ``A_k`` the factors after ``F_k`` and ``B_k`` those before:
+    ``sum_k |y^T A_k| |F_k| |B_k x| / (|y^T x| |mu|)`` (the componentwise condition number of an
+    eigenvalue, through each factor).  Large where the product is far from normal (its entries much larger
+    than its eigenvalues) or two multipliers nearly coalesce.  A complex pair has
+    ``|mu|^2 = prod_k det F_k``: ``sum_k (|a_k d_k| + |b_k c_k|) / |det F_k|``."""
+    F = [np.asarray(f, dtype=float) for f in (factors if np.ndim(factors) == 3 else [factors])]
+    P = np.eye(2)
+    for f in F:
+        P = f @ P
+    w, V = np.linalg.eig(P)
     k = int(np.argmax(np.abs(w)))
-    if abs(w[k].imag) > 0:  # |mu|^2 = det J
-        det = J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]
-        return float((abs(J[0, 0] * J[1, 1]) + abs(J[0, 1] * J[1, 0])) / abs(det))
-    wl, U = np.linalg.eig(J.T)
-    x, y = V[:, k], U[:, int(np.argmin(np.abs(wl - w[k])))]
-    return float(np.abs(y) @ np.abs(J) @ np.abs(x) / (abs(y @ x) * abs(w[k])))
+    if abs(w[k].imag) > 0:
+        return float(sum((abs(f[0, 0] * f[1, 1]) + abs(f[0, 1] * f[1, 0])) / abs(f[0, 0] * f[1, 1] - f[0, 1] * f[1, 0])
+                         for f in F))
+    wl, U = np.linalg.eig(P.T)
+    x, y = V[:, k].real, U[:, int(np.argmin(np.abs(wl - w[k])))].real
+    total, before = 0.0, [x]
+    for f in F[:-1]:
+        before.append(f @ before[-1])  # B_k x, k = 1 .. N
+    after = y.copy()  # y^T A_k, from the last factor back
+    for kf in range(len(F) - 1, -1, -1):
+        total += np.abs(after) @ np.abs(F[kf]) @ np.abs(before[kf])
+        after = after @ F[kf]
+    return float(total / (abs(y @ x) * abs(w[k])))

@@ -134,11 +134,20 @@ def map_jacobian(z, walls, gbar, r):
         t'   = t_j + tau,      Zdot' = Zdot(tau; theta_j, u_j)
         dZdot' = a' dtau + pi dZdot/dtheta dt_j - r dZdot_j
     """
+    DP = np.eye(2)
+    for F in step_jacobians(z, walls, gbar, r):
+        DP = F @ DP
+    return DP
+
+
+def step_jacobians(z, walls, gbar, r):
+    """The factors of :func:`map_jacobian`: the 2x2 Jacobian of each flight's map (t_j, Zdot_j) ->
+    (t_{j+1}, Zdot_{j+1}) over one period, in order."""
     n = walls.shape[0]
     theta = z[0]
     tau = z[1:n + 1]
     v = z[n + 1:]
-    DP = np.eye(2)
+    out = []
     for j in range(n):
         u = -r * v[j]
         _, vel, acc, disp_th, vel_th = _flight(tau[j], theta, u, gbar)
@@ -149,9 +158,9 @@ def map_jacobian(z, walls, gbar, r):
         dt_dv = dtau_dv
         dv_dt = acc * dtau_dt + PI * vel_th
         dv_dv = acc * dtau_dv - r
-        DP = np.array([[dt_dt, dt_dv], [dv_dt, dv_dv]]) @ DP
+        out.append(np.array([[dt_dt, dt_dv], [dv_dt, dv_dv]]))
         theta += PI * tau[j]
-    return DP
+    return out
 
 
 # --------------------------------------------------------------------------------------------

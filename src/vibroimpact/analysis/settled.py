@@ -75,10 +75,10 @@ def polish_cycle(d, gbar, r, t, wall, v_minus, phase, kind, span) -> dict:
         contact, Newton failed, another orbit, not admissible); ``settled`` (bool); and the cycle from
         its canonical first event (:func:`canonical_start`): ``t`` (from 0), ``wall``, ``v_minus``,
         ``phase``, ``kind``; where settled, the orbit's ``jacobian`` (its map's over one period, eq.
-        ``Lin2``) and ``multipliers`` (its eigenvalues).
+        ``Lin2``), its factors ``step_jacobians`` (one per flight) and ``multipliers`` (its eigenvalues).
     """
     from ..dynamics.params import Params
-    from .orbits import OrbitError, orbit_from_vector, solve_orbit
+    from .orbits import OrbitError, orbit_from_vector, parse_word, solve_orbit, step_jacobians
 
     t, v_minus, phase = (np.asarray(a, dtype=float) for a in (t, v_minus, phase))
     wall, kind = np.asarray(wall, dtype=np.int8), np.asarray(kind, dtype=np.int8)
@@ -111,7 +111,8 @@ def polish_cycle(d, gbar, r, t, wall, v_minus, phase, kind, span) -> dict:
     if not o.admissible:
         return out | dict(status=f"not settled: the Newton orbit is not admissible ({o.reason})")
     return out | dict(t=o.t, v_minus=np.array(o.v_minus), phase=np.array(o.phase), status="newton", settled=True,
-                      multipliers=np.asarray(o.eigenvalues), jacobian=np.asarray(o.jacobian))
+                      multipliers=np.asarray(o.eigenvalues), jacobian=np.asarray(o.jacobian),
+                      step_jacobians=step_jacobians(o.z, parse_word(o.word), float(gbar), float(r)))
 
 
 def batch_means(values, batches: int = LONG_BATCHES):

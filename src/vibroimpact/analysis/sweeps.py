@@ -256,7 +256,7 @@ def settle(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None, tol: 
             if res["settled"]:  # exact: the multipliers of the Newton-solved cycle
                 top = float(np.log(np.abs(res["multipliers"]).max()))
                 lyap[idx] = (top / lag, top / lag, top / lag, top / (2.0 * round(span / 2.0)))
-                sens[idx] = multiplier_sensitivity(res["jacobian"]) / lag
+                sens[idx] = multiplier_sensitivity(res["step_jacobians"]) / lag
                 source[idx] = "multipliers of the Newton-solved cycle"
             elif res["status"] == "sticking":
                 lyap[idx] = -np.inf

@@ -18,6 +18,10 @@ for f in snakemake.input.data:
     if ref.exists():
         new, old = xr.load_dataset(f, engine="netcdf4"), xr.load_dataset(ref, engine="netcdf4")
         same_data = set(new.data_vars) == set(old.data_vars) and set(compare(new, old, rtol=0.0, atol=0.0).status) <= {"pass"}
+        # what the check compares where an array is not well-posed (motions, statistics, sensitivities)
+        # is part of the reference too
+        same_data = same_data and all(new[v].equals(old[v]) for v in new.data_vars
+                                      if new[v].attrs.get("role") == "wellposed")
         if same_data and compare_image(new, old, max_distance=0)["status"] == "pass":
             logging.info("unchanged: %s", ref)
             continue

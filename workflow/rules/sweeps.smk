@@ -184,7 +184,8 @@ rule lyapunov_figure:
     input:
         sweeps=[sweep_path(p) for p in config["chaos"]["panels"]],
         energies=[
-            energy_path("sweep", SWEEPS[p]["beta"], p) for p in config["chaos"]["panels"]
+            energy_path("sweep", SWEEPS[p]["beta"], p)
+            for p in config["chaos"]["panels"]
         ],
         orbits=[
             branch_path("orbit", SWEEPS[p]["beta"], w, SWEEPS[p]["vary"])

@@ -18,7 +18,6 @@ K_S = 0.6225  # d = K_S s at the paper's force
 def synthetic_sweep(labels, lam, d):
     """A sweep of one direction (listed in decreasing d, as a down sweep is) with labels and lambda_1."""
     lam = np.asarray(lam, float)
-    n = len(labels)
     dims = ("direction", "point")
     return xr.Dataset({
         "label": (dims, np.array([labels])), "lyap1": (dims, lam[None]), "lyap1_low": (dims, lam[None] - 0.01),

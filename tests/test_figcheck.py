@@ -237,14 +237,17 @@ def test_points_on_a_sampled_curve_may_move_within_their_segment_and_no_more():
     assert status(_events([0.2, 0.7]), nan) == {"fail"}
 
 
-def test_a_curve_with_no_finite_point_matches_only_another_such():
-    def empty(values):
-        fig, ax = plt.subplots()
-        wellposed(ax.plot(values, values, "-")[0], "curve")
-        ds = figure_data(fig)
-        plt.close(fig)
-        return ds
+def _line(xs, ys):
+    """The figure data of one line drawn as a well-posed curve."""
+    fig, ax = plt.subplots()
+    wellposed(ax.plot(xs, ys, "-")[0], "curve")
+    ds = figure_data(fig)
+    plt.close(fig)
+    return ds
 
+
+def test_a_curve_with_no_finite_point_matches_only_another_such():
+    empty = lambda values: _line(values, values)
     ill = ("a0_line0_x", "a0_line0_y")
     nan = empty([np.nan, np.nan])
     assert set(compare(empty([np.nan, np.nan]), nan, rtol=RTOL, atol=ATOL, ill=ill).status) == {"pass"}
@@ -509,21 +512,14 @@ def test_a_vertical_curve_is_compared_along_its_one_extent():
 
 
 def test_a_horizontal_curve_and_a_bent_middle_of_a_short_piece():
-    def line(xs, ys):
-        fig, ax = plt.subplots()
-        wellposed(ax.plot(xs, ys, "-")[0], "curve")
-        ds = figure_data(fig)
-        plt.close(fig)
-        return ds
-
     ill = ("a0_line0_x", "a0_line0_y")
-    ref = line(np.linspace(0, 1, 50), np.full(50, 0.3))
-    assert set(compare(line(np.linspace(0, 1, 41), np.full(41, 0.3)), ref, rtol=RTOL, atol=ATOL,
+    ref = _line(np.linspace(0, 1, 50), np.full(50, 0.3))
+    assert set(compare(_line(np.linspace(0, 1, 41), np.full(41, 0.3)), ref, rtol=RTOL, atol=ATOL,
                        ill=ill).status) == {"pass"}
     # the middle of a piece of three points is no piece's end: held to the chord error there
     short = _curve_of([[0.7, 0.8, 0.9]])
     a = np.array([0.7, 0.8, 0.9])
-    bent = line(np.cos(a) * [1.0, 1.03, 1.0], np.sin(a) * [1.0, 1.03, 1.0])
+    bent = _line(np.cos(a) * [1.0, 1.03, 1.0], np.sin(a) * [1.0, 1.03, 1.0])
     assert "fail" in set(compare(bent, short, rtol=RTOL, atol=ATOL, ill=ill).status)
 
 

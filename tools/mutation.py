@@ -122,9 +122,9 @@ def mutants_of(path):
     src = open(path, "rb").read()
     offs = line_offsets(src)
     tree = ast.parse(src)
-    pos = lambda ln, col: offs[ln - 1] + col  # noqa: E731  (col_offset is in UTF-8 bytes)
-    start = lambda n: pos(n.lineno, n.col_offset)  # noqa: E731
-    end = lambda n: pos(n.end_lineno, n.end_col_offset)  # noqa: E731
+    pos = lambda ln, col: offs[ln - 1] + col
+    start = lambda n: pos(n.lineno, n.col_offset)
+    end = lambda n: pos(n.end_lineno, n.end_col_offset)
 
     skip = set()  # ids of nodes not to mutate (docstrings, decorators, annotations, __all__)
     for node in ast.walk(tree):

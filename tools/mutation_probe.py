@@ -102,7 +102,7 @@ def kernels_probe():
                 out[f"run{i}_{k}"] = ds[k].values
             out[f"run{i}_status"] = np.array(str(ds.attrs["status"]))
             out[f"run{i}_lag"] = np.array(int(ds.attrs.get("period_events", 0) or 0))
-        except Exception as e:  # noqa: BLE001
+        except Exception as e:
             out[f"run{i}_error"] = np.array(type(e).__name__)
     for key, kw in (("batch", dict(n_impacts=400)), ("batchp", dict(n_impacts=5000, stop_when_periodic=True))):
         b = vi.simulate_batch([0.16, 0.24, 0.3, 0.3, 0.2], [G6, G6, 0.9, 1.2, 0.3], 0.5,

@@ -25,7 +25,8 @@ rule docs:
     output:
         "results/docs/html/index.html",
     log:
-        "logs/docs/docs.log",
+        build="logs/docs/docs.log",
+        warnings="logs/docs/docs.warnings.txt",
     benchmark:
         "benchmarks/docs/docs.tsv"
     conda:

@@ -95,3 +95,33 @@ def test_the_lambda_1_figure_draws_each_point_s_exponent_with_what_the_check_com
     se = ds[f"{estimates[0]}_wp_se"].values
     crit = student.ppf(0.975, LONG_BATCHES - 1)
     assert se[np.isfinite(se)] == pytest.approx((float(chaos.lyap1_high) - float(chaos.lyap1_low)) / (2 * crit))
+
+
+def test_a_map_names_every_label_of_a_motion_with_no_period_however_rare():
+    """The regime map's colours: the nine most frequent periodic motions named, the rest "other"; a
+    chaotic, quasi-periodic or unsettled cell is never folded into "other", however few there are, and
+    each cell keeps its own motion in what the check compares."""
+    import matplotlib.pyplot as plt
+
+    from vibroimpact.outputs.figdata import figure_data
+    from vibroimpact.outputs.plots.sweeps import fig_regime_map
+
+    periodic = [f"{n}:1 period-2" for n in range(1, 13)]
+    # cells per motion: the periodic ones common, then 5 unsettled, one quasi-periodic and one chaotic cell
+    cells = [m for i, m in enumerate(periodic) for _ in range(40 - 2 * i)] + ["unsettled"] * 5
+    cells += ["quasi-periodic", "chaotic"]
+    cells += ["1:1 period-2"] * (30 * 20 - len(cells))
+    labels = np.array(cells, dtype=str).reshape(30, 20)
+    m = xr.Dataset({"label": (("beta", "s"), labels)},
+                   coords={"beta": ("beta", np.linspace(0.1, 1.5, 30), {"units": "rad"}),
+                           "s": ("s", np.linspace(0.2, 0.7, 20), {"units": "m"})},
+                   attrs={"phi": 0.42, "v0": 0.87, "F": 5.0})
+    fig = fig_regime_map([m])
+    names = [t.get_text() for t in fig.legends[0].get_texts()]
+    data = figure_data(fig)
+    plt.close(fig)
+    assert {"chaotic", "quasi-periodic", "unsettled", "other"} <= set(names)
+    assert [n for n in names if n in periodic] == periodic[:9]  # the nine most frequent, in that order
+    motion = data["a0_points0_wp_motion"].values.astype(str)  # per cell, in the mesh's order (beta, s)
+    expect = np.where(np.isin(labels, periodic[9:]), "other", labels).ravel()
+    assert (motion == expect).all()

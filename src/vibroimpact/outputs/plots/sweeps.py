@@ -140,9 +140,10 @@ MOTION_KEY = ("n:m = bottom:top impacts per period;\nperiod-k = period k in t (2
               "no period within the cap, by the largest Lyapunov\nexponent of its long run: chaotic (interval above 0),\n"
               "quasi-periodic (contains 0), unsettled (below 0,\nor a longer transient); no period found: not split")
 
-#: fixed colours for labels that are not a periodic motion
+#: fixed colours for the labels of a motion with no period (greys, darker the surer the chaos), and for
+#: "other" (the rarer periodic motions, beige)
 SPECIAL_COLORS = {"no period found": (0.92, 0.92, 0.92), "chaotic": (0.15, 0.15, 0.15),
-                  "quasi-periodic": (0.45, 0.45, 0.45), "unsettled": (0.8, 0.8, 0.8), "other": (0.6, 0.6, 0.6)}
+                  "quasi-periodic": (0.45, 0.45, 0.45), "unsettled": (0.75, 0.75, 0.75), "other": (0.87, 0.8, 0.66)}
 
 
 def _class_colors(names):
@@ -151,14 +152,28 @@ def _class_colors(names):
     return [SPECIAL_COLORS.get(n) or next(cycle) for n in names]
 
 
+def _shown_classes(legend, n_show=9):
+    """Which of the motions ``legend`` lists (most frequent first) a map names: the ``n_show`` most
+    frequent periodic ones and every label of a motion with no period (chaotic, quasi-periodic,
+    unsettled, no period found: never folded into "other"), in the legend's order; the rest "other".
+    Returns the names and, per legend entry, its index among them."""
+    special = [i for i, n in enumerate(legend) if n in SPECIAL_COLORS and n != "other"]
+    periodic = [i for i, n in enumerate(legend) if n not in SPECIAL_COLORS or n == "other"]
+    shown = sorted(special + periodic[:n_show])
+    names = [legend[i] for i in shown] + (["other"] if len(shown) < len(legend) else [])
+    lut = np.full(len(legend), len(shown), dtype=int)
+    lut[shown] = np.arange(len(shown))
+    return names, lut
+
+
 def _class_image(ax, da, x, y, legend, n_show=9, *, key=True):
-    """Draw integer attractor codes with a discrete colormap; the n_show most frequent named, the rest
-    "other".  Returns the legend handles (drawn beside the axes with ``key``)."""
+    """Draw integer attractor codes (indices into ``legend``) with a discrete colormap, named as
+    :func:`_shown_classes` says.  Returns the legend handles (drawn beside the axes with ``key``)."""
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
-    codes = np.where(da.values < n_show, da.values, n_show)
-    names = list(legend[:n_show]) + (["other"] if len(legend) > n_show else [])
+    names, lut = _shown_classes(list(legend), n_show)
+    codes = lut[np.asarray(da.values, dtype=int)]
     colors = _class_colors(names)
     cmap = ListedColormap(colors)
     norm = BoundaryNorm(np.arange(len(names) + 1) - 0.5, len(names))

@@ -288,6 +288,23 @@ def test_the_fewest_impacts_for_an_interval_are_enough():
     assert lam.status == "ok" and lam.impacts == 2 * MIN_PER_BATCH
 
 
+@pytest.mark.parametrize("batches, quantile", [
+    (2, lambda p: math.tan(math.pi * (p - 0.5))),  # Student's t with 1 degree of freedom: Cauchy
+    (3, lambda p: (2 * p - 1) / math.sqrt(2 * p * (1 - p))),  # with 2: closed form
+])
+def test_the_interval_scales_with_student_s_quantile_of_its_batches(batches, quantile):
+    """Over the same batches, the half-widths of two confidence levels are in the ratio of Student's t
+    quantiles with batches - 1 degrees of freedom, here known in closed form."""
+    run = vi.simulate(CHAOS, 0.0, 0.5, n_impacts=4000)
+    half = {}
+    for level in (0.9, 0.99):
+        lam = exponents_of_run(run, transient=400, batches=batches, confidence=level)
+        half[level] = [(hi - lo) / 2 for lo, hi in lam.interval]
+    expect = quantile(0.995) / quantile(0.95)
+    for i in (0, 1):
+        assert half[0.99][i] / half[0.9][i] == pytest.approx(expect, rel=1e-12)
+
+
 def test_the_guide_s_example_runs_and_finds_chaos():
     """The example of the documentation's chaos page, run as written."""
     import re

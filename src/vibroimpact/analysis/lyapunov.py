@@ -185,6 +185,14 @@ class Lyapunov:
     status: str
 
 
+def t_quantile(p: float, df: int) -> float:
+    """Student's t quantile ``p`` with ``df`` degrees of freedom, for the batch-means intervals: scipy's
+    ``stdtrit``, which ``scipy.stats.t.ppf`` calls (importing ``scipy.stats`` costs about a second a process)."""
+    from scipy.special import stdtrit
+
+    return float(stdtrit(df, p))
+
+
 def exponents_of_run(run, *, transient: int, batches: int = 20, slow_speed: float = 1e-3,
                      confidence: float = 0.95) -> Lyapunov:
     """The exponents of a recorded run (:func:`~vibroimpact.simulate`'s dataset), its first ``transient``
@@ -208,8 +216,6 @@ def exponents_of_run(run, *, transient: int, batches: int = 20, slow_speed: floa
     Lyapunov
         The exponents with their intervals and what the run passed through.
     """
-    from scipy.special import stdtrit  # Student's t quantile (scipy.stats's t.ppf; its import costs ~1 s)
-
     ev = {v: run[v].values for v in ("t", "v_minus", "v_plus", "phase", "kind")}
     logs = np.zeros((batches, 2))
     counts = np.zeros(5)
@@ -230,7 +236,7 @@ def exponents_of_run(run, *, transient: int, batches: int = 20, slow_speed: floa
                         slow, float(slow_speed), status)
     b = logs / per  # per batch, per impact
     mean = b.mean(axis=0)
-    half = stdtrit(batches - 1, 0.5 + confidence / 2) * b.std(axis=0, ddof=1) / math.sqrt(batches)
+    half = t_quantile(0.5 + confidence / 2, batches - 1) * b.std(axis=0, ddof=1) / math.sqrt(batches)
     dt = span / done
     lam = (float(mean[0]), float(mean[1]) if sticks == 0 else -math.inf)
     ci = ((float(mean[0] - half[0]), float(mean[0] + half[0])),

@@ -401,12 +401,11 @@ def chaotic_outputs(named: dict[str, xr.Dataset]) -> pd.DataFrame:
     and U_I of the paper's fixed window (``window_time`` units of time after the transient) beside the
     long run's, with its 95 % interval (batch means, Student's t), and their difference in volts and in
     the long run's standard errors."""
-    from scipy.special import stdtrit  # Student's t quantile (scipy.stats's t.ppf; its import costs ~1 s)
-
+    from ..analysis.lyapunov import t_quantile
     from ..analysis.settled import LONG_BATCHES
     from ..analysis.sweeps import CHAOTIC
 
-    crit = float(stdtrit(LONG_BATCHES - 1, 0.975))
+    crit = t_quantile(0.975, LONG_BATCHES - 1)
     rows = []
     for name, en in named.items():
         vary = en.attrs["vary"]

@@ -71,8 +71,7 @@ def _lyapunov_points(ax, sw, direction, marker, keep):
     motion changes under rounding stays the same point for the check): exact on Newton-solved cycles, the
     long runs' estimates with their 95 % intervals (a collection of bars), coloured by motion; -inf at
     :func:`minus_inf_level`."""
-    from scipy.special import stdtrit  # Student's t quantile (scipy.stats's t.ppf; its import costs ~1 s)
-
+    from ...analysis.lyapunov import t_quantile
     from ...analysis.settled import LONG_BATCHES
     from ...analysis.sweeps import no_period
 
@@ -85,7 +84,7 @@ def _lyapunov_points(ax, sw, direction, marker, keep):
     exact = (lo == hi) | np.isneginf(lam)  # a solved cycle's value, or -inf: no interval
     info["settled"] = info["settled"] | exact
     # a long run's estimate is a statistic: its standard error from the interval (Student's t, batch means)
-    crit = stdtrit(LONG_BATCHES - 1, 0.975)
+    crit = t_quantile(0.975, LONG_BATCHES - 1)
     info["mean"] = np.where(exact, np.nan, lam)
     info["se"] = np.where(exact, np.nan, (hi - lo) / (2 * crit))
     # an exact value's sensitivity to its monodromy matrix (the check scales its tolerance by it)

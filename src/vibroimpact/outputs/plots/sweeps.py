@@ -5,7 +5,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ...analysis.sweeps import no_period
+from ...analysis.sweeps import NO_PERIOD_LABELS, no_period
 from ._common import BOTTOM, TOP, branch_line, use_style, wellposed
 
 #: the statistic of a motion with no period that each drawn quantity is compared by (the long run's)
@@ -157,8 +157,8 @@ def _shown_classes(legend, n_show=9):
     frequent periodic ones and every label of a motion with no period (chaotic, quasi-periodic,
     unsettled, no period found: never folded into "other"), in the legend's order; the rest "other".
     Returns the names and, per legend entry, its index among them."""
-    special = [i for i, n in enumerate(legend) if n in SPECIAL_COLORS and n != "other"]
-    periodic = [i for i, n in enumerate(legend) if n not in SPECIAL_COLORS or n == "other"]
+    special = [i for i, n in enumerate(legend) if n in NO_PERIOD_LABELS]
+    periodic = [i for i, n in enumerate(legend) if n not in NO_PERIOD_LABELS]
     shown = sorted(special + periodic[:n_show])
     names = [legend[i] for i in shown] + (["other"] if len(shown) < len(legend) else [])
     lut = np.full(len(legend), len(shown), dtype=int)

@@ -80,21 +80,102 @@ def test_the_lambda_1_figure_draws_each_point_s_exponent_with_what_the_check_com
     fig = fig_lyapunov([across_chaos], [[]])
     ds = figure_data(fig)
     lam_axes = [v for v in ds.data_vars if "lambda_1" in ds[v].attrs.get("axis_label", "") and v.endswith("_y")]
-    ys = np.concatenate([ds[v].values for v in lam_axes])
-    for direction in ("down", "up"):
+    ys = np.concatenate([ds[v].values for v in lam_axes if ds[v].attrs.get("wellposed") == "motions"])
+    for direction in ("down", "up"):  # every point of both directions, not every other one
         s = across_chaos.sel(direction=direction)
-        keep = 0 if direction == "down" else 1
-        for v in s.lyap1.values[keep::2]:
+        for v in s.lyap1.values:
             assert np.any(np.isclose(ys, v, rtol=0, atol=1e-15)), v
+    assert ys.size == 2 * across_chaos.sizes["point"]
     exact = [v for v in lam_axes if ds[v].attrs.get("wellposed") == "motions"]
     assert exact
     base = exact[0].removesuffix("_y")
     assert f"{base}_wp_settled" in ds and f"{base}_wp_se" in ds
-    chaos = across_chaos.sel(direction="up").isel(point=1)  # the up sweep's points are the odd ones
+    chaos = across_chaos.sel(direction="up").isel(point=1)
     estimates = [v.removesuffix("_y") for v in lam_axes if np.isclose(ds[v].values, float(chaos.lyap1)).any()]
     se = ds[f"{estimates[0]}_wp_se"].values
     crit = student.ppf(0.975, LONG_BATCHES - 1)
     assert se[np.isfinite(se)] == pytest.approx((float(chaos.lyap1_high) - float(chaos.lyap1_low)) / (2 * crit))
+
+
+def test_minus_infinity_is_a_triangle_at_the_foot_and_every_other_point_a_circle_or_cross():
+    """The caption: lambda_1 = -inf (sticking, at rest) drawn as a triangle at the panel's foot."""
+    import matplotlib.pyplot as plt
+    from matplotlib.markers import MarkerStyle
+
+    from vibroimpact.outputs.plots.chaos import MINUS_INF_MARKER, _lyapunov_points, minus_inf_level
+
+    d = np.array([0.30, 0.28, 0.26])
+    sw = synthetic_sweep(["1:1 period-2 with sticking", "chaotic", "1:1 period-2"], [-np.inf, 0.2, -0.3], d)
+    sw["lyap1_low"] = sw.lyap1_low.where(np.isfinite(sw.lyap1), -np.inf)
+    sw["lyap1_high"] = sw.lyap1_high.where(np.isfinite(sw.lyap1), -np.inf)
+    sw["lyap1_sensitivity"] = sw.lyap1 * 0
+    for v in ("period", "settled", "long_status", "abs_v_mean", "abs_v_se", "n_bottom", "n_top"):
+        sw[v] = sw.lyap1 * 0
+    sw.attrs["r"] = 0.5
+    fig, ax = plt.subplots()
+    try:
+        _lyapunov_points(ax, sw, "down", "o")
+    except KeyError as err:  # point_info needs more of a real sweep
+        pytest.skip(f"synthetic sweep lacks {err}")
+    art = ax.collections[-1]  # the points (the intervals' bars come first)
+    tri = MarkerStyle(MINUS_INF_MARKER)
+    tri = tri.get_path().transformed(tri.get_transform())
+    paths = art.get_paths()
+    assert len(paths) == 3
+    assert np.allclose(paths[0].vertices, tri.vertices) and not np.allclose(paths[2].vertices[:3], tri.vertices[:3])
+    assert art.get_offsets()[0][1] == pytest.approx(minus_inf_level(0.5))
+    plt.close(fig)
+
+
+@pytest.mark.parametrize("labels, expected", [
+    # long runs are named by their motion; a no-period run mostly chaotic is "chaotic"
+    (["1:1 period-2"] * 10 + ["chaotic"] * 6 + ["unsettled"] * 2 + ["2:1 period-2"] * 12,
+     [("1:1 T=2", 10), ("chaotic", 8), ("2:1 T=2", 12)]),
+    # short runs of several motions (each under the share) merged: chaos interrupted by periodic windows
+    (["1:1 period-2"] * 12 + ["chaotic", "chaotic", "6:3 over 4 forcing periods", "chaotic", "chaotic",
+                              "4:2 over 3 forcing periods", "chaotic"] + ["2:1 period-2"] * 12,
+     [("1:1 T=2", 12), ("chaotic, periodic windows", 7), ("2:1 T=2", 12)]),
+    # merged, mostly periodic
+    (["1:1 period-2"] * 12 + ["3:1 period-2", "3:1 period-2", "7:3 over 3 forcing periods", "chaotic",
+                              "4:1 period-2", "4:1 period-2", "4:1 period-2"] + ["2:1 period-2"] * 12,
+     [("1:1 T=2", 12), ("periodic windows", 7), ("2:1 T=2", 12)]),
+])
+def test_motion_blocks_name_short_runs_together(labels, expected):
+    """Fig 5 (a), beta = pi/2: chaos in runs of one to five points between periodic windows got no name;
+    short runs are merged and named by what dominates them."""
+    from vibroimpact.outputs.plots.energy import motion_blocks
+
+    blocks = motion_blocks(labels, min_share=0.2)
+    assert [(name, b - a) for a, b, name in blocks] == expected
+    assert all(b1[1] == b2[0] for b1, b2 in zip(blocks[:-1], blocks[1:], strict=True))  # contiguous
+
+
+def test_the_band_between_2to1_and_1to1_lists_every_run_with_its_exponents_and_d_graz():
+    from vibroimpact.outputs.tables import between_2to1_and_1to1, between_markdown
+
+    d = np.array([0.30, 0.28, 0.26, 0.24, 0.22, 0.20, 0.18])
+    sw = synthetic_sweep(["1:1 period-2", "1:1 period-4", "chaotic", "chaotic", "5:4 over 4 forcing periods",
+                          "2:1 period-2", "2:1 period-2"], [-0.1, -0.3, 0.3, 0.1, -0.08, -0.2, -0.2], d)
+    tr = xr.Dataset({"d_graz": ((), 0.25), "d_graz_kind": ((), "grazing"), "d_graz_clearance": ((), 1e-8)})
+    df = between_2to1_and_1to1(sw, tr)
+    assert list(df.motion.str.slice(0, 12)) == ["2:1 period-2", "5:4 over 4 f", "chaotic", "d_graz: the ",
+                                                "1:1 period-4", "1:1 period-2"]
+    chaos = df[df.motion == "chaotic"].iloc[0]
+    assert (chaos.d_lo, chaos.d_hi, chaos.points, chaos.lyap1_max, chaos.d_at_max) == pytest.approx(
+        (0.24, 0.26, 2, 0.3, 0.26))
+    md = between_markdown({"x": (sw, tr)})
+    assert "| [0.2400, 0.2600] | chaotic | 2 | 0.100 – 0.300 | 0.2600 |" in md
+    assert between_2to1_and_1to1(synthetic_sweep(["1:1 period-2"] * 2, [-0.1] * 2, d[:2])).empty
+
+
+def test_the_largest_window_difference_is_the_largest_over_every_chaotic_point():
+    from vibroimpact.outputs.tables import largest_window_difference
+
+    out = pd.DataFrame({"sweep": ["a", "b"], "direction": ["down", "up"], "d": [0.2, 0.3],
+                        "U_T_diff": [1.0, -6.0], "U_T_long": [100.0, 100.0], "U_T_diff_se": [1.0, -12.0],
+                        "U_I_diff": [2.0, 0.0], "U_I_long": [50.0, 50.0], "U_I_diff_se": [2.0, 0.0]})
+    text = largest_window_difference(out)
+    assert "up to 6.0 % (Ū_T, b up, d = 0.3000: -12 of" in text
 
 
 def test_a_map_names_every_label_of_a_motion_with_no_period_however_rare():

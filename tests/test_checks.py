@@ -170,3 +170,40 @@ def test_config_readme_names_every_key_of_the_config():
         if isinstance(v, dict) and k not in ("captions", "scenes", "basins", "maps", "branch_scenes"):
             missing += [f"{k}.{sub}" for sub in v if f"`{sub}`" not in doc and k not in ("checks",)]
     assert not missing, missing
+
+
+def _exit(beta, d, kind="grazing"):
+    import xarray as xr
+
+    return xr.Dataset({"d_graz": ((), d), "d_graz_width": ((), 5e-8), "d_graz_kind": ((), kind),
+                       "d_graz_clearance": ((), 1e-8 if kind == "grazing" else 0.01)}, attrs={"beta": beta})
+
+
+def _bt(beta, b_values):
+    import numpy as np
+    import xarray as xr
+
+    n = len(b_values)
+    return xr.Dataset({"critical_kind": ("critical", np.array(["B"] * n)), "critical_d": ("critical", np.array(b_values)),
+                       "critical_admissible": ("critical", np.ones(n, bool))}, attrs={"beta": beta})
+
+
+BETAS4 = [math.pi / 6, math.pi / 4, math.pi / 3, math.pi / 2]
+
+
+@pytest.mark.parametrize("exits, folds, bs, status", [
+    ([0.2108, 0.2255, 0.2353, 0.2659], [0.2158, 0.2188, 0.2201, 0.2205], [0.251, 0.288, 0.324, 0.361],
+     ["fail", "pass", "pass", "pass"]),
+    ([0.2130, 0.2255, 0.2200, 0.2659], [0.2158, 0.2188, 0.2180, 0.2205], [0.251, 0.288, 0.240, 0.361],
+     ["pass", "fail", "fail", "fail"]),
+])
+def test_d_graz_rows_hold_the_paper_s_statements(exits, folds, bs, status):
+    """Fig FN2 (f): d_graz = 0.213 at pi/6 (half a unit: 0.0005); section 5: d_graz and the 1:1 period
+    doubling rise with beta.  The first set is what the workflow computes, the second breaks each claim."""
+    t1 = pd.DataFrame({"beta": BETAS4, "d_fold": folds})
+    rows = checks.d_graz_rows([_exit(b, d) for b, d in zip(BETAS4, exits, strict=True)], t1,
+                              [_bt(b, [0.1, d]) for b, d in zip(BETAS4, bs, strict=True)])
+    assert [r["item"] for r in rows] == checks.D_GRAZ_ITEMS
+    assert [r["status"] for r in rows] == status
+    assert rows[0]["tolerance"] == pytest.approx(5e-4)
+    assert set(checks.D_GRAZ_ITEMS) <= set(checks.item_names([], BETAS4))

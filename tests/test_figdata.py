@@ -143,15 +143,25 @@ def _branch(word, d, stable, crit):
                       coords={"d": ("point", np.array(d))}, attrs={"word": word, "step": 1e-3})
 
 
-def test_energy_figures_mark_d_graz_on_the_1to1_branch_and_G1_where_grazing_ends_the_2to1():
+def test_energy_figures_mark_the_attractor_s_d_graz_not_the_1to1_orbit_s_grazing_and_G1_where_grazing_ends_the_2to1():
+    """d_graz is where the 1:1 motion followed down leaves its family (the sweep's located transitions),
+    not the grazing of the unstable 1:1 period-2 orbit; G1 where a grazing ends the stable 2:1."""
+    import xarray as xr
+
     from vibroimpact.outputs.plots.energy import grazing_marks
 
     d = np.round(np.arange(0.130, 0.221, 0.001), 6)
     bt = _branch("BT", d, d > 0.16, [("grazing", 0.1579, True), ("grazing", 0.1201, True), ("grazing", 0.19, False)])
     by_grazing = _branch("BBT", d, (d >= 0.1376) & (d <= 0.2), [("grazing", 0.13762, True), ("fold", 0.2003, True)])
     by_doubling = _branch("BBT", d, (d >= 0.158) & (d <= 0.2), [("B", 0.15807, True), ("grazing", 0.13601, True)])
-    assert grazing_marks([bt, by_grazing]) == [(r"$d_{\rm graz}$", 0.1579), ("G1", 0.13762)]
-    assert grazing_marks([bt, by_doubling]) == [(r"$d_{\rm graz}$", 0.1579)]  # the 2:1 loses stability at B
+
+    def exit_(d, kind):
+        return xr.Dataset({"d_graz": ((), d), "d_graz_kind": ((), kind)})
+
+    assert grazing_marks([bt, by_grazing], exit_(0.2108, "grazing")) == [("d_graz", 0.2108), ("G1", 0.13762)]
+    assert grazing_marks([bt, by_doubling], exit_(0.2353, "no grazing")) == [("d_graz, no grazing", 0.2353)]
+    assert grazing_marks([bt, by_doubling]) == []  # no sweep transitions: nothing from the 1:1 branch
+    assert grazing_marks([bt], exit_(np.nan, "")) == []  # not located
 
 
 def test_methods_needing_a_system_package_are_excluded_present_or_absent():

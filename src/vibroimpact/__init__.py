@@ -43,6 +43,8 @@ _WHERE = {
     "lyapunov": "analysis.lyapunov", "Lyapunov": "analysis.lyapunov",
     "sweep": "analysis.sweeps", "attractor_batch": "analysis.sweeps", "locate_transitions": "analysis.sweeps",
     "bistable_intervals": "analysis.sweeps", "basins": "analysis.sweeps", "regime_map": "analysis.sweeps",
+    "family_exit": "analysis.family_exit", "sweep_d_graz": "analysis.family_exit",
+    "d_graz_curve": "analysis.family_exit",
     # analysis: energy and design
     "Membrane": "analysis.energy", "voltage_gain": "analysis.energy", "speed_si": "analysis.energy",
     "averages": "analysis.energy", "orbit_energy": "analysis.energy", "branch_energy": "analysis.energy",

@@ -121,6 +121,19 @@ VARIABLES: dict[str, tuple[str, str, str]] = {
     "points": ("1", "sweep points per direction", ""),
     "point_kind": ("", "kind of located point", ""),
     "grazing": ("", "grazing point (G1, G2)", ""),
+    # the paper's d_graz: where the 1:1 attractor, followed with decreasing d, leaves the 1:1 family
+    # (vibroimpact.analysis.family_exit)
+    "d_graz": ("1", "d_graz: d where the 1:1 attractor followed down leaves the 1:1 family",
+               "middle of the final bracket; a grazing where d_graz_kind says so"),
+    "d_graz_width": ("1", "width of d_graz's final bracket", ""),
+    "d_graz_clearance": ("1", "smallest clearance of the last 1:1 attractor (bracket's upper end)",
+                         "distance of its flights' interior extrema to a wall; tends to 0 at a grazing"),
+    "d_graz_slowest_after": ("1", "slowest impact speed |Zdot-| of the motion beyond d_graz", ""),
+    "d_graz_kind": ("", "grazing (clearance below GRAZING_CLEARANCE d) or no grazing", ""),
+    "d_graz_after": ("", "motion beyond d_graz (bracket's lower end)", ""),
+    "d_graz_status": ("", "located, or why not", ""),
+    "d_graz_s": ("m", "cylinder length s at d_graz", ""),
+    "d_graz_F": ("N", "forcing amplitude ||F|| at d_graz", ""),
 }
 
 #: index dimensions: name -> what one index is

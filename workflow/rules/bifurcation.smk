@@ -57,10 +57,35 @@ rule bifurcation_set:
         "../scripts/bifurcation_set.py"
 
 
+rule d_graz_curve:
+    output:
+        "results/bifurcation/{map}-d_graz.nc",
+    log:
+        "logs/bifurcation/{map}-d_graz.log",
+    benchmark:
+        "benchmarks/d_graz_curve/{map}.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        spec=lambda wc: (
+            ALL_MAPS[wc.map]
+            if wc.map in config["maps"]
+            else {"beta": config["bifurcation"]["beta"]} | ALL_MAPS[wc.map]
+        ),
+        physics=config["physics"],
+        grid=RESOLUTION["map_grid"],
+        lines=config["bifurcation"]["d_graz_lines"],
+        xtol=config["sweeps"]["locate"]["xtol"],
+    script:
+        "../scripts/d_graz_curve.py"
+
+
 rule fig_bifurcation_set:
     input:
         map=lambda wc: map_path(wc.map),
         curves="results/bifurcation/{map}.nc",
+        # the paper's d_graz over the plane (the 1:1 motion followed down leaves its family)
+        d_graz="results/bifurcation/{map}-d_graz.nc",
     output:
         **figure_formats("results/figures/bifurcation_set_{map}"),
         png=report(

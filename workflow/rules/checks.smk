@@ -33,6 +33,15 @@ rule check_paper_values:
         order_orbits=[
             branch_path("orbit", b, "BBT") for b in BRANCH_SCENES["fig2"]["betas"]
         ],
+        # d_graz: the length sweep of each incline (its located transitions) and the 1:1 branches
+        length_transitions=[
+            sweep_path(p, "-transitions") for p in config["energy"]["design"]["s"]
+        ],
+        bt_branches=[
+            branch_path("orbit", b, "BT")
+            for b in BRANCH_SCENES["fig3"]["betas"]
+            if "BT" in WORDS
+        ],
         order_energy=sorted(
             {
                 energy_path("branch", SWEEPS[p]["beta"], "BBT", "s")

@@ -12,7 +12,12 @@ rule energy_figure:
         sweeps=lambda wc: [
             sweep_path(p) for p in config["energy"]["figures"][wc.efig]["panels"]
         ],
-        # the continued branches, for the grazing points d_graz and G1 each panel marks
+        # each sweep's located transitions: d_graz, where its 1:1 motion leaves the 1:1 family
+        transitions=lambda wc: [
+            sweep_path(p, "-transitions")
+            for p in config["energy"]["figures"][wc.efig]["panels"]
+        ],
+        # the continued 2:1 branches, for G1 (and the 1:1 and 2:1 lines each panel draws)
         orbits=lambda wc: [
             branch_path("orbit", SWEEPS[p]["beta"], w, SWEEPS[p]["vary"])
             for p in config["energy"]["figures"][wc.efig]["panels"]
@@ -87,6 +92,7 @@ rule study_figure:
         ],
         # a list, as energy_figure.py reads one sweep per panel
         sweeps=["results/sweeps/beta-{beta}_r-{r}/study_s.nc"],
+        transitions=["results/sweeps/beta-{beta}_r-{r}/study_s-transitions.nc"],
         orbits=lambda wc: [
             f"results/branches/beta-{wc.beta}_r-{wc.r}/orbit-{w}_vary-s.nc"
             for w in ("BT", "BBT")

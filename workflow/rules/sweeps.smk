@@ -183,10 +183,12 @@ rule transitions_table:
 rule lyapunov_figure:
     input:
         sweeps=[sweep_path(p) for p in config["chaos"]["panels"]],
-        energies=[
-            energy_path("sweep", SWEEPS[p]["beta"], p)
-            for p in config["chaos"]["panels"]
-        ],
+        # d_graz of each sweep
+        transitions=[sweep_path(p, "-transitions") for p in config["chaos"]["panels"]],
+        # the table of chaotic windows and outputs covers every sweep (figure or not)
+        table_sweeps=[sweep_path(p) for p in SWEEPS],
+        table_transitions=[sweep_path(p, "-transitions") for p in SWEEPS],
+        table_energies=[energy_path("sweep", SWEEPS[p]["beta"], p) for p in SWEEPS],
         orbits=[
             branch_path("orbit", SWEEPS[p]["beta"], w, SWEEPS[p]["vary"])
             for p in config["chaos"]["panels"]
@@ -212,6 +214,7 @@ rule lyapunov_figure:
         "../envs/vibroimpact.yaml"
     params:
         panels=config["chaos"]["panels"],
+        table_sweeps=list(SWEEPS),
         words=[w for w in ("BT", "BBT") if w in WORDS],
     script:
         "../scripts/lyapunov_figure.py"

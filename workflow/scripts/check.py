@@ -12,7 +12,9 @@ i = snakemake.input
 rows = (checks.caption_rows(load(i.captions)) + checks.stability_rows(pd.read_csv(i.table1))
         + checks.grazing_rows(load(i.bis)) + checks.simulation_rows([load(f) for f in i.sims])
         + checks.energy_rows([load(f) for f in i.branches_s], [load(f) for f in i.branches_F], [load(f) for f in i.sweeps])
-        + checks.curve_order_rows([load(f) for f in i.order_orbits], [load(f) for f in i.order_energy]))
+        + checks.curve_order_rows([load(f) for f in i.order_orbits], [load(f) for f in i.order_energy])
+        + checks.d_graz_rows([load(f) for f in i.length_transitions], pd.read_csv(i.table1),
+                             [load(f) for f in i.bt_branches]))
 df = checks.apply_known(pd.DataFrame(rows), snakemake.params.known)
 table = checks.markdown(df)
 logging.info("\n%s", table)

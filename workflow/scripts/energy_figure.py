@@ -16,6 +16,8 @@ energies = [load(i.energies[k * per]) for k in range(len(panels))]
 branches = [[load(f) for f in i.energies[k * per + 1:(k + 1) * per]] for k in range(len(panels))]
 orbits = [[load(f) for f in i.orbits[k * n_w:(k + 1) * n_w]] for k in range(len(panels))]
 sweeps = [load(f) for f in i.sweeps]
-fig = plots.fig_energy(panels, sweeps, energies, branches, velocities=snakemake.params.velocities, orbit_sets=orbits)
+transitions = [load(f) for f in i.transitions]
+fig = plots.fig_energy(panels, sweeps, energies, branches, velocities=snakemake.params.velocities, orbit_sets=orbits,
+                       transitions=transitions)
 plots.save_outputs(fig, snakemake.output, data=snakemake.output.data,
            attrs=provenance(**dict(snakemake.params)))

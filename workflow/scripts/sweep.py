@@ -6,6 +6,7 @@ import numpy as np
 import xarray as xr
 
 from vibroimpact.analysis.energy import Membrane, sweep_energy
+from vibroimpact.analysis.family_exit import sweep_d_graz
 from vibroimpact.analysis.sweeps import bistable_intervals, locate_transitions, sweep
 from vibroimpact.datasets import provenance, write_netcdf
 
@@ -24,7 +25,9 @@ write_netcdf(en, snakemake.output.energy)
 logging.info("labels: %s", sorted(set(ds.label.values.ravel())))
 loc = snakemake.params.locate
 tr = locate_transitions(ds, xtol=loc["xtol"], max_periods=loc["max_periods"], max_trials=loc["max_trials"])
-trs = xr.merge([tr, bistable_intervals(ds, tr)], combine_attrs="drop_conflicts")
+# the paper's d_graz: where the 1:1 attractor followed down leaves the 1:1 family (grazing or not)
+trs = xr.merge([tr, bistable_intervals(ds, tr), sweep_d_graz(ds, xtol=loc["xtol"])], combine_attrs="drop_conflicts")
 trs.attrs.update(provenance(**loc), beta=ds.attrs["beta"], vary=ds.attrs["vary"])
 write_netcdf(trs, snakemake.output.transitions)
-logging.info("%d transitions, %d bistable intervals", trs.sizes["transition"], trs.sizes["interval"])
+logging.info("%d transitions, %d bistable intervals; d_graz: %s %s at %.7f", trs.sizes["transition"],
+             trs.sizes["interval"], trs.d_graz_status.values, trs.d_graz_kind.values, trs.d_graz.values)

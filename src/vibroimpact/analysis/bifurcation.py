@@ -431,7 +431,8 @@ def curve_set(branches, params, ranges, *, kinds=("B", "fold", "grazing"), step=
     -------
     xarray.Dataset
         The curves end to end: along ``point`` the two parameters and ``curve`` (index into the ``curve``
-        dimension: ``curve_kind``, ``curve_word``, ``curve_start_s``, ``curve_status``, ``curve_reason``,
+        dimension: ``curve_kind``, ``curve_word``, ``curve_start_s``, ``curve_start_stable``, ``curve_status``,
+        ``curve_reason``,
         ``curve_stop``); along ``event`` where a curve meets another set of its orbit or its projection turns
         back (``cusp``); along ``crossing`` where two curves cross in the plane.
     """
@@ -448,12 +449,13 @@ def curve_set(branches, params, ranges, *, kinds=("B", "fold", "grazing"), step=
                 continue
             bar.update()
             s0 = float(br.critical_s[i])
-            row = dict(kind=str(kind), word=word, start_s=s0, status="ok", reason="", stop="")
+            row = dict(kind=str(kind), word=word, start_s=s0, start_stable=False, status="ok", reason="", stop="")
             try:
                 # the branch's own orbit at its admissible point nearest the located one (its z from the
                 # dataset: no Newton, which is singular at a fold); the test function is smooth there
                 adm = np.flatnonzero(br.admissible.values)
                 j = int(adm[np.argmin(np.abs(br.d.values[adm] - float(br.critical_d[i])))])
+                row["start_stable"] = bool(br.stable.values[j])
                 z = np.concatenate([[float(br.phase[j, 0])], np.roll(br.dt.values[j], -1), br.v_minus.values[j]])
                 o = orbit_from_vector(Params.from_physical(s=float(br.s[j]), **physics), word, k, z)
                 c = follow_point(o, str(kind), params=params, ranges=ranges, step=step, max_points=max_points)
@@ -481,6 +483,8 @@ def curve_set(branches, params, ranges, *, kinds=("B", "fold", "grazing"), step=
             "curve_word": ("curve", np.array([r["word"] for r in rows], dtype=object).astype(str)),
             "curve_start_s": ("curve", np.array([r["start_s"] for r in rows], dtype=float),
                               {"units": "m", "long_name": "length s where the point was located on its branch"}),
+            "curve_start_stable": ("curve", np.array([r["start_stable"] for r in rows], dtype=bool),
+                                   {"long_name": "the orbit is stable where the point was located on its branch"}),
             "curve_status": ("curve", np.array([r["status"] for r in rows], dtype=object).astype(str)),
             "curve_reason": ("curve", np.array([r["reason"] for r in rows], dtype=object).astype(str)),
             "curve_stop": ("curve", np.array([r["stop"] for r in rows], dtype=object).astype(str),

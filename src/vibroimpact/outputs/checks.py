@@ -14,7 +14,16 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from .paper import CURVE_ORDER, PI6_D_B, PI6_G1, PI6_G2, STABLE_2TO1, agreement_tolerance, printed_unit
+from .paper import (
+    CURVE_ORDER,
+    PI6_D_B,
+    PI6_D_GRAZ,
+    PI6_G1,
+    PI6_G2,
+    STABLE_2TO1,
+    agreement_tolerance,
+    printed_unit,
+)
 
 BETA_NAMES = {90.0: "pi/2", 60.0: "pi/3", 45.0: "pi/4", 30.0: "pi/6"}
 
@@ -113,6 +122,61 @@ def grazing_rows(bis: xr.Dataset) -> list[dict]:
         _row("G2: 3:1 -> 2:1, d increasing, beta=pi/6", "section 4.2", PI6_G2, g2, t2,
              abs(g2 - PI6_G2) <= t2, "located in the up sweep (a fold of the 3:1 orbit)"),
     ]
+
+
+#: the rows of :func:`d_graz_rows`
+D_GRAZ_ITEMS = ["d_graz, beta=pi/6 (Fig FN2 (f): the 1:1 motion grazes)",
+                "d_graz rises with beta: where the 1:1 motion leaves its family",
+                "d_graz rises with beta: the largest d of 2:1 period-2 (its fold)",
+                "1:1 period doubling rises with beta"]
+
+
+def _rises(values: dict[float, float]) -> tuple[str, bool]:
+    """``"beta1: v1 < beta2: v2 ..."`` by increasing beta, and whether the values increase."""
+    betas = sorted(values)
+    v = [values[b] for b in betas]
+    ok = len(v) > 1 and all(np.isfinite(v)) and bool(np.all(np.diff(v) > 0))
+    return ", ".join(f"{_beta_name(b)}: {values[b]:.6g}" for b in betas), ok
+
+
+def d_graz_rows(transitions: list[xr.Dataset], table1: pd.DataFrame, bt_branches: list[xr.Dataset]) -> list[dict]:
+    """The paper's d_graz (sections 2 and 5, Fig FN2 (b), (f)): "at d = d_graz, Zdot_j = 0 and Z_j = d/2, and
+    there is a transition to 2:1 motion for d < d_graz", "the maximum value for 2:1 period-2 solutions";
+    "as beta increases, so do both the value of d at which period doubling of the 1:1 solution occurs, and
+    the value of d_graz".  Both readings of d_graz are compared: where the 1:1 motion followed down leaves
+    its family (the length sweeps' located ``d_graz``, :func:`vibroimpact.sweep_d_graz`), and the 2:1
+    branch's fold (Table 1's companion); the 1:1 period doubling is the 1:1 branch's first B."""
+    rows = []
+    exits = {float(t.attrs["beta"]): t for t in transitions if "d_graz" in t}
+    kinds = {b: f"{str(t.d_graz_kind.values)} (clearance {float(t.d_graz_clearance):.1e})" for b, t in exits.items()}
+    b6 = next((b for b in exits if abs(b - math.pi / 6) < 1e-9), None)
+    if b6 is not None:
+        tol = agreement_tolerance(PI6_D_GRAZ)
+        d = float(exits[b6].d_graz)
+        rows.append(_row(D_GRAZ_ITEMS[0], "Fig FN2", PI6_D_GRAZ, d, tol, abs(d - PI6_D_GRAZ) <= tol,
+                         f"the 1:1 motion followed down (length sweep) leaves its family at d_graz = {d:.7f} +- "
+                         f"{0.5 * float(exits[b6].d_graz_width):.0e}: {kinds[b6]}; the 2:1 orbit's fold is at "
+                         f"{_fold_of(table1, b6):.6f}"))
+    text, ok = _rises({b: float(t.d_graz) for b, t in exits.items()})
+    rows.append(_row(D_GRAZ_ITEMS[1], "section 5", "rises", text, "", ok,
+                     "; ".join(f"{_beta_name(b)}: {k}" for b, k in sorted(kinds.items()))))
+    text, ok = _rises({float(r.beta): float(r.d_fold) for _, r in table1.iterrows()})
+    rows.append(_row(D_GRAZ_ITEMS[2], "section 5", "rises", text, "", ok, "the 2:1 branch's fold (analytic)"))
+    first_b = {}
+    for br in bt_branches:
+        if br.attrs.get("status") == "failed" or "critical_d" not in br:
+            continue
+        sel = (br.critical_kind.values.astype(str) == "B") & br.critical_admissible.values.astype(bool)
+        first_b[float(br.attrs["beta"])] = float(br.critical_d.values[sel].max()) if sel.any() else math.nan
+    text, ok = _rises(first_b)
+    rows.append(_row(D_GRAZ_ITEMS[3], "section 5", "rises", text, "", ok,
+                     "the 1:1 branch's period doubling B of largest d (analytic)"))
+    return rows
+
+
+def _fold_of(table1: pd.DataFrame, beta: float) -> float:
+    sel = np.abs(table1.beta.values - beta) < 1e-9
+    return float(table1.d_fold.values[sel][0]) if sel.any() else math.nan
 
 
 def _is_n_to_n(label):
@@ -281,7 +345,7 @@ def item_names(captions, betas) -> list[str]:
                 names.append("lambda_1 < -1 for d < 0.133 (d_B), beta=pi/6")
     names += ["G1: 2:1 -> 3:1 grazing, d decreasing, beta=pi/6", "G2: 3:1 -> 2:1, d increasing, beta=pi/6"]
     names += [_order_item(fig, what, beta) for (fig, what), per_beta in CURVE_ORDER.items() for beta in per_beta]
-    return names + ENERGY_ITEMS
+    return names + ENERGY_ITEMS + D_GRAZ_ITEMS
 
 
 def apply_known(df: pd.DataFrame, known: dict[str, str]) -> pd.DataFrame:
@@ -316,7 +380,8 @@ def markdown(df: pd.DataFrame) -> str:
 
 #: the figures each published item is drawn in (by the check table's "where" column, or the caption
 #: prefix of its item)
-WHERE_FIGURES = {"Fig 2": ("fig2",), "Fig 0": ("fig0",), "Fig 5": ("fig5",), "section 3": ("fig2", "fig3"), "section 4": ("fig3",),
+WHERE_FIGURES = {"Fig 2": ("fig2",), "Fig 0": ("fig0",), "Fig 5": ("fig5",), "Fig FN2": ("figFN2", "fig5", "lyapunov"),
+                 "section 3": ("fig2", "fig3"), "section 4": ("fig3",),
                  "section 4.2": ("figBiS",), "section 5": ("fig0", "fig5", "design")}
 
 

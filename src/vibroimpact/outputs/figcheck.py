@@ -21,6 +21,9 @@ by what is well-posed about it, which its figure recorded when drawing it
     motions only: no period within the cap on either side, whether chaotic, quasi-periodic or unsettled).
 ``run``
     a text naming a run of one motion, at its middle: the same text, within one sweep step.
+``located``
+    values located between neighbouring points of a grid (a transition along a sweep, d_graz): each
+    coordinate within the artist's recorded grid step along it (``step_x``, ``step_y``; none: pointwise).
 ``curve``
     a curve sampled by continuation (where its points fall along it depends on the step control):
     every point of each lies on the other, within the other's chord error (``L theta / 4`` for a
@@ -51,7 +54,7 @@ __all__ = ["Z_CRIT", "RULES", "compare_artist", "strict_close", "artist_base"]
 #: probability 1e-6 (Student's t with 19 degrees of freedom: the long runs' 20 batch means); a full
 #: check makes about a thousand such comparisons, so a false alarm once in a thousand checks
 Z_CRIT = 7.07
-RULES = ("strict", "motions", "run", "curve", "on curve", "boundary")
+RULES = ("strict", "motions", "run", "located", "curve", "on curve", "boundary")
 
 
 def artist_base(name: str) -> str:
@@ -206,6 +209,26 @@ def run_text(new, ref, name, *, rtol, atol):
     dx = abs(float(b.values[0]) - float(a.values[0]))
     ok = dx <= step + atol + rtol * abs(float(a.values[0])) and strict_close(b.values[1:], a.values[1:], rtol, atol)
     return ok, dx, f"moved {dx:.3g} along the sweep (one step: {step:.3g})"
+
+
+def located(new, ref, name, *, rtol, atol):
+    """The ``located`` rule for a line's or points' coordinate: NaN where the reference has NaN, and every
+    value within the recorded grid step along that coordinate (``wp_step_x`` or ``wp_step_y``)."""
+    a, b = np.asarray(ref[name].values, float), np.asarray(new[name].values, float)
+    part, attrs = name.rsplit("_", 1)[-1], ref[name].attrs
+    # a text's anchor (x, y) takes the step along each; a line's or points' coordinate its own
+    step = (np.array([float(attrs.get("wp_step_x", 0.0)), float(attrs.get("wp_step_y", 0.0))]) if part == "xy"
+            else float(attrs.get(f"wp_step_{part}", 0.0)))
+    if a.shape != b.shape:
+        return False, math.nan, f"shape {b.shape}, reference {a.shape}"
+    if np.any(np.isnan(a) != np.isnan(b)):
+        return False, math.nan, f"NaN at {int(np.sum(np.isnan(a) != np.isnan(b)))} other places"
+    ok = ~np.isnan(a)
+    step = np.broadcast_to(step, a.shape)[ok]
+    diff = np.abs(a[ok] - b[ok])
+    worst = float(diff.max(initial=0.0))
+    good = bool(np.all(diff <= step + atol + rtol * np.abs(a[ok])))
+    return good, worst, f"moved at most {worst:.3g} (one grid step: {float(step.max(initial=0.0)):.3g})"
 
 
 def _pieces(x, y):

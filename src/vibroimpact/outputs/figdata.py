@@ -155,7 +155,7 @@ def compare(new: xr.Dataset, ref: xr.Dataset, *, rtol: float, atol: float, exclu
     def judge(name, rule):
         base = fc.artist_base(name)
         kw = dict(rtol=rtol, atol=atol)
-        key = (rule, base)
+        key = (rule, name if rule == "located" else base)
         if key in cache:
             return cache[key]
         try:
@@ -163,6 +163,8 @@ def compare(new: xr.Dataset, ref: xr.Dataset, *, rtol: float, atol: float, exclu
                 out = fc.compare_artist(rule, new, ref, base, **kw)
             elif rule == "run":
                 out = fc.run_text(new, ref, name, **kw)
+            elif rule == "located":
+                out = fc.located(new, ref, name, **kw)
             elif rule == "on curve":
                 axes = name.split("_", 1)[0]
                 curves = sorted({fc.artist_base(v) for v in ref.data_vars

@@ -2,8 +2,8 @@
 
 import math
 
-__all__ = ["STABLE_2TO1", "PI6_D_B", "PI6_G1", "PI6_G2", "CURVE_ORDER", "paper_stable", "printed_unit",
-           "agreement_tolerance"]
+__all__ = ["STABLE_2TO1", "PI6_D_B", "PI6_G1", "PI6_G2", "PI6_D_GRAZ", "CURVE_ORDER", "paper_stable",
+           "printed_unit", "agreement_tolerance"]
 
 
 def printed_unit(x: float) -> float:
@@ -34,6 +34,9 @@ STABLE_2TO1 = {
 PI6_D_B = 0.133
 PI6_G1 = 0.1378
 PI6_G2 = 0.1419
+#: beta = pi/6: Fig FN2 (f), "grazing behavior of 1:1 period-10 motion", d = 0.213: the paper's d_graz, where
+#: the 1:1 motion grazes and 2:1 follows for smaller d (sections 2 and 5)
+PI6_D_GRAZ = 0.213
 
 
 def paper_stable(beta):

@@ -423,10 +423,83 @@ def chaotic_outputs(named: dict[str, xr.Dataset]) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def chaos_markdown(windows: pd.DataFrame, outputs: pd.DataFrame) -> str:
+def between_2to1_and_1to1(sw: xr.Dataset, transitions: xr.Dataset | None = None) -> pd.DataFrame:
+    """The motions of a sweep's down direction (the attractor followed with d decreasing) between the 1:1
+    period-2 and the 2:1 period-2 motions, where the paper sees period doubling and "apparently chaotic"
+    motion: from the largest d of the 2:1 period-2 run below up to the smallest d of the 1:1 period-2 run
+    above, as runs of one motion with the range of lambda_1 per impact over each run and where it is
+    largest.  With the sweep's ``transitions``, d_graz (:func:`vibroimpact.sweep_d_graz`) is one row, in
+    its place.  Empty where the down sweep has no 2:1 period-2 point below a 1:1 period-2 one."""
+    dn = sw.sel(direction="down")
+    order = np.argsort(dn.d.values)
+    d, lab, lam = dn.d.values[order], dn.label.values.astype(str)[order], dn.lyap1.values[order]
+    two = np.flatnonzero(lab == "2:1 period-2")
+    one = np.flatnonzero(lab == "1:1 period-2")
+    if not two.size or not one.size or one.max() <= two.min():
+        return pd.DataFrame(columns=["d_lo", "d_hi", "motion", "points", "lyap1_min", "lyap1_max", "d_at_max"])
+    hi = int(one[one > two.min()].min())
+    lo = int(two[two < hi].max())
+    rows = []
+    edges = np.flatnonzero(lab[lo:hi + 1][1:] != lab[lo:hi + 1][:-1]) + 1 + lo
+    for a, b in zip(np.r_[lo, edges], np.r_[edges, hi + 1], strict=True):
+        seg = lam[a:b]
+        fin = np.isfinite(seg)
+        k = a + int(np.argmax(np.where(fin, seg, -np.inf))) if fin.any() else a
+        rows.append({"d_lo": float(d[a]), "d_hi": float(d[b - 1]), "motion": str(lab[a]), "points": int(b - a),
+                     "lyap1_min": float(np.min(seg[fin])) if fin.any() else math.nan,
+                     "lyap1_max": float(np.max(seg[fin])) if fin.any() else math.nan, "d_at_max": float(d[k])})
+    if transitions is not None and "d_graz" in transitions and np.isfinite(float(transitions.d_graz)):
+        g = float(transitions.d_graz)
+        rows.append({"d_lo": g, "d_hi": g, "motion": f"d_graz: the 1:1 motion leaves its family "
+                     f"({str(transitions.d_graz_kind.values)}, clearance {float(transitions.d_graz_clearance):.1e})",
+                     "points": 0, "lyap1_min": math.nan, "lyap1_max": math.nan, "d_at_max": math.nan})
+    return pd.DataFrame(rows).sort_values(["d_lo", "points"]).reset_index(drop=True)
+
+
+def between_markdown(named: dict[str, tuple[xr.Dataset, xr.Dataset | None]]) -> str:
+    """:func:`between_2to1_and_1to1` of every sweep, as Markdown (one table per sweep, d increasing)."""
+    out = []
+    for name, (sw, tr) in named.items():
+        df = between_2to1_and_1to1(sw, tr)
+        if df.empty:
+            continue
+        step = float(np.max(np.diff(sw.d.values))) if sw.sizes["point"] > 1 else math.nan
+        out += [f"**{name}** ({_pi_name(float(sw.attrs['beta']))}, {sw.attrs['vary']} swept; points {step:.1e} apart "
+                "in d):", "", "| d | motion (d decreasing) | points | λ₁ per impact | largest at d |",
+                "|---|---|---|---|---|"]
+        for _, r in df.iterrows():
+            span = f"{r.d_lo:.4f}" if r.d_lo == r.d_hi else f"[{r.d_lo:.4f}, {r.d_hi:.4f}]"
+            lam = ("—" if not np.isfinite(r.lyap1_max) else f"{r.lyap1_min:.3f}" if r.lyap1_min == r.lyap1_max
+                   else f"{r.lyap1_min:.3f} – {r.lyap1_max:.3f}")
+            at = f"{r.d_at_max:.4f}" if r.points > 1 and np.isfinite(r.lyap1_max) else ""
+            out.append(f"| {span} | {r.motion} | {r.points or ''} | {lam} | {at} |")
+        out.append("")
+    return "\n".join(out) + "\n"
+
+
+def largest_window_difference(outputs: pd.DataFrame) -> str:
+    """One sentence: the largest relative difference between the paper's fixed-window averages and the long
+    run's over every chaotic point (:func:`chaotic_outputs`)."""
+    best = None
+    for q in ("U_T", "U_I"):
+        rel = (outputs[f"{q}_diff"] / outputs[f"{q}_long"]).abs() if len(outputs) else pd.Series(dtype=float)
+        if rel.notna().any():
+            i = rel.idxmax()
+            if best is None or rel[i] > best[0]:
+                best = (float(rel[i]), q, outputs.loc[i])
+    if best is None:
+        return "No chaotic point: no window to compare with a long run.\n"
+    rel, q, r = best
+    return (f"Over every chaotic point of every sweep ({len(outputs)}), the paper's fixed window is off the long run's "
+            f"mean by up to {100 * rel:.1f} % ({ {'U_T': 'Ū_T', 'U_I': 'Ū_I'}[q]}, {r.sweep} {r.direction}, d = {r.d:.4f}: "
+            f"{r[f'{q}_diff_se']:+.0f} of the long run's standard errors).\n")
+
+
+def chaos_markdown(windows: pd.DataFrame, outputs: pd.DataFrame, between: str = "") -> str:
     """The chaotic windows and what a chaotic device delivers, as Markdown: per window, lambda_1 and, at
     the window's middle point, the paper's window averages beside the long run's with its 95 % interval;
-    the largest difference over the window in the long run's standard errors."""
+    the largest difference over the window in the long run's standard errors; then ``between``
+    (:func:`between_markdown`), the motions between the 2:1 and the 1:1 along each down sweep."""
     lines = ["| sweep | β | direction | chaotic for d in | points | swept | λ₁ per impact: median (range) | "
              "lowest lower end | λ₁ per unit time (median) |", "|---|---|---|---|---|---|---|---|---|"]
     for _, w in windows.iterrows():
@@ -462,4 +535,8 @@ def chaos_markdown(windows: pd.DataFrame, outputs: pd.DataFrame) -> str:
         lines.append(f"| {w.sweep} | {w.direction} | {m.d:.4f} | {m.window_time:.3g} | {m.U_T_window:.4g} | "
                      f"{m.U_T_long:.4g} ± {m.U_T_long_ci:.2g} | {m.U_I_window:.4g} | {m.U_I_long:.4g} ± "
                      f"{m.U_I_long_ci:.2g} | {largest('U_T')} | {largest('U_I')} |")
+    lines += ["", largest_window_difference(outputs)]
+    if between:
+        lines += ["Between the 2:1 and the 1:1 motions, along each sweep's down direction (the attractor followed "
+                  "with d decreasing; runs of one motion, λ₁ over each run; d_graz in its place):", "", between]
     return "\n".join(lines) + "\n"

@@ -11,9 +11,12 @@ from .energy import (
     _mark_grazing,
     _motion_runs,
     _panel_title,
+    _rows_of_names,
     _secondary_axis,
     _sim_points,
+    grazing_handles,
     grazing_marks,
+    sweep_step,
     use_style,
 )
 from .sweeps import point_info
@@ -24,15 +27,16 @@ PERIODIC_COLOR = "k"
 #: a point whose lambda_1 is -inf (a sticking cycle, a ball at rest) is drawn this far below ln r
 MINUS_INF_BELOW = 0.35
 MINUS_INF_COLOR = "tab:blue"
+MINUS_INF_MARKER = "v"
 #: a point whose lambda_1 was not estimated (no long run: its lyap1_source says why), this far below that
 NOT_ESTIMATED_BELOW = 0.12
 NOT_ESTIMATED_COLOR = "0.8"
 
 
-def critical_marks(orbit_branches):
-    """The period doublings B and folds of the continued 1:1 and 2:1 branches (admissible ones), with the
-    grazing points d_graz and G1 of :func:`~vibroimpact.outputs.plots.energy.grazing_marks`: ``[(name, d)]``."""
-    marks = list(grazing_marks(orbit_branches))
+def critical_marks(orbit_branches, transitions=None):
+    """The period doublings B and folds of the continued 1:1 and 2:1 branches (admissible ones), with d_graz
+    and G1 of :func:`~vibroimpact.outputs.plots.energy.grazing_marks`: ``[(name, d)]``."""
+    marks = list(grazing_marks(orbit_branches, transitions))
     names = {"BT": "1:1", "BBT": "2:1"}
     for br in orbit_branches:
         if br.attrs.get("status") == "failed" or "critical_d" not in br:
@@ -45,11 +49,11 @@ def critical_marks(orbit_branches):
     return marks
 
 
-def _mark(ax, marks, *, names=True):
+def _mark(ax, marks, *, names=True, step=0.0):
     """Vertical lines at the critical points: grazing dash-dotted (as Figs 0 and 5), B and folds dotted (named
     with ``names``: under the velocities they would cover the motions written over the panel)."""
-    grazing = [(n, d) for n, d in marks if n in ("G1",) or "graz" in n]
-    _mark_grazing(ax, grazing)
+    grazing = [(n, d) for n, d in marks if n == "G1" or n.startswith("d_graz")]
+    _mark_grazing(ax, grazing, step)
     for name, d in marks:
         if (name, d) in grazing:
             continue
@@ -66,16 +70,18 @@ def minus_inf_level(r: float) -> float:
     return float(np.log(r)) - MINUS_INF_BELOW
 
 
-def _lyapunov_points(ax, sw, direction, marker, keep):
-    """lambda_1 per impact of every other point of one sweep direction, in one artist (so that a point whose
+def _lyapunov_points(ax, sw, direction, marker):
+    """lambda_1 per impact of every point of one sweep direction, in one artist (so that a point whose
     motion changes under rounding stays the same point for the check): exact on Newton-solved cycles, the
-    long runs' estimates with their 95 % intervals (a collection of bars), coloured by motion; -inf at
-    :func:`minus_inf_level`."""
+    long runs' estimates with their 95 % intervals (a collection of bars), coloured by motion; -inf as a
+    triangle at :func:`minus_inf_level` (open for d decreasing, filled for d increasing)."""
+    from matplotlib.markers import MarkerStyle
+
     from ...analysis.lyapunov import t_quantile
     from ...analysis.settled import LONG_BATCHES
     from ...analysis.sweeps import no_period
 
-    s = sw.sel(direction=direction).isel(point=slice(keep, None, 2))
+    s = sw.sel(direction=direction)
     idx = np.arange(s.sizes["point"])
     d, lam = s.d.values, s.lyap1.values
     lo, hi = s.lyap1_low.values, s.lyap1_high.values
@@ -86,7 +92,8 @@ def _lyapunov_points(ax, sw, direction, marker, keep):
     # a long run's estimate is a statistic: its standard error from the interval (Student's t, batch means)
     crit = t_quantile(0.975, LONG_BATCHES - 1)
     info["mean"] = np.where(exact, np.nan, lam)
-    info["se"] = np.where(exact, np.nan, (hi - lo) / (2 * crit))
+    with np.errstate(invalid="ignore"):  # -inf - -inf where lambda_1 = -inf: exact, no standard error
+        info["se"] = np.where(exact, np.nan, (hi - lo) / (2 * crit))
     # an exact value's sensitivity to its monodromy matrix (the check scales its tolerance by it)
     info["sensitivity"] = s.lyap1_sensitivity.values if "lyap1_sensitivity" in s else np.zeros(idx.size)
     colors = np.array([KIND_COLORS.get(x, PERIODIC_COLOR) for x in lab], dtype=object)
@@ -102,16 +109,22 @@ def _lyapunov_points(ax, sw, direction, marker, keep):
         ax.vlines(d[bars], lo[bars], hi[bars], colors=list(colors[bars]), lw=0.5, zorder=2)
     style = dict(s=5, facecolors="none", edgecolors=list(colors)) if marker == "o" else dict(s=7, c=list(colors))
     art = ax.scatter(d, y, marker=marker, linewidths=0.5, zorder=3, **style)
+    # -inf: a triangle pointing down at the foot (one artist still: a path per point)
+    shapes = [MarkerStyle(MINUS_INF_MARKER if np.isneginf(v) else marker) for v in lam]
+    art.set_paths([m.get_path().transformed(m.get_transform()) for m in shapes])
+    if marker != "o":
+        art.set_facecolors(list(colors))
     wellposed(art, "motions", **info, low=lo, high=hi)
 
 
-def fig_lyapunov(sweeps, orbit_sets, *, ncols=3):
+def fig_lyapunov(sweeps, orbit_sets, transitions=None, *, ncols=3):
     """For each sweep: the impact velocities |Zdot_k| of the last period of every point (the bifurcation
     diagram of paper Figs 0 (a), (c) and 5; o: d decreasing, +: d increasing), and under it, on the same d
     axis, the largest Lyapunov exponent lambda_1 per impact (:func:`vibroimpact.lyapunov`): exact on a
     Newton-solved cycle (black), the long run's estimate with its 95 % interval where no period was found
     (red chaotic, orange quasi-periodic, grey unsettled), -inf (sticking, at rest) as triangles at the foot.
-    B, folds, d_graz and G1 of the continued 1:1 and 2:1 branches (``orbit_sets``) are marked."""
+    B, folds and G1 of the continued 1:1 and 2:1 branches (``orbit_sets``) and d_graz of each sweep's located
+    ``transitions`` are marked."""
     from matplotlib.lines import Line2D
 
     use_style()
@@ -121,26 +134,27 @@ def fig_lyapunov(sweeps, orbit_sets, *, ncols=3):
     outer = fig.add_gridspec(nrows, ncols, hspace=0.42, wspace=0.28)
     letters = iter("abcdefghijklmnop")
     drawn = set()
-    for k, (sw, obs) in enumerate(zip(sweeps, orbit_sets, strict=True)):
+    transitions = transitions or [None for _ in sweeps]
+    for k, (sw, obs, tr) in enumerate(zip(sweeps, orbit_sets, transitions, strict=True)):
         inner = outer[k // ncols, k % ncols].subgridspec(2, 1, hspace=0.06, height_ratios=[1.0, 0.8])
         vax = fig.add_subplot(inner[0])
         lax = fig.add_subplot(inner[1], sharex=vax)
-        marks = critical_marks(obs)
-        drawn |= {name.split(" ")[0] for name, _ in marks}
-        _sim_points(vax, sw, "v_minus")
+        marks = critical_marks(obs, tr)
+        drawn |= {name for name, _ in marks}
+        _sim_points(vax, sw, "v_minus", every=True)
         vax.set_ylabel(r"$|\dot Z_k|$", fontsize=7)
         vax.set_title(_panel_title(sw, next(letters)), fontsize=7)
         vax.tick_params(labelbottom=False)
         _motion_runs(vax, sw)
         _secondary_axis(vax, sw)
         vax.set_ylim(top=vax.get_ylim()[1] * 1.15)
-        for direction, marker, keep in (("down", "o", 0), ("up", "+", 1)):
-            _lyapunov_points(lax, sw, direction, marker, keep)
+        for direction, marker in (("down", "o"), ("up", "+")):
+            _lyapunov_points(lax, sw, direction, marker)
         lax.axhline(0.0, color="0.3", lw=0.6, zorder=1)
         lax.set_xlabel("d")
         lax.set_ylabel(r"$\lambda_1$ per impact", fontsize=7)
-        _mark(vax, marks, names=False)
-        _mark(lax, marks)
+        _mark(vax, marks, names=False, step=sweep_step(sw))
+        _mark(lax, marks, step=sweep_step(sw))
     ax = fig.add_subplot(outer[(n) // ncols, n % ncols]) if n % ncols else None
     h = [Line2D([], [], color="0.45", marker="o", mfc="none", ls="", label="simulated, d decreasing"),
          Line2D([], [], color="0.45", marker="+", ls="", label="simulated, d increasing"),
@@ -151,13 +165,11 @@ def fig_lyapunov(sweeps, orbit_sets, *, ncols=3):
                 label=r"quasi-periodic: interval contains 0"),
          Line2D([], [], color=KIND_COLORS["unsettled"], marker="o", mfc="none",
                 label="unsettled: a transient longer than the cap"),
-         Line2D([], [], color=MINUS_INF_COLOR, marker="o", mfc="none", ls="",
-                label=r"$\lambda_1 = -\infty$ (sticking, at rest), drawn at $\ln r - 0.35$"),
+         Line2D([], [], color=MINUS_INF_COLOR, marker=MINUS_INF_MARKER, mfc="none", ls="",
+                label=r"$\lambda_1 = -\infty$ (sticking, at rest), drawn at $\ln r - 0.35$ (filled: d increasing)"),
          Line2D([], [], color=NOT_ESTIMATED_COLOR, marker="o", mfc="none", ls="",
                 label=r"not estimated (no long run), drawn at $\ln r - 0.47$"),
-         Line2D([], [], color="tab:purple", ls="-.", label=r"$d_{\rm graz}$: 1:1 grazes, 2:1 born")]
-    if "G1" in drawn:
-        h.append(Line2D([], [], color="k", ls="-.", label="G1: 2:1 grazes, 3:1 born"))
+         *grazing_handles(drawn)]
     h += [Line2D([], [], color="tab:brown", ls=":", label="B: period doubling (1:1 or 2:1 branch)"),
           Line2D([], [], color="tab:olive", ls=":", label="fold of the 2:1 branch")]
     note = ("Largest Lyapunov exponent of each sweep point, per impact\n(long runs: batch means over "
@@ -168,4 +180,5 @@ def fig_lyapunov(sweeps, orbit_sets, *, ncols=3):
         ax.legend(handles=h, loc="center", fontsize=6, title=note, title_fontsize=6, frameon=False)
     else:
         fig.legend(handles=h, loc="outside lower center", ncol=3, fontsize=6, title=note, title_fontsize=6)
+    _rows_of_names(fig)
     return fig

@@ -33,26 +33,28 @@ def _analytic(ax, branches, var, *, averages=False, scale=1.0):
             branch_line(ax, d, y, st, BOTTOM if br.wall.values[j] == 1 else TOP, zorder=4)
 
 
-def grazing_marks(orbit_branches):
-    """The grazing points Figs 0 and 5 mark, from the continued branches: d_graz, where the 1:1 orbit
-    grazes and the 2:1 orbit is born with a zero-speed impact, and G1, the lower end of the 2:1
-    orbit's stable interval when a grazing ends it (the 3:1 orbit is born).  ``[(name, d)]``."""
+#: d_graz's colour in every figure that marks it
+D_GRAZ_COLOR = "tab:purple"
+
+
+def grazing_marks(orbit_branches, transitions=None):
+    """The grazing points Figs 0 and 5 mark: d_graz, where the 1:1 motion followed with d decreasing
+    leaves the 1:1 family (from the sweep's located transitions, :func:`vibroimpact.sweep_d_graz`: a
+    grazing, or a jump where ``d_graz_kind`` says "no grazing"), and G1, the lower end of the 2:1
+    orbit's stable interval when a grazing ends it (the 3:1 orbit is born), from the continued
+    branches.  ``[(name, d)]``, name ``"d_graz"``, ``"d_graz, no grazing"`` or ``"G1"``."""
     from ..tables import stable_interval
 
     marks = []
+    if transitions is not None and "d_graz" in transitions and np.isfinite(float(transitions.d_graz)):
+        grazes = str(transitions.d_graz_kind.values) == "grazing"
+        marks.append(("d_graz" if grazes else "d_graz, no grazing", float(transitions.d_graz)))
     for br in orbit_branches:
-        if br.attrs.get("status") == "failed" or "critical_d" not in br:
+        if br.attrs.get("status") == "failed" or "critical_d" not in br or br.attrs.get("word") != "BBT":
             continue
-        word = br.attrs.get("word")
-        kinds, crit, adm = br.critical_kind.values.astype(str), br.critical_d.values, br.critical_admissible.values
-        if word == "BT":
-            g = crit[(kinds == "grazing") & adm]
-            if g.size:
-                marks.append((r"$d_{\rm graz}$", float(g.max())))
-        elif word == "BBT":
-            lo, _hi, cause_lo, _ = stable_interval(br)
-            if cause_lo == "grazing":
-                marks.append(("G1", lo))
+        lo, _hi, cause_lo, _ = stable_interval(br)
+        if cause_lo == "grazing":
+            marks.append(("G1", lo))
     return marks
 
 
@@ -60,30 +62,83 @@ def _short(label):
     return {"no period found": "aperiodic"}.get(label, label.replace(" period-", " T="))
 
 
-def _motion_runs(ax, sw, direction="down", min_share=0.07):
-    """The motion identified along the sweep, written over the top of the panel where it holds for
-    at least ``min_share`` of the points (so every cloud of points can be read against it)."""
-    from matplotlib.transforms import blended_transform_factory
-
+def motion_blocks(labels, min_share=0.07):
+    """The runs of one motion along a sweep that a panel names, as ``[(first, end, name)]`` (point indices,
+    ``end`` exclusive).  The motions with no period (chaotic, quasi-periodic, unsettled) make one run.  A run
+    of at least ``min_share`` of the points is named by its motion ("chaotic" where most of a no-period
+    run is chaotic, else "aperiodic"); consecutive shorter runs are merged, and the merged block, if it
+    reaches ``min_share``, is named by what dominates it: "chaotic" (with ", periodic windows" where
+    periodic points interrupt it) where most of its points have no period and most of those are chaotic,
+    "aperiodic" where most have no period, else "periodic windows"."""
     from ...analysis.sweeps import CHAOTIC, no_period
 
-    lab = sw.label.sel(direction=direction).values.astype(str)
-    # the motions with no period (chaotic, quasi-periodic, unsettled) make one run, named "chaotic" where
-    # most of its points are, else "aperiodic"
-    runs = np.where(no_period(lab), "no period found", lab)
-    d = sw.d.values
+    lab = np.asarray(labels).astype(str)
+    nop = no_period(lab)
+    runs = np.where(nop, "no period found", lab)
     edges = np.flatnonzero(runs[1:] != runs[:-1]) + 1
     starts, ends = np.r_[0, edges], np.r_[edges, lab.size]
-    tr = blended_transform_factory(ax.transData, ax.transAxes)
-    step = float(np.max(np.diff(d))) if d.size > 1 else 0.0
-    for a, b in zip(starts, ends, strict=True):
-        if (b - a) < min_share * lab.size:
+    long_ = (ends - starts) >= min_share * lab.size
+    blocks, k = [], 0
+    while k < starts.size:
+        if long_[k]:
+            a, b = starts[k], ends[k]
+            name = _short(runs[a]) if runs[a] != "no period found" or np.mean(lab[a:b] == CHAOTIC) < 0.5 else CHAOTIC
+            blocks.append((int(a), int(b), name))
+            k += 1
             continue
+        j = k
+        while j < starts.size and not long_[j]:
+            j += 1
+        a, b = starts[k], ends[j - 1]
+        if b - a >= min_share * lab.size:
+            share = np.mean(nop[a:b])
+            if share > 0.5:
+                name = (CHAOTIC if np.mean(lab[a:b][nop[a:b]] == CHAOTIC) > 0.5 else "aperiodic")
+                name += ", periodic windows" if share < 1 else ""
+            else:
+                name = "periodic windows"
+            blocks.append((int(a), int(b), name))
+        k = j
+    return blocks
+
+
+def sweep_step(sw) -> float:
+    """The largest spacing in d of a sweep's points."""
+    return float(np.max(np.diff(sw.d.values))) if sw.sizes["point"] > 1 else 0.0
+
+
+def _motion_runs(ax, sw, direction="down", min_share=0.07):
+    """The motion identified along the sweep, written over the top of the panel where it holds for
+    at least ``min_share`` of the points (:func:`motion_blocks`), so every cloud of points can be read
+    against it."""
+    from matplotlib.transforms import blended_transform_factory
+
+    d = sw.d.values
+    tr = blended_transform_factory(ax.transData, ax.transAxes)
+    step = sweep_step(sw)
+    for a, b, name in motion_blocks(sw.label.sel(direction=direction).values, min_share):
         ax.annotate("", (d[a], 0.985), (d[b - 1], 0.985), xycoords=tr, arrowprops=dict(arrowstyle="|-|", lw=0.5,
                     color="0.4", shrinkA=0, shrinkB=0, mutation_scale=2))
-        name = _short(runs[a]) if runs[a] != "no period found" or np.mean(lab[a:b] == CHAOTIC) < 0.5 else CHAOTIC
-        wellposed(ax.text(0.5 * (d[a] + d[b - 1]), 0.965, name, transform=tr, ha="center", va="top",
-                          fontsize=5, color="0.25"), "run", step=step)
+        text = ax.text(0.5 * (d[a] + d[b - 1]), 0.965, name, transform=tr, ha="center", va="top", fontsize=5,
+                       color="0.25")
+        text._vi_run_name = True  # placed in rows by _rows_of_names once the figure is laid out
+        wellposed(text, "run", step=step)
+
+
+def _rows_of_names(fig, row_height=0.045):
+    """Once the figure is laid out (drawn once): each panel's motion names (:func:`_motion_runs`), left to
+    right, a row lower where they would overlap a name already placed."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        names = sorted((t for t in ax.texts if getattr(t, "_vi_run_name", False)), key=lambda t: t.get_position()[0])
+        placed = []
+        for text in names:
+            y0, row = text.get_position()[1], 0
+            while any(text.get_window_extent(renderer).overlaps(p.get_window_extent(renderer)) for p in placed):
+                row += 1
+                text.set_y(y0 - row_height * row)
+            placed.append(text)
 
 
 def _secondary_axis(ax, sw):
@@ -121,11 +176,12 @@ def _panel_title(sw, letter):
     return f"({letter}) {beta_label(sw.attrs['beta'])}, {span}, {fixed}"
 
 
-def _sim_points(ax, sw, var, scale=1.0):
-    """The last period of events of every sweep point (24 events where no period was found), thinned:
-    the down sweep (d decreasing, o) at every other point, the up sweep (+) at the points between."""
+def _sim_points(ax, sw, var, scale=1.0, *, every=False):
+    """The last period of events of every sweep point (24 events where no period was found): the down sweep
+    (d decreasing, o) and the up sweep (+), thinned to every other point each (the down sweep's even points,
+    the up sweep's odd ones), or with ``every`` at every point both."""
     for direction, marker, keep in (("down", "o", 0), ("up", "+", 1)):
-        sub = sw.isel(point=slice(keep, None, 2))
+        sub = sw if every else sw.isel(point=slice(keep, None, 2))
         x, y, info = _last_events(sub, var, direction, info=True)
         line = ax.plot(x, np.abs(y) * scale, marker, mfc="none", color=SIM_COLOR, ms=2.2, mew=0.5, ls="none",
                        zorder=2)[0]
@@ -146,11 +202,35 @@ def _point_markers(ax, en, var, fmt, scale, **style):
     return line
 
 
-def _mark_grazing(ax, marks):
+def _mark_grazing(ax, marks, step=0.0):
+    """d_graz (purple: dash-dotted where the 1:1 motion grazes, dotted where it jumps without grazing) and
+    G1 (black, dash-dotted), named at the panel's foot.  d_graz is located along the sweep (``step``: its
+    grid step, to which the check holds it where its location is ill-conditioned); G1 is analytic."""
     for name, d in marks:
-        ax.axvline(d, color="k" if name == "G1" else "tab:purple", ls="-.", lw=0.7, zorder=3)
-        ax.annotate(name, (d, 0.02), xycoords=("data", "axes fraction"), xytext=(2, 0), textcoords="offset points",
-                    fontsize=6, color="k" if name == "G1" else "tab:purple")
+        color = "k" if name == "G1" else D_GRAZ_COLOR
+        line = ax.axvline(d, color=color, ls=":" if "no grazing" in name else "-.", lw=0.7, zorder=3)
+        text = ax.annotate(r"$d_{\rm graz}$" if name.startswith("d_graz") else name, (d, 0.02),
+                           xycoords=("data", "axes fraction"), xytext=(2, 0), textcoords="offset points", fontsize=6,
+                           color=color)
+        if name.startswith("d_graz"):
+            for artist in (line, text):
+                wellposed(artist, "located", step_x=step)
+
+
+def grazing_handles(names):
+    """Legend entries of the marks drawn (:func:`grazing_marks`' names)."""
+    from matplotlib.lines import Line2D
+
+    h = []
+    if "d_graz" in names:
+        h.append(Line2D([], [], color=D_GRAZ_COLOR, ls="-.",
+                        label=r"$d_{\rm graz}$: the 1:1 motion (d decreasing) grazes and leaves the 1:1 family"))
+    if "d_graz, no grazing" in names:
+        h.append(Line2D([], [], color=D_GRAZ_COLOR, ls=":",
+                        label=r"$d_{\rm graz}$, no grazing: the 1:1 motion leaves its family by a jump"))
+    if "G1" in names:
+        h.append(Line2D([], [], color="k", ls="-.", label="G1: the 2:1 orbit grazes, 3:1 born"))
+    return h
 
 
 def _energy_legend(fig, velocities, note=None, names=()):
@@ -165,19 +245,18 @@ def _energy_legend(fig, velocities, note=None, names=()):
          Line2D([], [], color=U_I_COLOR, marker="*", ls="", label=r"$\overline{U}_I$ simulated (per impact)"),
          Line2D([], [], color=U_T_COLOR, label=r"$\overline{U}_T$ of the analytic 1:1 / 2:1 orbit"),
          Line2D([], [], color=U_I_COLOR, label=r"$\overline{U}_I$ of the analytic 1:1 / 2:1 orbit"),
-         Line2D([], [], color="tab:purple", ls="-.", label=r"$d_{\rm graz}$: 1:1 grazes, 2:1 born")]
-    if "G1" in names:
-        h.append(Line2D([], [], color="k", ls="-.", label="G1: 2:1 grazes, 3:1 born"))
+         *grazing_handles(names)]
     fig.legend(handles=h, loc="outside lower center", ncol=4 if velocities else 3, fontsize=6, title=note,
                title_fontsize=6)
 
 
-def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit_sets=None):
+def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit_sets=None, transitions=None):
     """Output voltage U_k - U_in in kV (analytic 1:1 and 2:1 lines over the simulated points; stable
     solid, unstable dashed), the averages U_I (red stars) and U_T (cyan diamonds) of the down sweep with
     the analytic orbits' averages as lines, against d (the swept s or force on the top axis); with
     ``velocities`` also |Zdot_k| (paper Fig 0 (a), (c)).  The motion found along each sweep is written
-    over each panel; d_graz and G1 of the continued branches (``orbit_sets``) are marked."""
+    over each panel; d_graz from each sweep's located ``transitions`` and G1 of the continued 2:1 branch
+    (``orbit_sets``) are marked."""
     use_style()
     n = len(panels)
     if velocities:
@@ -192,9 +271,11 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
             ax.remove()
     letters = iter("abcdefghijklmnop")
     orbit_sets = orbit_sets or [[] for _ in panels]
+    transitions = transitions or [None for _ in panels]
     drawn = set()
-    for (vax, uax), sw, en, brs, obs in zip(pairs, sweeps, energies, branch_sets, orbit_sets, strict=True):
-        marks = grazing_marks(obs)
+    for (vax, uax), sw, en, brs, obs, tr in zip(pairs, sweeps, energies, branch_sets, orbit_sets, transitions,
+                                                strict=True):
+        marks = grazing_marks(obs, tr)
         drawn |= {name for name, _ in marks}
         if vax is not None:
             _sim_points(vax, sw, "v_minus")
@@ -214,7 +295,7 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
             if ax is None:
                 continue
             _motion_runs(ax, sw)
-            _mark_grazing(ax, marks)
+            _mark_grazing(ax, marks, sweep_step(sw))
             _secondary_axis(ax, sw)
             ax.set_ylim(top=ax.get_ylim()[1] * 1.1)  # room for the motions written over the top
     a = energies[0].attrs
@@ -226,6 +307,7 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
                 "(T = its period in t).").format(h=a["membrane_h"], K=a["membrane_K"], R=a["membrane_R"],
                                                 rb=a["membrane_r_b"], U=a["membrane_U_in"], m=a["membrane_m"])
     _energy_legend(fig, velocities, note, drawn)
+    _rows_of_names(fig)
     return fig
 
 

@@ -294,17 +294,45 @@ def curve_pieces(curves, xname, yname):
         if not sel.any():
             continue
         kind, word = str(curves.curve_kind.values[c]), str(curves.curve_word.values[c])
+        label = f"{_WORD_NAME.get(word, word)} {_CURVE_NAME.get(kind, kind)}"
+        if kind == "grazing" and "curve_start_stable" in curves and not bool(curves.curve_start_stable.values[c]):
+            label += " (of an unstable orbit)"  # a grazing no attractor meets: not the paper's d_graz
         yield (curves[xname].values[sel], curves[yname].values[sel], curves.admissible.values[sel],
-               _CURVE_STYLE.get(kind, "-"), _WORD_COLOUR.get(word, "0.3"),
-               f"{_WORD_NAME.get(word, word)} {_CURVE_NAME.get(kind, kind)}")
+               _CURVE_STYLE.get(kind, "-"), _WORD_COLOUR.get(word, "0.3"), label)
 
 
-def fig_bifurcation_set(m, curves, boundaries=None):
+def _d_graz_curve(ax, c, xname, handles):
+    """The paper's d_graz over the plane (:func:`vibroimpact.d_graz_curve`): where the 1:1 motion, followed
+    with d decreasing along each line, leaves the 1:1 family; filled where it grazes, open where it jumps."""
+    from matplotlib.lines import Line2D
+
+    from .energy import D_GRAZ_COLOR
+
+    if not c.sizes.get("line", 0):
+        return
+    along, other = c.attrs["along"], c.attrs["other"]
+    xs, ys = (c["at"].values, c[other].values) if along == xname else (c[other].values, c["at"].values)
+    grazes = c.d_graz_kind.values.astype(str) == "grazing"
+    # located along each line between its grid points: the check holds each to that step
+    grid = float(c.attrs.get("grid_step", 0.0))
+    steps = {"step_x": grid} if along == xname else {"step_y": grid}
+    wellposed(ax.plot(xs, ys, "-", color="w", lw=2.6, zorder=6)[0], "located", **steps)
+    wellposed(ax.plot(xs, ys, "-", color=D_GRAZ_COLOR, lw=1.4, zorder=6.1)[0], "located", **steps)
+    for sel, fill in ((grazes, D_GRAZ_COLOR), (~grazes, "w")):
+        wellposed(ax.plot(np.where(sel, xs, np.nan), np.where(sel, ys, np.nan), "o", color=D_GRAZ_COLOR, mfc=fill,
+                          ms=4, mew=1.0, zorder=6.2)[0], "located", **steps)
+    handles.append(Line2D([], [], color=D_GRAZ_COLOR, marker="o", mfc=D_GRAZ_COLOR, lw=1.4,
+                          label=r"$d_{\rm graz}$: the 1:1 motion followed to" + "\nsmaller d leaves its family"
+                          + "\n(filled: grazing; open: a jump)"))
+
+
+def fig_bifurcation_set(m, curves, boundaries=None, d_graz=None):
     """The regime map ``m`` (brute force, one start per point) with the bifurcation curves of
     :func:`vibroimpact.analysis.bifurcation.curve_set` over it: line style by kind, colour by orbit family,
     thin where the orbit on the curve is not admissible; crosses where a curve meets another set.
     With ``boundaries`` (:func:`vibroimpact.analysis.bifurcation.map_boundaries`), the simulated boundaries on no
-    curve are marked by their cause, and the footnote counts them."""
+    curve are marked by their cause, and the footnote counts them; with ``d_graz``
+    (:func:`vibroimpact.d_graz_curve`), the paper's d_graz is drawn as a curve of the plane."""
     from matplotlib.lines import Line2D
 
     fig = fig_regime_map([m])
@@ -319,6 +347,8 @@ def fig_bifurcation_set(m, curves, boundaries=None):
             wellposed(line, "curve")
         if label not in [h.get_label() for h in handles]:
             handles.append(Line2D([], [], ls=style, color=colour, lw=1.6, label=label))
+    if d_graz is not None:
+        _d_graz_curve(ax, d_graz, xname, handles)
     if curves.sizes["event"]:
         cusp = curves.event_kind.values == "cusp"
         for sel, marker, label in ((~cusp, "x", "a curve meets another set of its orbit"),

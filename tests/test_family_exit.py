@@ -1,0 +1,119 @@
+"""Where a followed attractor leaves its impact family: the paper's d_graz (1:1) and G1 (2:1)."""
+
+import math
+
+import numpy as np
+import pytest
+from conftest import CAPTIONS, gbar_of
+
+import vibroimpact as vi
+from vibroimpact.analysis.continuation import continue_orbit
+from vibroimpact.analysis.family_exit import GRAZING_CLEARANCE, _clearance, family_exit, in_family
+from vibroimpact.analysis.orbits import find_orbit
+from vibroimpact.dynamics import kernels as K
+
+B, T = 1, -1
+
+
+@pytest.mark.parametrize("walls, n, expected", [
+    ([B, T, B, T, B, T], 1, True),
+    ([T, B, T, B], 1, True),
+    ([B, B, T, B, B, T, B], 2, True),
+    ([B, T, B, B, T], 2, True),            # the ends may cut a group short
+    ([B, T, B, B, T, B, T], 1, False),     # an extra bottom impact: out of the 1:1 family
+    ([B, B, T, B, B, T], 1, False),
+    ([B, B, T, B, T, B, B, T], 2, False),  # a group of one bottom impact between tops
+    ([B, T, T, B], 1, False),              # two top impacts in a row
+    ([B, B, B], 1, False),                 # no top impact
+    ([B, B, B, T, B], 2, False),           # three bottom impacts before the first top
+])
+def test_family_membership(walls, n, expected):
+    assert in_family(walls, np.zeros(len(walls), np.int8), n) is expected
+
+
+def test_a_grazing_contact_or_a_stick_is_out_of_the_family():
+    walls = [B, T, B, T]
+    for kind in (K.GRAZING, K.STICK):
+        kinds = np.zeros(4, np.int8)
+        kinds[2] = kind
+        assert not in_family(walls, kinds, 1)
+
+
+def _line(beta, d_hi, d_lo, n=6):
+    """A line of d at fixed force and incline (gbar constant), from d_hi down to d_lo."""
+    return np.linspace(d_hi, d_lo, n), gbar_of(beta)
+
+
+def test_2to1_family_exit_is_the_analytic_grazing_G1():
+    """Two independent methods: the 2:1 attractor followed down leaves its family where the Newton-solved
+    2:1 orbit's flight touches the bottom wall (its continuation's grazing point, located to 1e-10).  The
+    followed attractor is bracketed to xtol, and each run starts from an attractor up to the re-check
+    distance away in d (max(1e-3 grid steps, 4 xtol)); near a grazing the basin is as thin as the
+    clearance, so the exit is known to that distance: the orbit's grazing lies within it of the bracket.
+    The line is Fig BiS's sweep grid (d step 4e-5)."""
+    beta, xtol = math.pi / 6, 1e-8
+    p = vi.Params(d=0.14, gbar=gbar_of(beta), r=0.5)
+    br = continue_orbit(find_orbit(p, "BBT", 5.855, 0.4185), vary="d", d_range=(0.136, 0.142), step=5e-4)
+    (g1,) = br.critical_d.values[(br.critical_kind.values == "grazing") & (br.critical_d.values > 0.137)]
+    d, g = _line(beta, 0.1440, 0.1370, 176)
+    ex = family_exit(d, g, 0.5, 5.855, 0.4185, n=2, xtol=xtol)
+    assert ex["status"] == "located"
+    assert ex["kind"] == "grazing"
+    assert ex["after"] == "3:1 period-2"
+    assert abs(ex["d"] - g1) <= 0.5 * ex["d_width"] + max(1e-3 * (d[0] - d[1]), 4 * xtol)
+    assert ex["clearance"] < 1e-6  # the orbit's loop nearly touches the wall at the bracket's upper end
+
+
+def test_pi6_1to1_motion_grazes_at_d_graz_and_the_fn2f_orbit_is_near_grazing():
+    """Paper Fig FN2 (f): "grazing behaviour of 1:1 period-10 motion, d = 0.213" (beta = pi/6).  The 1:1
+    attractor followed down grazes: its clearance falls linearly to 0 as d -> d_graz (a grazing, not a
+    jump), the impacts born there are slow, and at the caption's d = 0.213 the caption's 1:1 period-10
+    motion still clears the wall by 1.6 % of d: the paper's d is the near-grazing motion it shows."""
+    beta = math.pi / 6
+    g = gbar_of(beta)
+    d, _ = _line(beta, 0.222, 0.205, 10)
+    ex = family_exit(d, g, 0.5, 0.242, 0.676, xtol=1e-7)  # from Fig FN2 (e)'s 1:1 period-8 motion
+    assert ex["status"] == "located" and ex["kind"] == "grazing"
+    assert 0.2105 < ex["d"] < 0.2111
+    assert ex["slowest_after"] < 1e-2
+    clear = []
+    for above in (2e-3, 1e-3):
+        x = ex["d"] + above
+        run = vi.simulate(vi.Params(d=x, gbar=g, r=0.5), phi=0.321, v0=0.674, n_impacts=5000)
+        tail = run.isel(impact=slice(1000, None))
+        assert in_family(tail.wall.values, tail.kind.values, 1)
+        clear.append(_clearance(tail, x, g, 0.5))
+    # linear in the distance to d_graz: halving the distance halves the clearance (to 20 %)
+    assert clear[1] / clear[0] == pytest.approx(0.5, rel=0.2)
+    _, d13, v0, phi, *_ = CAPTIONS["figFN2_f"]
+    run = vi.simulate(vi.Params(d=d13, gbar=g, r=0.5), phi=phi, v0=v0, n_impacts=5000)
+    assert vi.identify_attractor(run).label == "1:1 period-10"
+    assert 0.01 * d13 < _clearance(run.isel(impact=slice(1000, None)), d13, g, 0.5) < 0.02 * d13
+
+
+def test_pi3_1to1_family_ends_without_grazing():
+    """beta = pi/3, length sweep (Fig 0 (a)): the 1:1 attractor leaves its family while it still clears the
+    bottom wall by several per cent of d, and the motion beyond meets the wall at finite speed: a jump of
+    the chaotic attractor, not a grazing.  Independent of GRAZING_CLEARANCE: both are far from zero."""
+    beta = math.pi / 3
+    d, g = _line(beta, 0.245, 0.228, 12)
+    ex = family_exit(d, g, 0.5, 0.42, 0.87, xtol=1e-6)
+    # the start: the 1:1 motion at the line's top, reached from Fig 0's sweep start at d = 0.245
+    assert ex["status"] == "located", ex["status"]
+    assert ex["kind"] == "no grazing"
+    assert ex["clearance"] > 3 * GRAZING_CLEARANCE * ex["d"]
+    assert ex["slowest_after"] > 0.03
+    assert 0.230 < ex["d"] < 0.240
+
+
+def test_an_attractor_outside_the_family_at_the_start_is_reported():
+    d, g = _line(math.pi / 6, 0.14, 0.138)
+    ex = family_exit(d, g, 0.5, 5.855, 0.4185, n=1)  # the 2:1 motion of Fig BiS (e)
+    assert ex["status"].startswith("not located: the attractor at the line's largest d")
+    assert math.isnan(ex["d"])
+
+
+def test_a_family_that_never_ends_on_the_line_is_reported():
+    d, g = _line(math.pi / 3, 0.45, 0.40)
+    ex = family_exit(d, g, 0.5, 0.42, 0.87)
+    assert ex["status"].startswith("not located: the attractor stays 1:1")

@@ -1,0 +1,24 @@
+"""The paper's d_graz as a curve in a map's plane: where the 1:1 motion, followed with d decreasing along
+lines of the plane, leaves the 1:1 family (vibroimpact.d_graz_curve)."""
+import logging
+
+import numpy as np
+
+from vibroimpact.analysis.family_exit import d_graz_curve
+from vibroimpact.datasets import provenance, write_netcdf
+
+logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+sp, ph = snakemake.params.spec, snakemake.params.physics
+nx, ny = snakemake.params.grid
+fixed = {k: sp[k] for k in ("beta", "s", "F") if k in sp}
+lines = snakemake.params.lines
+# the lines: the map's grid along the axis that changes d, `lines` values of the other axis
+xs = np.linspace(*sp["x_range"], nx if sp["x"] in ("s", "F", "d") else lines)
+ys = np.linspace(*sp["y_range"], lines if sp["x"] in ("s", "F", "d") else ny)
+ds = d_graz_curve(sp["x"], xs, sp["y"], ys, phi=sp["phi"], v0=sp["v0"], xtol=snakemake.params.xtol,
+                  M=ph["M"], omega=ph["omega"], g=ph["g"], r=ph["r"], **({"F": ph["F"]} | fixed))
+ds.attrs.update(provenance(**dict(snakemake.params)))
+write_netcdf(ds, snakemake.output[0])
+logging.info("%s: %s", ds.attrs["status"], list(zip(ds.get("at", []).values.tolist() if "at" in ds else [],
+                                                     ds.get("d_graz_kind", []).values.tolist() if "at" in ds else [],
+                                                     strict=True)))

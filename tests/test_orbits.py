@@ -534,3 +534,23 @@ def test_an_orbit_with_an_impact_at_zero_speed_has_no_eigenvalues_rather_than_an
     o = orbits.orbit_from_vector(good.params, "BBT", good.k, good.z)
     assert np.all(np.isnan(o.eigenvalues)) and math.isnan(o.det)
     assert o.stability == "undefined (zero-speed impact)" and not o.stable
+
+
+def test_newton_accepts_a_residual_at_rounding_next_to_a_fold(pi6_3to1):
+    """At 1e-12 below the 3:1 fold G2 the Jacobian is nearly singular and rounding alone keeps Newton's step
+    above its tolerance: the residual at rounding level is the solution (a run with another force once
+    stopped the workflow here, 'residual 2.47e-41').  The orbit found is the right one: by the saddle-node
+    normal form, 1 - lambda grows as the square root of the distance to the fold (10^6 times the distance:
+    10^3 times 1 - lambda, to 5 %)."""
+    from vibroimpact.analysis.orbits import ROUNDING_RESIDUAL, _residual_and_jacobian
+
+    (g2,) = critical(pi6_3to1, "fold")
+    gbar = float(pi6_3to1.gbar[0])
+    start = find_orbit(vi.Params(d=g2 - 1e-4, gbar=gbar, r=0.5), "BBBT", 5.88, 0.3967)
+    gaps = []
+    for below in (1e-6, 1e-12):
+        o = find_orbit(vi.Params(d=g2 - below, gbar=gbar, r=0.5), "BBBT", start.phi, start.v_minus[0])
+        F, _ = _residual_and_jacobian(o.z, o.walls, o.params.d, gbar, 0.5, o.k)
+        assert np.max(np.abs(F)) <= max(1e-11, ROUNDING_RESIDUAL * np.max(np.abs(o.z)))
+        gaps.append(1.0 - float(np.max(np.abs(o.eigenvalues))))
+    assert gaps[0] / gaps[1] == pytest.approx(1e3, rel=0.05)

@@ -52,7 +52,7 @@ PKG = os.path.join(ROOT, "src", "vibroimpact")
 #: the layer of the package each module lives in
 LAYER = {**{m: "dynamics" for m in ("params", "flight", "events", "kernels", "simulate", "reference")},
          **{m: "analysis" for m in ("orbits", "grazing", "continuation", "bifurcation", "settled", "sweeps", "energy",
-                                    "design", "lyapunov")},
+                                    "design", "lyapunov", "family_exit")},
          **{m: "benchmarks" for m in ("methods", "peer_heyoka", "peer_siconos", "workprecision", "bench")},
          **{m: "outputs" for m in ("tables", "checks", "paper", "portraits", "figdata", "figcheck", "conditioning")}}
 
@@ -89,6 +89,7 @@ TESTS = {
     "design": ["tests/test_design.py"],
     "settled": ["tests/test_settled.py", "tests/test_energy.py"],
     "lyapunov": ["tests/test_lyapunov.py"],
+    "family_exit": ["tests/test_family_exit.py"],
     "figcheck": ["tests/test_figcheck.py"],
     "figdata": ["tests/test_figdata.py", "tests/test_figcheck.py"],
     # its unit tests (the workflow-level test regenerates the whole figure set: minutes a mutant)

@@ -92,12 +92,25 @@ def _residual_and_jacobian(z, walls, d, gbar, r, k):
     return F, J
 
 
+#: a residual this many machine epsilons of the unknowns' scale is rounding: the equations' terms are of
+#: order one (positions up to d/2, velocities and flight times of order one) and each residual sums a few
+#: of them, so no step can lower it further
+ROUNDING_RESIDUAL = 64 * np.finfo(float).eps
+
+
 def solve_orbit(z0, walls, d, gbar, r, k, *, tol=1e-13, max_iter=50):
-    """Newton's method on the orbit equations from the guess ``z0``; returns the solution vector."""
+    """Newton's method on the orbit equations from the guess ``z0``; returns the solution vector.
+
+    Converged when a full step is below ``tol`` (relative) with a residual below 1e-11, or as soon as the
+    residual is at rounding level (:data:`ROUNDING_RESIDUAL` times the unknowns' scale): near a fold the
+    Jacobian is nearly singular and rounding alone keeps the step above ``tol``."""
     z = np.array(z0, dtype=float)
     n = walls.shape[0]
     for it in range(max_iter):
         F, J = _residual_and_jacobian(z, walls, d, gbar, r, k)
+        if np.max(np.abs(F)) <= ROUNDING_RESIDUAL * max(1.0, float(np.max(np.abs(z)))):
+            z[0] %= TWO_PI
+            return z
         try:
             step = np.linalg.solve(J, -F)
         except np.linalg.LinAlgError as err:

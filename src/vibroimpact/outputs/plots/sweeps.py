@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ...analysis.sweeps import NO_PERIOD_LABELS, no_period
-from ._common import BOTTOM, TOP, branch_line, use_style, wellposed
+from ._common import BOTTOM, TOP, branch_line, motion_color, use_style, wellposed
 
 #: the statistic of a motion with no period that each drawn quantity is compared by (the long run's)
 _LONG_STAT = {"v_minus": ("abs_v_mean", "abs_v_se"), "gain": ("U_I_long", "U_I_long_se"),
@@ -139,27 +139,37 @@ def fig_bis(sw, transitions, portraits, branches):
 MOTION_KEY = ("n:m = bottom:top impacts per period;\nperiod-k = period k in t (2 = one forcing period);\n"
               "no period within the cap, by the largest Lyapunov\nexponent of its long run: chaotic (interval above 0),\n"
               "quasi-periodic (contains 0), unsettled (below 0,\nor a longer transient); no period found: not split")
+#: added to :data:`MOTION_KEY` where a motion with sticking is named
+STICKING_KEY = ("with sticking: chatters to rest on a wall, sticks until\nthe forcing releases it, its chatter counted as one\n"
+                "impact (1:0: the stick-release cycle on the bottom)")
 
-#: fixed colours for the labels of a motion with no period (greys, darker the surer the chaos), and for
-#: "other" (the rarer periodic motions, beige)
-SPECIAL_COLORS = {"no period found": (0.92, 0.92, 0.92), "chaotic": (0.15, 0.15, 0.15),
-                  "quasi-periodic": (0.45, 0.45, 0.45), "unsettled": (0.75, 0.75, 0.75), "other": (0.87, 0.8, 0.66)}
+
+def motion_key(names) -> str:
+    """:data:`MOTION_KEY`, with :data:`STICKING_KEY` where one of ``names`` is a motion with sticking."""
+    sticking = any("with sticking" in str(n) for n in names)
+    return (MOTION_KEY + (";\n" + STICKING_KEY if sticking else "")).replace("; ", ";\n")
 
 
 def _class_colors(names):
-    """A colour per motion name: the tab10 colours in turn, greys for the non-periodic labels."""
-    cycle = iter(c for c in plt.get_cmap("tab10").colors if c != plt.get_cmap("tab10").colors[7])  # grey is reserved
-    return [SPECIAL_COLORS.get(n) or next(cycle) for n in names]
+    """A colour per motion name: its colour in every figure (:func:`~vibroimpact.outputs.plots._common.motion_color`)."""
+    return [motion_color(n) for n in names]
 
 
 def _shown_classes(legend, n_show=9):
-    """Which of the motions ``legend`` lists (most frequent first) a map names: the ``n_show`` most
-    frequent periodic ones and every label of a motion with no period (chaotic, quasi-periodic,
-    unsettled, no period found: never folded into "other"), in the legend's order; the rest "other".
-    Returns the names and, per legend entry, its index among them."""
+    """Which of the motions ``legend`` lists (most frequent first) a map names: every label of a motion with
+    no period (chaotic, quasi-periodic, unsettled, no period found: never folded into "other") and the
+    ``n_show`` most frequent periodic ones whose colour no more frequent named motion has (two motions
+    without a colour of their own can share one, :func:`~vibroimpact.outputs.plots._common.motion_color`), in
+    the legend's order; the rest "other".  Returns the names and, per legend entry, its index among them."""
     special = [i for i, n in enumerate(legend) if n in NO_PERIOD_LABELS]
-    periodic = [i for i, n in enumerate(legend) if n not in NO_PERIOD_LABELS]
-    shown = sorted(special + periodic[:n_show])
+    taken = {motion_color(legend[i]) for i in special}
+    periodic = []
+    for i, n in enumerate(legend):
+        if n in NO_PERIOD_LABELS or len(periodic) == n_show or motion_color(n) in taken:
+            continue
+        taken.add(motion_color(n))
+        periodic.append(i)
+    shown = sorted(special + periodic)
     names = [legend[i] for i in shown] + (["other"] if len(shown) < len(legend) else [])
     lut = np.full(len(legend), len(shown), dtype=int)
     lut[shown] = np.arange(len(shown))
@@ -189,14 +199,25 @@ def _class_image(ax, da, x, y, legend, n_show=9, *, key=True):
 
 
 def fig_basins(b):
+    """Basins of attraction (:func:`vibroimpact.analysis.sweeps.basins`): the motion reached from each first
+    bottom impact, in the motions' colours of every figure; the title gives the incline and the device
+    (length, force, mass, frequency) where the dataset records them, and d, gbar."""
     import json
 
+    from ._common import beta_label, pi_label
+
     use_style()
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = plt.subplots(figsize=(7.4, 4.2))
     _class_image(ax, b.attractor.T, b.phi.values, b.v0.values, json.loads(b.attrs["legend"]))
-    ax.set_xlabel(r"phase $\varphi$ of the first bottom impact")
+    ax.set_xlabel(r"phase $\varphi$ of the first bottom impact (rad)")
     ax.set_ylabel(r"pre-impact velocity $\dot Z(t_0)$")
-    ax.set_title(f"Basins of attraction, d = {b.attrs['d']:.4g}, " r"$\bar g$" f" = {b.attrs['gbar']:.4g}")
+    a = b.attrs
+    device = [beta_label(float(a["beta"]))] if "beta" in a else []
+    device += [fmt.format(float(a[key])) for key, fmt in (("s", "s = {:.4g} m"), ("F", r"$\|\hat F\|$ = {:g} N"),
+                                                          ("M", "M = {:g} kg")) if key in a]
+    device += [r"$\omega$ = " + pi_label(float(a["omega"]), " rad/s")] if "omega" in a else []
+    ax.set_title(f"Basins of attraction, d = {a['d']:.4g}, " r"$\bar g$" f" = {a['gbar']:.4g}, r = {a['r']:g}"
+                 + ("\n" + ", ".join(device) if device else ""))
     return fig
 
 
@@ -264,8 +285,9 @@ def fig_regime_map(maps, scans=None):
                 continue
             ax.plot(xs, ys, "-", color="k", lw=1.6)
             ax.plot(xs, ys, "--", color="w", lw=0.9)
-            ax.annotate(name, (0.5 * (xs[0] + xs[1]), 0.5 * (ys[0] + ys[1])), fontsize=6, xytext=(0, 2),
-                        textcoords="offset points", ha="center", va="bottom")
+            top = min(ys) >= y1  # a sweep on the map's upper edge is named below it, clear of the title
+            ax.annotate(name, (0.5 * (xs[0] + xs[1]), 0.5 * (ys[0] + ys[1])), fontsize=6, xytext=(0, -3 if top else 2),
+                        textcoords="offset points", ha="center", va="top" if top else "bottom")
         if outside:
             ax.annotate("outside this map: " + ", ".join(outside), (0.0, -0.16), xycoords="axes fraction", fontsize=6,
                         va="top")
@@ -273,7 +295,7 @@ def fig_regime_map(maps, scans=None):
 
     if scans:
         handles = [*handles, Line2D([], [], color="k", lw=1.6, label="the paper's sweeps (config names)")]
-    fig.legend(handles=handles, loc="outside right upper", fontsize=6, title=MOTION_KEY.replace("; ", ";\n"),
+    fig.legend(handles=handles, loc="outside right upper", fontsize=6, title=motion_key(h.get_label() for h in handles),
                title_fontsize=6)
     return fig
 

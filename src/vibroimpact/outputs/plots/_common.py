@@ -132,8 +132,8 @@ MOTION_COLORS = {
     "other": "#DDCCA8",
 }
 #: colours of the other periodic motions, and of the other motions with sticking (browns), by :func:`motion_color`
-EXTRA_COLORS = ("#CC6677", "#44AA99", "#88CCEE", "#BBCC33", "#EE8866", "#6699CC", "#FFAABB")
-STICKING_COLORS = ("#BF812D", "#6B3A07", "#D9A066")
+EXTRA_COLORS = ("#CC6677", "#BBCC33", "#EE8866", "#FFAABB", "#E7298A", "#99DDFF")
+STICKING_COLORS = ("#BF812D", "#6B3A07")
 
 
 def motion_color(label: str) -> str:

@@ -119,8 +119,9 @@ def branch_line(ax, d, y, stable, color, lw=1.2, zorder=2):
 
 # ---- one colour per motion, the same in every figure (regime maps, bifurcation sets, basins, Fig BiS) ----------
 #: the motions the paper names and the most frequent others: colour-blind-safe colours (Okabe-Ito, Tol), a
-#: period doubling lighter or of a neighbouring hue, none of them a wall's (BOTTOM, TOP); the bottom
-#: stick-release cycle brown, as every motion with sticking.  Labels of a motion with no period are greys
+#: period doubling lighter or of a neighbouring hue; 3:1 blue as in the paper's Fig BiS, close to the bottom
+#: wall's (BOTTOM): where both appear (Fig BiS) the walls are shaded, not lines; the bottom stick-release
+#: cycle brown, as every motion with sticking.  Labels of a motion with no period are greys
 #: (darker the surer the chaos), "other" (the motions a figure does not name) beige.
 MOTION_COLORS = {
     "1:1 period-2": "#009E73", "1:1 period-4": "#56B4E9", "1:1 period-8": "#CC79A7",

@@ -356,21 +356,49 @@ def _detect(t, wall, vm, phase, kind, tol, pmax):
     return -1, 0
 
 
+def chatter_bounces(wall, kind):
+    """Where the events of one cycle (repeated end to start) are the bounces of a chattering sequence
+    that ends in sticking: the impacts and grazing contacts after the first of an unbroken run on the
+    wall the ball then sticks to.  The model has infinitely many of them; how many the simulator
+    resolves before it sums the rest (:mod:`vibroimpact.dynamics.kernels`) depends on ``v_chatter``."""
+    wall, kind = np.asarray(wall), np.asarray(kind)
+    n = kind.size
+    is_hit = (kind == K.IMPACT) | (kind == K.GRAZING)
+    out = np.zeros(n, dtype=bool)
+    for s in np.flatnonzero(kind == K.STICK):
+        run = []
+        for j in range(1, n):  # back from the stick, around the cycle
+            i = (s - j) % n
+            if not (is_hit[i] and wall[i] == wall[s]):
+                break
+            run.append(i)
+        out[run[:-1]] = True  # all but the run's first impact (the landing)
+    return out
+
+
 def cycle_class(wall, kind, t_span):
     """``(k, n_bottom, n_top, sticking, label)`` of one cycle of events lasting ``t_span``.
 
-    ``k`` is the period in forcing periods; impacts and grazing contacts count, per wall; the label
-    is the paper's name, e.g. ``"2:1 period-2"``, ``"1:1 period-4"``, with ``" with sticking"``.
+    ``k`` is the period in forcing periods; ``n_bottom``, ``n_top`` count the resolved impacts and
+    grazing contacts per wall.  The label is the paper's name, e.g. ``"2:1 period-2"``,
+    ``"1:1 period-4"``, ``"n:m over k forcing periods"`` where the counts are not multiples of ``k``,
+    with ``" with sticking"``; in it a chattering sequence that ends in sticking counts as one impact
+    (its landing, :func:`chatter_bounces`), so that one motion has one name whatever the number of
+    bounces resolved: the ball released from the bottom that lands there again, chatters to rest
+    and sticks until the forcing releases it, once every two forcing periods, is
+    ``"1:0 over 2 forcing periods with sticking"``.
     """
     k = int(round(t_span / 2.0))
     is_hit = (kind == K.IMPACT) | (kind == K.GRAZING)
     nb = int(((wall == 1) & is_hit).sum())
     nt = int(((wall == -1) & is_hit).sum())
     sticking = bool((kind == K.STICK).any())
-    if nb % k == 0 and nt % k == 0:
-        label = f"{nb // k}:{nt // k} period-{2 * k}"
+    counted = is_hit & ~chatter_bounces(wall, kind)
+    cb, ct = int(((wall == 1) & counted).sum()), int(((wall == -1) & counted).sum())
+    if cb % k == 0 and ct % k == 0:
+        label = f"{cb // k}:{ct // k} period-{2 * k}"
     else:
-        label = f"{nb}:{nt} over {k} forcing periods"
+        label = f"{cb}:{ct} over {k} forcing periods"
     if sticking:
         label += " with sticking"
     return k, nb, nt, sticking, label

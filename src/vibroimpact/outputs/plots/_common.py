@@ -117,3 +117,48 @@ def branch_line(ax, d, y, stable, color, lw=1.2, zorder=2):
         yu[e:e + 2] = y[e:e + 2]
     ax.plot(d, ys, "-", color=color, lw=lw, zorder=zorder)
     ax.plot(d, yu, "--", color=color, lw=lw * 0.8, zorder=zorder)
+
+
+# ---- one colour per motion, the same in every figure (regime maps, bifurcation sets, basins, Fig BiS) ----------
+#: the motions the paper names and the most frequent others: colour-blind-safe colours (Okabe-Ito, Tol), a
+#: period doubling lighter or of a neighbouring hue; 3:1 blue as in the paper's Fig BiS, close to the bottom
+#: wall's (BOTTOM): where both appear (Fig BiS) the walls are shaded, not lines; the bottom stick-release
+#: cycle brown, as every motion with sticking.  Labels of a motion with no period are greys
+#: (darker the surer the chaos), "other" (the motions a figure does not name) beige.
+MOTION_COLORS = {
+    "1:1 period-2": "#009E73", "1:1 period-4": "#56B4E9", "1:1 period-8": "#CC79A7",
+    "2:1 period-2": "#D55E00", "2:1 period-4": "#E69F00", "2:1 period-8": "#F0E442",
+    "3:1 period-2": "#0072B2", "3:1 period-4": "#332288", "4:1 period-2": "#882255",
+    "2:2 period-2": "#999933", "2:2 period-4": "#117733", "3:2 period-2": "#AA4499",
+    "1:0 over 2 forcing periods with sticking": "#8C510A",
+    "no period found": "#EBEBEB", "chaotic": "#262626", "quasi-periodic": "#737373", "unsettled": "#BFBFBF",
+    "other": "#DDCCA8",
+}
+#: colours of the other periodic motions, and of the other motions with sticking (browns), by :func:`motion_color`
+EXTRA_COLORS = ("#CC6677", "#BBCC33", "#EE8866", "#FFAABB", "#E7298A", "#99DDFF")
+STICKING_COLORS = ("#BF812D", "#6B3A07")
+
+
+def motion_color(label: str) -> str:
+    """The colour of a motion, whichever figure draws it and however often it occurs there.
+
+    Parameters
+    ----------
+    label : str
+        A motion's label (:func:`vibroimpact.dynamics.simulate.cycle_class`, the no-period labels of
+        :mod:`vibroimpact.analysis.sweeps`, or ``"other"``).
+
+    Returns
+    -------
+    str
+        ``MOTION_COLORS[label]`` where listed; else one of ``STICKING_COLORS`` (a label with sticking) or of
+        ``EXTRA_COLORS``, chosen by the label's CRC-32, so the same on every run and machine.  Two unlisted
+        motions can share one: a figure that names motions names only the more frequent of them.
+    """
+    import zlib
+
+    label = str(label)
+    if label in MOTION_COLORS:
+        return MOTION_COLORS[label]
+    pool = STICKING_COLORS if "with sticking" in label else EXTRA_COLORS
+    return pool[zlib.crc32(label.encode()) % len(pool)]

@@ -34,11 +34,45 @@ def _cell_motions(ds):
     return np.array(out, dtype=str)
 
 
+def inserted_rows(ys):
+    """Where the rows ``ys`` of a map are not on its regular grid (the design table's inclines, which
+    :func:`vibroimpact.analysis.design.grid_axes` inserts between grid rows): off the grid from ``ys[0]``
+    in steps of the largest spacing (an interval a row was inserted into is split; one is left whole
+    while the grid has more rows than the table)."""
+    ys = np.asarray(ys, dtype=float)
+    if ys.size < 3:
+        return np.zeros(ys.size, dtype=bool)
+    k = (ys - ys[0]) / np.max(np.diff(ys))
+    return np.abs(k - np.round(k)) > 1e-6
+
+
+def _cells(ax, xs, ys, v, norm, rows, field, info):
+    """Draw the map ``v`` (rows ``ys``) so that every cell is centred on the point it shows (what
+    :func:`vibroimpact.outputs.figdata.figure_data` saves as the cell's place): the regular rows as one mesh,
+    each inserted row (:func:`inserted_rows`) as a band of half a step over it.  ``info``: per point, what
+    the figure check compares (:func:`~vibroimpact.outputs.plots._common.wellposed`), or None.  Returns the
+    last mesh."""
+    extra = inserted_rows(ys)
+    step = float(np.max(np.diff(ys))) if ys.size > 1 else 1.0
+    xe = np.concatenate([[xs[0] - (xs[1] - xs[0]) / 2], (xs[1:] + xs[:-1]) / 2, [xs[-1] + (xs[-1] - xs[-2]) / 2]])
+    groups = [(~extra, None)] + [(np.arange(ys.size) == k, ys[k]) for k in np.flatnonzero(extra)]
+    for sel, y in groups:
+        if y is None:
+            mesh = ax.pcolormesh(xs, ys[sel], v[sel], shading="nearest", norm=norm, cmap="viridis", label=field)
+        else:
+            mesh = ax.pcolormesh(xe, [y - step / 4, y + step / 4], v[sel], shading="flat", norm=norm, cmap="viridis",
+                                 label=f"{field} at {rows} = {y:.6g}", zorder=1.5)
+        if info is not None:
+            wellposed(mesh, "motions", **{k: a[sel].ravel() for k, a in info.items()})
+    return mesh
+
+
 def fig_design_map(ds, curves, best):
     """Panels (a) the expected output E[U_T] from a random switch-on and (b) the worst-case U_T among
     the attractors with share >= min_share, over the map's plane, in kV per unit of non-dimensional
     time; bifurcation curves drawn over both, multistable points hatched, the best robust designs
-    (``best``: :func:`vibroimpact.analysis.design.best_designs`) marked with stars."""
+    (``best``: :func:`vibroimpact.analysis.design.best_designs`) marked with stars.  Every cell is centred on
+    the grid point it shows (:func:`_cells`): the rows inserted for the design table are narrow bands."""
     use_style()
     xname, yname = ds.attrs["x"], ds.attrs["y"]
     xs, ys = ds[xname].values, ds[yname].values
@@ -52,13 +86,13 @@ def fig_design_map(ds, curves, best):
     multi = ds["multistable"].values.astype(float)
     motion = _cell_motions(ds)
     for ax, (field, title), v in zip(axes, fields, vals, strict=True):
-        mesh = ax.pcolormesh(xs, ys, v, shading="nearest", norm=norm, cmap="viridis", label=field)
+        info = None
         if "point_settled" in ds:
             # a point with starts that found no period: whether a long transient ends within the cap, and
             # so which motions the starts are counted under, is for rounding to decide
-            wellposed(mesh, "motions", motion=motion, settled=ds["point_settled"].values.ravel(),
-                      unsettled=(ds["aperiodic_share"].values > 0).ravel(), mean=v.ravel(),
-                      se=ds[f"{field}_se"].values.ravel() / 1e3)
+            info = dict(motion=motion.reshape(v.shape), settled=ds["point_settled"].values,
+                        unsettled=ds["aperiodic_share"].values > 0, mean=v, se=ds[f"{field}_se"].values / 1e3)
+        mesh = _cells(ax, xs, ys, v, norm, yname, field, info)
         ax.grid(False)
         if multi.any():
             ax.contourf(xs, ys, multi, levels=[0.5, 1.5], colors="none", hatches=["////"], zorder=3)

@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ...analysis.sweeps import NO_PERIOD_LABELS, no_period
-from ._common import BOTTOM, TOP, branch_line, use_style, wellposed
+from ._common import BOTTOM, TOP, branch_line, motion_color, use_style, wellposed
 
 #: the statistic of a motion with no period that each drawn quantity is compared by (the long run's)
 _LONG_STAT = {"v_minus": ("abs_v_mean", "abs_v_se"), "gain": ("U_I_long", "U_I_long_se"),
@@ -66,72 +66,173 @@ def _last_events(ds, var, direction="down", labels=False, info=False):
     return x, y
 
 
+#: the marker of each motion in Fig BiS (the paper's caption: 2:1 open circles, 3:1 crosses); any other "x"
+BIS_MARKERS = {"2:1 period-2": "o", "3:1 period-2": "+"}
+#: simulated points drawn per sweep direction and panel: more merge into bands at the panel's width
+BIS_POINTS = 20
+
+
+def word_ratio(word: str) -> str:
+    """The paper's name ``n:m`` of an orbit word (``"BBT"`` -> ``"2:1"``: bottom and top impacts per period)."""
+    return f"{word.count('B')}:{word.count('T')}"
+
+
+def fold_evidence(branch, near: float) -> dict:
+    """What makes the located fold of a continued branch nearest ``near`` a fold and not a grazing point.
+
+    Parameters
+    ----------
+    branch : xarray.Dataset
+        A continued branch (:func:`vibroimpact.analysis.continuation.continue_orbit`) with critical points.
+    near : float
+        The d the fold is looked for at (e.g. G2 located by the sweeps).
+
+    Returns
+    -------
+    dict
+        ``d``: the fold's d; ``lam_before``, ``lam_after``: the largest real multiplier at the two branch points
+        between which it crosses +1; ``d_before``, ``d_after``: their d, and ``d_turns`` whether d rises to the
+        crossing and falls after it (the branch turns back); ``v_min``: the slowest impact speed, interpolated
+        to the crossing (0 at a grazing point).
+    """
+    sel = branch.critical_kind.values == "fold"
+    folds = branch.critical_d.values[sel]
+    if not folds.size:
+        raise ValueError(f"branch {branch.attrs.get('word')!r} has no located fold; allowed: a branch with one")
+    d_fold = float(folds[np.argmin(np.abs(folds - near))])
+    real = np.where(np.abs(branch.eig_imag.values) > 0, np.nan, branch.eig_real.values)
+    lam = np.nanmax(np.where(np.isnan(real), -np.inf, real), axis=1)
+    d = branch.d.values
+    cross = np.flatnonzero((lam[:-1] - 1.0) * (lam[1:] - 1.0) <= 0)
+    if not cross.size:
+        raise ValueError(f"branch {branch.attrs.get('word')!r}: no multiplier crosses +1; allowed: a branch through its fold")
+    i = int(cross[np.argmin(np.abs(d[cross] - d_fold))])
+    slow = np.min(np.abs(branch.v_minus.values[i:i + 2]), axis=1)
+    w = (1.0 - lam[i]) / (lam[i + 1] - lam[i])
+    turns = bool(i >= 1 and i + 2 < d.size and d[i - 1] < d[i] and d[i + 2] < d[i + 1])
+    return dict(d=d_fold, lam_before=float(lam[i]), lam_after=float(lam[i + 1]), d_before=float(d[i]),
+                d_after=float(d[i + 1]), d_turns=turns, v_min=float(slow[0] + w * (slow[1] - slow[0])))
+
+
+def _portrait_impacts(p, gbar, r):
+    """Wall and pre-impact velocity of every impact of one portrait's closed period-2 orbit over its period
+    (from its bottom impact at t0, exactly)."""
+    from ...dynamics import kernels as K
+    from ...dynamics.params import Params
+    from ...dynamics.simulate import simulate
+
+    run = simulate(Params(d=float(p.d), gbar=gbar, r=r), float(p.phi), float(p.v0), t_end=2.5)
+    one = (run.t.values < 2.0 - 1e-6) & np.isin(run.kind.values, (K.IMPACT, K.GRAZING))
+    return run.wall.values[one], run.v_minus.values[one]
+
+
+def _bis_points(ax, sw, var, stride, y_of=None):
+    """Each sweep direction's last period of events at every ``stride``-th point (the up sweep's points half a
+    stride on, so the two interleave), the marker and colour by the motion found.  With ``y_of``, drawn at
+    that height per direction instead of the values (the panel of the sweeps)."""
+    for direction, offset, name in (("down", 0, "d decreasing"), ("up", stride // 2, "d increasing")):
+        sub = sw.isel(point=slice(offset, None, stride))
+        x, y, info = _last_events(sub, var, direction, info=True)
+        y = np.abs(y) if var == "v_minus" else y
+        lab = info["motion"]
+        for motion in sorted(set(lab)):
+            sel = lab == motion
+            yy = np.full(sel.sum(), y_of[direction]) if y_of else y[sel]
+            line = ax.plot(x[sel], yy, BIS_MARKERS.get(motion, "x"), mfc="none", color=motion_color(motion), ms=4.5,
+                           mew=0.9, ls="none", label=f"_{motion}, {name}", zorder=3)[0]
+            wellposed(line, "motions", **{k: v[sel] for k, v in info.items()})
+
+
 def fig_bis(sw, transitions, portraits, branches):
-    """Bistable 2:1 and 3:1 near grazing (paper Fig BiS): the last period of every sweep point,
-    coloured by the motion identified there (2:1 black, 3:1 blue, other grey) and marked by the sweep
-    direction (o: d decreasing, +: d increasing), over the analytic branches (2:1 grey, 3:1 blue;
-    stable solid, unstable dashed), with G1 and G2; below, the closed orbits at G1, d_mid (both) and
-    G2 over one period."""
+    """Bistable 2:1 and 3:1 near grazing (paper Fig BiS).
+
+    (a)-(c): the last period of sweep points of both directions (thinned to :data:`BIS_POINTS` per
+    direction), the marker and colour by the motion identified there (2:1 open circles, 3:1 crosses, in the
+    colours of :func:`~vibroimpact.outputs.plots._common.motion_color`), over the analytic branches in the
+    same colours (stable solid, unstable dashed), with G1 and G2; (h) the motion each sweep finds along d,
+    which shows the direction; (d)-(g) the closed orbits at G1, d_mid (both) and G2 over one period, their
+    impacts marked as in (a)-(c), the walls shaded in their colours.  Panel (g) gives the evidence that G2
+    is a fold (:func:`fold_evidence`): the multiplier crossing +1 where d turns back, the slowest impact
+    speed there.
+    """
     from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
 
     use_style()
-    fig = plt.figure(figsize=(11, 6.3))
+    fig = plt.figure(figsize=(12, 7.4))
     gs = fig.add_gridspec(2, 4)
     g1, g2 = portraits.attrs["G1"], portraits.attrs["G2"]
+    fold = fold_evidence(branches[1], g2)
     lo, hi = float(sw.d.min()), float(sw.d.max())
-    motion_color = {"2:1 period-2": "k", "3:1 period-2": "tab:blue"}
+    stride = max(1, int(np.ceil(sw.sizes["point"] / BIS_POINTS)))
+    names = [f"{word_ratio(str(br.attrs['word']))} period-2" for br in branches]
+
+    def jumps(ax, label=True):
+        for g, name in ((g1, "G1"), (g2, "G2")):
+            ax.axvline(g, color="k", ls="-.", lw=0.8, zorder=1)
+            if label:
+                ax.annotate(name, (g, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 2), ha="center",
+                            textcoords="offset points", fontsize=7, va="bottom")
+
     for col, (var, ylabel) in enumerate([("v_minus", r"$|\dot Z_k|$"), ("phase", r"$\varphi_k$ (rad)"),
                                          ("dt", r"$\Delta t_k$")]):
         ax = fig.add_subplot(gs[0, col])
-        for br, color in zip(branches, ("0.6", "tab:blue"), strict=True):
+        for br, motion in zip(branches, names, strict=True):
             m = (br.admissible & (br.d >= lo) & (br.d <= hi)).values
             for j in range(br.sizes["impact"]):
                 y = br[var].values[m, j]
                 y = np.abs(y) if var == "v_minus" else y
-                branch_line(ax, br.d.values[m], y, br.stable.values[m], color, lw=0.8)
-        for direction, marker in (("down", "o"), ("up", "+")):
-            x, y, info = _last_events(sw, var, direction, info=True)
-            y = np.abs(y) if var == "v_minus" else y
-            lab = info["motion"]
-            for motion in sorted(set(lab)):
-                sel = lab == motion
-                line = ax.plot(x[sel], y[sel], marker, mfc="none", color=motion_color.get(motion, "0.7"), ms=3.5,
-                               ls="none")[0]
-                wellposed(line, "motions", **{k: v[sel] for k, v in info.items()})
-        for g, c, name, dx in ((g1, "k", "G1", -13), (g2, "tab:red", "G2", 2)):
-            ax.axvline(g, color=c, ls="-.", lw=0.8)
-            ax.annotate(name, (g, 1.0), xycoords=("data", "axes fraction"), xytext=(dx, -10), textcoords="offset points",
-                        fontsize=7, color=c)
+                branch_line(ax, br.d.values[m], y, br.stable.values[m], motion_color(motion), lw=0.7)
+        _bis_points(ax, sw, var, stride)
+        jumps(ax)
         ax.set_xlabel("d")
         ax.set_ylabel(ylabel)
-        ax.set_title(f"({'abc'[col]})")
-    key = fig.add_subplot(gs[0, 3])  # the legend gets the free slot, clear of the data
+        ax.set_title(f"({'abc'[col]})", loc="left")
+    right = gs[0, 3].subgridspec(2, 1, height_ratios=[1, 2.2])
+    strip = fig.add_subplot(right[0])
+    _bis_points(strip, sw, "v_minus", stride, y_of={"down": 1.0, "up": 0.0})
+    jumps(strip, label=False)
+    strip.set_ylim(-0.6, 1.6)
+    strip.set_yticks([0.0, 1.0], [r"d increasing $\rightarrow$", r"$\leftarrow$ d decreasing"], fontsize=7)
+    strip.set_xlabel("d")
+    strip.xaxis.set_major_locator(plt.MaxNLocator(3))
+    strip.set_title("(h) the two sweeps", loc="left")
+    strip.grid(False)
+    key = fig.add_subplot(right[1])  # the legend gets its own slot, clear of the data
     key.axis("off")
     key.legend(handles=[
-        Line2D([], [], color="k", marker="s", ls="", label="2:1 period-2"),
-        Line2D([], [], color="tab:blue", marker="s", ls="", label="3:1 period-2"),
-        Line2D([], [], color="0.7", marker="s", ls="", label="other motion"),
-        Line2D([], [], color="k", marker="o", mfc="none", ls="", label="d decreasing"),
-        Line2D([], [], color="k", marker="+", ls="", label="d increasing"),
-        Line2D([], [], color="0.6", label="analytic 2:1 (dashed: unstable)"),
-        Line2D([], [], color="tab:blue", label="analytic 3:1"),
-        Line2D([], [], color="k", ls="-.", label="G1: 2:1 grazes"),
-        Line2D([], [], color="tab:red", ls="-.", label="G2: 3:1 fold")], loc="center", fontsize=8)
+        *(Line2D([], [], color=motion_color(n), marker=BIS_MARKERS.get(n, "x"), mfc="none", ls="", label=f"{n} (simulated)")
+          for n in names),
+        *(Line2D([], [], color=motion_color(n), label=f"analytic {n}") for n in names),
+        Line2D([], [], color="0.4", ls="--", label="dashed: unstable"),
+        Line2D([], [], color="k", ls="-.", label="G1: 2:1 grazes, 3:1 born\nG2: 3:1 fold (not grazing, (g))"),
+        Patch(facecolor=BOTTOM, alpha=0.25, label="(d)-(g): bottom wall"), Patch(facecolor=TOP, alpha=0.25, label="top wall")],
+        loc="center", fontsize=7)
+    gbar, r = float(portraits.attrs["gbar"]), float(portraits.attrs["r"])
+    heads = {"G1": "grazing point G1", "G2": "G2, fold of 3:1"}
     for k in range(portraits.sizes["panel"]):
         ax = fig.add_subplot(gs[1, k])
         p = portraits.isel(panel=k)
         d = float(p.d)
+        motion = f"{word_ratio(str(p.word.values))} period-2"
         ax.plot(p.Z, p.Zdot, color="k", lw=0.8)
-        ax.axvline(d / 2, color=BOTTOM, ls="--", lw=0.8, label="bottom wall")
-        ax.axvline(-d / 2, color=TOP, ls="--", lw=0.8, label="top wall")
-        head = f"({'defg'[k]}) {str(p.panel.values)}: {str(p.word.values)}, d={d:.6f}"
-        if "v0" in p:
-            head += "\n" + r"$\dot Z(t_0)$" + f"={float(p.v0):.4f}, " + r"$\varphi$" + f"={float(p.phi):.4f}"
-        ax.set_title(head)
+        ax.axvspan(d / 2, d / 2 * 1.08, color=BOTTOM, alpha=0.25, lw=0)
+        ax.axvspan(-d / 2 * 1.08, -d / 2, color=TOP, alpha=0.25, lw=0)
+        wall, v = _portrait_impacts(p, gbar, r)
+        ax.plot(wall * d / 2, v, BIS_MARKERS.get(motion, "x"), mfc="none", color=motion_color(motion), ms=6, mew=1.2,
+                ls="none", label=f"_impacts of {motion}", zorder=4)
+        ax.set_xlim(-d / 2 * 1.08, d / 2 * 1.08)
+        name = str(p.panel.values)
+        head = f"({'defg'[k]}) {heads.get(name, motion.split()[0] + ' motion')}, d={d:.6f}"
+        head += "\n" + r"$\dot Z(t_0)$" + f"={float(p.v0):.4f}, " + r"$\varphi$" + f"={float(p.phi):.4f}"
+        if name == "G2":
+            head += (f"\nfold at d={fold['d']:.6f}: multiplier\n{fold['lam_before']:.3f} to {fold['lam_after']:.3f}"
+                     + (", d turns back;" if fold["d_turns"] else ";") + "\nslowest impact " + r"$|\dot Z|$"
+                     + f"={fold['v_min']:.3f} > 0:\nno grazing")
+        ax.set_title(head, fontsize=8)
         ax.set_xlabel("Z")
         ax.set_ylabel(r"$\dot Z$")
-        if k == 0:
-            ax.legend(loc="lower center", fontsize=6)
+        ax.xaxis.set_major_locator(plt.MaxNLocator(5))
     return fig
 
 
@@ -139,27 +240,37 @@ def fig_bis(sw, transitions, portraits, branches):
 MOTION_KEY = ("n:m = bottom:top impacts per period;\nperiod-k = period k in t (2 = one forcing period);\n"
               "no period within the cap, by the largest Lyapunov\nexponent of its long run: chaotic (interval above 0),\n"
               "quasi-periodic (contains 0), unsettled (below 0,\nor a longer transient); no period found: not split")
+#: added to :data:`MOTION_KEY` where a motion with sticking is named
+STICKING_KEY = ("with sticking: chatters to rest on a wall, sticks until\nthe forcing releases it, its chatter counted as one\n"
+                "impact (1:0: the stick-release cycle on the bottom)")
 
-#: fixed colours for the labels of a motion with no period (greys, darker the surer the chaos), and for
-#: "other" (the rarer periodic motions, beige)
-SPECIAL_COLORS = {"no period found": (0.92, 0.92, 0.92), "chaotic": (0.15, 0.15, 0.15),
-                  "quasi-periodic": (0.45, 0.45, 0.45), "unsettled": (0.75, 0.75, 0.75), "other": (0.87, 0.8, 0.66)}
+
+def motion_key(names) -> str:
+    """:data:`MOTION_KEY`, with :data:`STICKING_KEY` where one of ``names`` is a motion with sticking."""
+    sticking = any("with sticking" in str(n) for n in names)
+    return (MOTION_KEY + (";\n" + STICKING_KEY if sticking else "")).replace("; ", ";\n")
 
 
 def _class_colors(names):
-    """A colour per motion name: the tab10 colours in turn, greys for the non-periodic labels."""
-    cycle = iter(c for c in plt.get_cmap("tab10").colors if c != plt.get_cmap("tab10").colors[7])  # grey is reserved
-    return [SPECIAL_COLORS.get(n) or next(cycle) for n in names]
+    """A colour per motion name: its colour in every figure (:func:`~vibroimpact.outputs.plots._common.motion_color`)."""
+    return [motion_color(n) for n in names]
 
 
 def _shown_classes(legend, n_show=9):
-    """Which of the motions ``legend`` lists (most frequent first) a map names: the ``n_show`` most
-    frequent periodic ones and every label of a motion with no period (chaotic, quasi-periodic,
-    unsettled, no period found: never folded into "other"), in the legend's order; the rest "other".
-    Returns the names and, per legend entry, its index among them."""
+    """Which of the motions ``legend`` lists (most frequent first) a map names: every label of a motion with
+    no period (chaotic, quasi-periodic, unsettled, no period found: never folded into "other") and the
+    ``n_show`` most frequent periodic ones whose colour no more frequent named motion has (two motions
+    without a colour of their own can share one, :func:`~vibroimpact.outputs.plots._common.motion_color`), in
+    the legend's order; the rest "other".  Returns the names and, per legend entry, its index among them."""
     special = [i for i, n in enumerate(legend) if n in NO_PERIOD_LABELS]
-    periodic = [i for i, n in enumerate(legend) if n not in NO_PERIOD_LABELS]
-    shown = sorted(special + periodic[:n_show])
+    taken = {motion_color(legend[i]) for i in special}
+    periodic = []
+    for i, n in enumerate(legend):
+        if n in NO_PERIOD_LABELS or len(periodic) == n_show or motion_color(n) in taken:
+            continue
+        taken.add(motion_color(n))
+        periodic.append(i)
+    shown = sorted(special + periodic)
     names = [legend[i] for i in shown] + (["other"] if len(shown) < len(legend) else [])
     lut = np.full(len(legend), len(shown), dtype=int)
     lut[shown] = np.arange(len(shown))
@@ -189,14 +300,25 @@ def _class_image(ax, da, x, y, legend, n_show=9, *, key=True):
 
 
 def fig_basins(b):
+    """Basins of attraction (:func:`vibroimpact.analysis.sweeps.basins`): the motion reached from each first
+    bottom impact, in the motions' colours of every figure; the title gives the incline and the device
+    (length, force, mass, frequency) where the dataset records them, and d, gbar."""
     import json
 
+    from ._common import beta_label, pi_label
+
     use_style()
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = plt.subplots(figsize=(7.4, 4.2))
     _class_image(ax, b.attractor.T, b.phi.values, b.v0.values, json.loads(b.attrs["legend"]))
-    ax.set_xlabel(r"phase $\varphi$ of the first bottom impact")
+    ax.set_xlabel(r"phase $\varphi$ of the first bottom impact (rad)")
     ax.set_ylabel(r"pre-impact velocity $\dot Z(t_0)$")
-    ax.set_title(f"Basins of attraction, d = {b.attrs['d']:.4g}, " r"$\bar g$" f" = {b.attrs['gbar']:.4g}")
+    a = b.attrs
+    device = [beta_label(float(a["beta"]))] if "beta" in a else []
+    device += [fmt.format(float(a[key])) for key, fmt in (("s", "s = {:.4g} m"), ("F", r"$\|\hat F\|$ = {:g} N"),
+                                                          ("M", "M = {:g} kg")) if key in a]
+    device += [r"$\omega$ = " + pi_label(float(a["omega"]), " rad/s")] if "omega" in a else []
+    ax.set_title(f"Basins of attraction, d = {a['d']:.4g}, " r"$\bar g$" f" = {a['gbar']:.4g}, r = {a['r']:g}"
+                 + ("\n" + ", ".join(device) if device else ""))
     return fig
 
 
@@ -264,8 +386,9 @@ def fig_regime_map(maps, scans=None):
                 continue
             ax.plot(xs, ys, "-", color="k", lw=1.6)
             ax.plot(xs, ys, "--", color="w", lw=0.9)
-            ax.annotate(name, (0.5 * (xs[0] + xs[1]), 0.5 * (ys[0] + ys[1])), fontsize=6, xytext=(0, 2),
-                        textcoords="offset points", ha="center", va="bottom")
+            top = min(ys) >= y1  # a sweep on the map's upper edge is named below it, clear of the title
+            ax.annotate(name, (0.5 * (xs[0] + xs[1]), 0.5 * (ys[0] + ys[1])), fontsize=6, xytext=(0, -3 if top else 2),
+                        textcoords="offset points", ha="center", va="top" if top else "bottom")
         if outside:
             ax.annotate("outside this map: " + ", ".join(outside), (0.0, -0.16), xycoords="axes fraction", fontsize=6,
                         va="top")
@@ -273,7 +396,7 @@ def fig_regime_map(maps, scans=None):
 
     if scans:
         handles = [*handles, Line2D([], [], color="k", lw=1.6, label="the paper's sweeps (config names)")]
-    fig.legend(handles=handles, loc="outside right upper", fontsize=6, title=MOTION_KEY.replace("; ", ";\n"),
+    fig.legend(handles=handles, loc="outside right upper", fontsize=6, title=motion_key(h.get_label() for h in handles),
                title_fontsize=6)
     return fig
 

@@ -1,0 +1,60 @@
+"""One physical motion, one name: a chattering sequence that ends in sticking counts as one impact, so the
+label of a sticking motion does not depend on how many of its bounces the simulator resolves."""
+
+import math
+
+import numpy as np
+import pytest
+
+import vibroimpact as vi
+from vibroimpact.dynamics import kernels as K
+from vibroimpact.dynamics.simulate import chatter_bounces, cycle_class
+
+IM, G, S, R = K.IMPACT, K.GRAZING, K.STICK, K.RELEASE
+
+
+def test_the_bottom_stick_release_cycle_has_one_name_across_beta():
+    """s = 0.72 m, F = 5 N, from rest on the bottom (the design maps' starts): released by the forcing, the
+    ball flies without reaching the top, lands on the bottom, chatters to rest and sticks until the next
+    release, once every two forcing periods.  The simulator resolves 31 bounces at beta = 1.0464 and pi/3
+    and 30 at beta = 1.0988 before it sums the rest (design map rows labelled "31:0 over 2 forcing periods"
+    and "15:0 period-4" by the resolved counts)."""
+    atts = [vi.identify_attractor(vi.simulate(vi.Params.from_physical(s=0.72, beta=b), 0.65, 0.0, n_impacts=3000))
+            for b in (1.0464, math.pi / 3, 1.0988)]
+    assert [a.n_bottom for a in atts] == [31, 31, 30]  # resolved impacts: they differ
+    for a in atts:
+        kinds = a.cycle.kind.values
+        assert a.period == 2 and a.n_top == 0
+        assert (kinds == S).sum() == 1 and (kinds == R).sum() == 1
+        assert (a.cycle.wall.values[kinds == S] == 1).all()  # it sticks on the bottom
+    assert {a.label for a in atts} == {"1:0 over 2 forcing periods with sticking"}
+
+
+def test_a_top_then_bottom_sticking_cycle_keeps_its_top_impacts_and_one_bottom_landing():
+    """(s, F) plane at beta = pi/6: released from the bottom, the ball hits the top four times (a run the
+    kernel follows bounce by bounce: the ball leaves the top, no sticking there), lands on the bottom,
+    chatters to rest and sticks, every forcing period.  35 and 36 bottom bounces are resolved at F = 17.13 N
+    and 18.10 N: one name."""
+    atts = [vi.identify_attractor(vi.simulate(vi.Params.from_physical(s=0.19, beta=math.pi / 6, F=F), 0.42, 0.87,
+                                              n_impacts=20_000)) for F in (17.13, 18.10)]
+    assert [(a.n_bottom, a.n_top) for a in atts] == [(35, 4), (36, 4)]
+    assert {a.label for a in atts} == {"1:4 period-2 with sticking"}
+
+
+@pytest.mark.parametrize("wall, kind, bounces", [
+    # release, a landing, three bounces and a grazing contact, stick: the landing counts
+    ([1, 1, 1, 1, 1, 1, 1], [R, IM, IM, IM, IM, G, S], [0, 0, 1, 1, 1, 1, 0]),
+    # the cycle starts inside the run (it repeats end to start): the landing is the last event
+    ([1, 1, 1, 1, 1], [IM, IM, S, R, IM], [1, 1, 0, 0, 0]),
+    # two bottom impacts in a row with no sticking (2:1): both count
+    ([1, 1, -1], [IM, IM, IM], [0, 0, 0]),
+    # a run on the top, then a landing on the bottom that chatters and sticks: the top run counts
+    ([1, -1, -1, 1, 1, 1], [R, IM, IM, IM, IM, S], [0, 0, 0, 0, 1, 0]),
+])
+def test_chatter_bounces_are_the_impacts_after_the_landing_of_a_run_that_sticks(wall, kind, bounces):
+    assert chatter_bounces(np.array(wall), np.array(kind)).astype(int).tolist() == bounces
+
+
+def test_labels_of_motions_without_sticking_keep_every_impact():
+    assert cycle_class(np.array([1, 1, -1]), np.array([IM, IM, IM]), 2.0)[4] == "2:1 period-2"
+    assert cycle_class(np.array([1, -1, 1, 1, -1]), np.array([IM, IM, IM, G, IM]), 4.0)[4] == "3:2 over 2 forcing periods"

@@ -156,3 +156,31 @@ def test_the_attribute_is_json_of_the_problems():
     assert layout.from_attribute(xr.Dataset(attrs={"layout_problems": "[]"})) == []
     assert layout.from_attribute(xr.Dataset()) is None
     assert np.isscalar(layout.TOLERANCE_PT)
+
+
+@pytest.mark.parametrize("dx_px, reported", [(6, True), (25, False)])
+def test_slanted_labels_are_compared_as_slanted(fig, dx_px, reported):
+    """Two labels turned by 70 degrees (a failure map's case names), ``dx_px`` apart side by side: at 25 px their
+    level boxes overlap but the glyphs stand well apart (no problem); at 6 px the labels themselves overlap."""
+    ax = fig.axes[0]
+    style = dict(rotation=70, ha="center", va="center", transform=None)
+    a = ax.text(150, 150, "a slanted case name", **style)
+    b = ax.text(150 + dx_px, 150, "a slanted case name", **style)
+    fig.canvas.draw()
+    ba, bb = a.get_window_extent(), b.get_window_extent()
+    assert min(ba.x1, bb.x1) - max(ba.x0, bb.x0) > 10  # their level boxes overlap
+    problems = layout.layout_problems(fig)
+    assert bool(problems) == reported, problems
+
+
+def test_placed_names_overprint_nothing(fig):
+    """Two points closer than their names are wide, at the frame's edge (Fig 2's A2 and F at the fold): each name
+    takes a place clear of the other, of the markers and of the frame."""
+    ax = fig.axes[0]
+    ax.set_xlim(0, 1)
+    ax.plot([0.975, 0.99], [0.5, 0.5], "D", color="k")
+    labels = [(ax, name, [((x, 0.5), off) for off in layout.AROUND], dict(fontsize=7))
+              for name, x in (("A2", 0.975), ("F", 0.99))]
+    placed = layout.place_labels(fig, labels)
+    assert [a.get_text() for a in placed] == ["A2", "F"] and ax.texts[:] == placed
+    assert layout.layout_problems(fig) == []

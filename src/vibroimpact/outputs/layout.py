@@ -120,6 +120,38 @@ def _overlap(a, b):
     return min(a.x1, b.x1) - max(a.x0, b.x0), min(a.y1, b.y1) - max(a.y0, b.y0)
 
 
+def _corners(box):
+    return np.array([[box.x0, box.y0], [box.x1, box.y0], [box.x1, box.y1], [box.x0, box.y1]])
+
+
+def _polygon(t, box, renderer):
+    """The corners of a drawn text's own rectangle: its extent where it is set level or upright, else its
+    unrotated extent turned about the centre (the extent of a slanted text is a much larger level box)."""
+    angle = t.get_rotation()
+    if angle % 90 == 0:
+        return _corners(box)
+    t.set_rotation(0)
+    flat = Text.get_window_extent(t, renderer)
+    t.set_rotation(angle)
+    a = np.radians(angle)
+    turn = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    half = 0.5 * np.array([[-flat.width, -flat.height], [flat.width, -flat.height], [flat.width, flat.height],
+                           [-flat.width, flat.height]])
+    return half @ turn.T + [0.5 * (box.x0 + box.x1), 0.5 * (box.y0 + box.y1)]
+
+
+def _separation(p, q):
+    """How far apart two convex polygons (corner arrays) are along the edge normal that parts them most:
+    negative where they overlap (then minus the depth of the overlap)."""
+    best = -np.inf
+    for poly in (p, q):
+        edges = np.roll(poly, -1, axis=0) - poly
+        normals = np.column_stack([-edges[:, 1], edges[:, 0]]) / np.hypot(*edges.T)[:, None]
+        a, b = p @ normals.T, q @ normals.T
+        best = max(best, np.max(np.maximum(a.min(axis=0) - b.max(axis=0), b.min(axis=0) - a.max(axis=0))))
+    return float(best)
+
+
 def _inside(xy, box, tol):
     return ((xy[:, 0] > box.x0 + tol) & (xy[:, 0] < box.x1 - tol)
             & (xy[:, 1] > box.y0 + tol) & (xy[:, 1] < box.y1 - tol))
@@ -203,23 +235,23 @@ def layout_problems(fig, tolerance_pt: float = TOLERANCE_PT) -> list[str]:
     parent = _owners(fig)
     texts = []
     for t in drawn.values():
-        b = t.get_window_extent(renderer) if t.get_visible() and t.get_text().strip() else None
+        # the text itself: an annotation's extent would include its leader line
+        b = Text.get_window_extent(t, renderer) if t.get_visible() and t.get_text().strip() else None
         if b is not None and np.isfinite(b.bounds).all() and b.width > 0 and b.height > 0:
-            texts.append((t, b, _ancestor(t, parent, Legend)))
+            texts.append((t, b, _ancestor(t, parent, Legend), _polygon(t, b, renderer)))
     return _text_problems(fig, texts, parent, tol) + _legend_problems(fig, texts, parent, renderer, tol)
 
 
 def _text_problems(fig, texts, parent, tol):
     problems = []
-    free = [(t, b) for t, b, leg in texts if leg is None]  # a legend's texts: checked through its box
-    for i, (t, b) in enumerate(free):
-        for u, c in free[i + 1:]:
-            w, h = _overlap(b, c)
-            if w > -tol and h > -tol:
-                size = f"{w:.0f} x {h:.0f} px overlap" if w > 0 and h > 0 else f"less than {tol:.1f} px apart"
+    free = [(t, b, poly) for t, b, leg, poly in texts if leg is None]  # a legend's texts: checked through its box
+    for i, (t, b, p) in enumerate(free):
+        for u, c, q in free[i + 1:]:
+            if min(_overlap(b, c)) > -tol and (sep := _separation(p, q)) < tol:
+                size = f"{-sep:.0f} px deep" if sep < 0 else f"less than {tol:.1f} px apart"
                 problems.append(f"overlap: {_describe(t, parent)} and {_describe(u, parent)} ({size})")
     page = fig.bbox
-    for t, b in free:
+    for t, b, _ in free:
         out = {"left": page.x0 - b.x0, "right": b.x1 - page.x1, "bottom": page.y0 - b.y0, "top": b.y1 - page.y1}
         side = max(out, key=out.get)
         if out[side] > tol:
@@ -238,7 +270,8 @@ def _legend_problems(fig, texts, parent, renderer, tol):
     for leg in legends.values():
         box = leg.get_window_extent(renderer)
         name = _legend_name(leg, parent)
-        covered = [_describe(t, parent) for t, b, owner in texts if owner is not leg and min(_overlap(box, b)) > tol]
+        covered = [_describe(t, parent) for t, b, owner, poly in texts
+                   if owner is not leg and min(_overlap(box, b)) > tol and _separation(_corners(box), poly) < -tol]
         if covered:
             problems.append(f"legend over text: {name} covers {', '.join(covered)}")
         for ax in fig.get_axes():
@@ -247,6 +280,86 @@ def _legend_problems(fig, texts, parent, renderer, tol):
                 problems += [f"legend over data: {name} covers {what} of {_axes_name(ax)}"
                              for what in _data_under(ax, region, tol)]
     return problems
+
+
+#: a label set farther than this (points) from its anchor is tied to it by a thin line
+LEADER_PT = 9.0
+#: candidate offsets (points) of a point's name, for :func:`place_labels`: beside it, then farther (with a leader)
+AROUND = [(3, 3), (3, -3), (-3, 3), (-3, -3), (0, 7), (0, -7), (7, 0), (-7, 0),
+          (8, 12), (-8, 12), (8, -12), (-8, -12), (0, 18), (0, -18), (16, 0), (-16, 0)]
+
+
+def place_labels(fig, labels, gap_pt: float = 3.0) -> list:
+    """Annotate each label at the first of its candidate places that clears what is already drawn.
+
+    The figure is drawn once (its layout is then fixed: the labels are kept out of it) and each label,
+    in turn, takes the first candidate that keeps ``gap_pt`` from every text, legend and label placed
+    before it, stays inside its axes, comes near no other marker (a name beside another point reads as
+    that point's) and crosses no line; failing that, the candidate with the fewest such conflicts (texts
+    and the frame first, then markers, then lines, then a leader line: a label farther than
+    :data:`LEADER_PT` from its anchor is tied to it by one).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    labels : iterable of (ax, text, candidates, style)
+        ``candidates``: ``(xy, (dx, dy))`` pairs, an anchor (in ``style``'s ``xycoords``, data by default)
+        and an offset in points; the text is set beside the anchor on the offset's side.  ``style``:
+        keyword arguments of :meth:`matplotlib.axes.Axes.annotate`.
+    gap_pt : float
+        Least distance (points) to other texts: about a word space at a label's 6-7 points, so that two
+        neighbours read as two words (and :func:`layout_problems`, at :data:`TOLERANCE_PT`, finds nothing).
+
+    Returns
+    -------
+    list of matplotlib.text.Annotation
+    """
+    with _drawn_texts() as drawn:
+        fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    gap = gap_pt * fig.dpi / 72
+    taken = [Text.get_window_extent(t, renderer) for t in drawn.values() if t.get_visible() and t.get_text().strip()]
+    taken += [leg.get_window_extent(renderer) for leg in fig.findobj(Legend) if leg.get_visible()]
+    drawn_lines = {}
+    placed = []
+    for ax, text, candidates, style in labels:
+        if ax not in drawn_lines:  # in display coordinates: (markers, polylines)
+            lines = [(line, line.get_transform().transform(line.get_xydata())) for line in ax.get_lines()
+                     if line.get_visible()]
+            dots = [xy for line, xy in lines if line.get_marker() not in (None, "None", "none", "", " ")]
+            drawn_lines[ax] = (np.concatenate(dots) if dots else np.zeros((0, 2)),
+                               [xy for line, xy in lines if line.get_linestyle() not in ("None", "none", "", " ")])
+        dots, polylines = drawn_lines[ax]
+        best = None
+        for xy, (dx, dy) in candidates:
+            far = bool(np.hypot(dx, dy) > LEADER_PT)
+            ann = ax.annotate(text, xy, xytext=(dx, dy), textcoords="offset points",
+                              ha="left" if dx > 0 else "right" if dx < 0 else "center",
+                              va="bottom" if dy > 0 else "top" if dy < 0 else "center",
+                              arrowprops=dict(arrowstyle="-", lw=0.4, color="0.4", shrinkA=1, shrinkB=2) if far else None,
+                              **style)
+            ann.set_in_layout(False)
+            ann.update_positions(renderer)
+            b = Text.get_window_extent(ann, renderer)  # the text, without its leader
+            frame = ax.bbox
+            clash = (sum(min(_overlap(b, c)) > -gap for c in taken)
+                     + (b.x0 < frame.x0 or b.x1 > frame.x1 or b.y0 < frame.y0 or b.y1 > frame.y1))
+            # a name next to another point's marker reads as that point's: count the markers near the text
+            near = b.expanded(1.0, 1.0).padded(gap)
+            own = np.all(np.abs(dots - ann._get_xy_display()) < 1.0, axis=1)
+            score = (clash, int((_inside(dots, near, 0.0) & ~own).sum()), sum(_crosses(xy, b, 0.0) for xy in polylines),
+                     far)
+            if best is None or score < best[0]:
+                if best is not None:
+                    best[1].remove()
+                best = (score, ann, b)
+            else:
+                ann.remove()
+            if not any(score):
+                break
+        taken.append(best[2])
+        placed.append(best[1])
+    return placed
 
 
 def to_attribute(problems: list[str]) -> str:

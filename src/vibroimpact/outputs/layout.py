@@ -248,7 +248,7 @@ def _text_problems(fig, texts, parent, tol):
     for i, (t, b, p) in enumerate(free):
         for u, c, q in free[i + 1:]:
             if min(_overlap(b, c)) > -tol and (sep := _separation(p, q)) < tol:
-                size = f"{-sep:.0f} px deep" if sep < 0 else f"less than {tol:.1f} px apart"
+                size = f"{-sep:.1f} px deep" if sep < 0 else f"less than {tol:.1f} px apart"
                 problems.append(f"overlap: {_describe(t, parent)} and {_describe(u, parent)} ({size})")
     page = fig.bbox
     for t, b, _ in free:
@@ -390,7 +390,7 @@ def check_results(results_dir) -> dict[str, list[str]]:
 
 def main(argv=None) -> int:
     """``python -m vibroimpact.outputs.layout [results]``: print each figure's recorded layout problems;
-    exit status 1 if there are any."""
+    exit status 1 if there are any, or no figure data at all."""
     import sys
 
     argv = sys.argv[1:] if argv is None else argv

@@ -39,9 +39,73 @@ def stable_interval(branch: xr.Dataset):
     return ends[0][0], ends[1][0], ends[0][1], ends[1][1]
 
 
+#: what changes sign at a critical point that bounds an interval of paper Table 1: Delta at A (node <-> focus),
+#: the smaller eigenvalue + 1 at B (period doubling)
+_SIGN_CHANGE = {"A": lambda br: br.discriminant.values, "B": lambda br: br.eig_real.values.min(axis=1) + 1.0}
+
+
+def stability_types(branch: xr.Dataset) -> pd.DataFrame:
+    """Node or focus, stable or unstable, on each interval of a branch's stable sheet (paper Table 1).
+
+    The sheet is the side of the branch's fold (its largest d) that holds more of its stable, admissible
+    points.  It is cut at the located critical points B (lambda = -1) and A (Delta = 0) that lie on it (their
+    quantity changes sign between the sheet's points around them), numbered A1, A2, ... by increasing d, and
+    ends at the lowest continued d and at the fold.  Each interval's type is read from the data at its
+    middle: a node where the discriminant Delta (interpolated along the sheet) is positive, a focus where it
+    is negative; stable as the nearest point is.  As in the paper's table, admissibility is not asked (the
+    stable physical interval is :func:`table1`'s).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per interval: ``d_from``, ``d_to``, ``from_point``, ``to_point`` (``branch end``, ``B``,
+        ``A1``, ..., ``fold``), ``discriminant`` and ``stable`` at the middle, and ``type``.
+    """
+    cols = ["d_from", "d_to", "from_point", "to_point", "discriminant", "stable", "type"]
+    if branch.attrs.get("status") == "failed" or not branch.sizes.get("point", 0):
+        return pd.DataFrame(columns=cols)
+    d = branch.d.values
+    k = int(np.argmax(d))
+    ok = (branch.stable & branch.admissible).values
+    sheet = np.arange(k + 1) if ok[: k + 1].sum() >= ok[k:].sum() else np.arange(k, d.size)[::-1]
+    ds = d[sheet]  # increasing along the sheet
+    cuts = []
+    for kind, c in zip(branch.critical_kind.values.astype(str), branch.critical_d.values, strict=True):
+        if kind in _SIGN_CHANGE and ds[0] < c < ds[-1]:
+            q = _SIGN_CHANGE[kind](branch)[sheet]
+            j = int(np.searchsorted(ds, c))
+            if q[j - 1] * q[j] <= 0:
+                cuts.append([float(c), kind])
+    cuts.sort()
+    for n, cut in enumerate(c for c in cuts if c[1] == "A"):
+        cut[1] = f"A{n + 1}"
+    folds = branch.critical_d.values[branch.critical_kind.values.astype(str) == "fold"]
+    top = "fold" if folds.size and np.min(np.abs(folds - ds[-1])) < 5 * float(branch.attrs.get("step", 1e-3)) else "branch end"
+    edges = [(float(ds[0]), "branch end"), *map(tuple, cuts), (float(ds[-1]), top)]
+    rows = []
+    for (lo, a), (hi, b) in zip(edges[:-1], edges[1:], strict=True):
+        mid = 0.5 * (lo + hi)
+        disc = float(np.interp(mid, ds, branch.discriminant.values[sheet]))
+        stable = bool(branch.stable.values[sheet][np.argmin(np.abs(ds - mid))])
+        kind = ("stable " if stable else "unstable ") + ("node" if disc > 0 else "focus")
+        rows.append(dict(d_from=lo, d_to=hi, from_point=a, to_point=b, discriminant=disc, stable=stable, type=kind))
+    return pd.DataFrame(rows, columns=cols)
+
+
+def _interval_name(lo: str, hi: str) -> str:
+    """``d_B < d < d_A1`` as the paper's Table 1 writes an interval; an end of the continued branch is left open."""
+    def sub(p):
+        return "d_" + p
+
+    if lo == "branch end":
+        return f"d < {sub(hi)}" if hi != "branch end" else "all d"
+    return f"d > {sub(lo)}" if hi == "branch end" else f"{sub(lo)} < d < {sub(hi)}"
+
+
 def table1(branches: list[xr.Dataset]) -> pd.DataFrame:
     """One row per incline: the stable interval with its causes, the period-doubling point B, the
-    node/focus points A_i inside it and the fold, next to the paper's stable interval."""
+    node/focus points A_i inside it and the fold, next to the paper's stable interval, and the type (node or
+    focus, stable or unstable) of each interval between them (:func:`stability_types`, column ``types``)."""
     rows = []
     for br in branches:
         beta = float(br.attrs["beta"])
@@ -59,6 +123,8 @@ def table1(branches: list[xr.Dataset]) -> pd.DataFrame:
                    d_fold=float(np.max(crit[kinds == "fold"])) if (kinds == "fold").any() else np.nan)
         paper = paper_stable(beta)
         row.update(paper_from=paper[0] if paper else np.nan, paper_to=paper[1] if paper else np.nan)
+        row["types"] = "; ".join(f"{_interval_name(r.from_point, r.to_point)}: {r.type}"
+                                 for r in stability_types(br).itertuples())
         # nothing dropped: why the continuation stopped each way, and any point not refined
         row.update(branch_stops=f"{br.attrs.get('stop_decreasing', '?')}; {br.attrs.get('stop_increasing', '?')}")
         if "critical_refined" in br and not bool(br.critical_refined.all()):
@@ -81,6 +147,13 @@ def table1_markdown(df: pd.DataFrame) -> str:
             f"| {name} | ({r.stable_from:.6f}, {r.stable_to:.6f}) | {r.lower_cause} / {r.upper_cause} | "
             f"({r.paper_from:g}, {r.paper_to:g}) | {r.d_B:.6f} | {r.d_A} | {r.d_fold:.6f} |"
         )
+    lines += ["", "Node or focus on each interval (paper Table 1), along the stable sheet of each branch from its "
+              "lowest continued d to its fold, cut at B and A1, A2, ... (d_A1 the first A on the sheet): read from "
+              "the data at each interval's middle (node where Δ > 0, focus where Δ < 0), admissible or not:", "",
+              "| β | interval: type |", "|---|---|"]
+    for _, r in df.iterrows():
+        name = names.get(round(r.beta_deg, 6), f"{r.beta:.4f}")
+        lines.append(f"| {name} | {r.get('types', '')} |")
     lines += ["", "Where each continuation stopped (decreasing; increasing arclength) and critical points that "
               "could not be refined:", ""]
     for _, r in df.iterrows():

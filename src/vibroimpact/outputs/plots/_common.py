@@ -6,6 +6,7 @@ points as open markers, the bottom wall blue and the top wall green as in the pa
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 
 import matplotlib
@@ -32,9 +33,11 @@ FORMATS = ("png", "pdf", "svg")
 
 def save(fig, stem, *, data=None, attrs=None, formats=("png", "pdf")) -> list[Path]:
     """Save ``stem.png`` and ``stem.<f>`` for the other ``formats`` and, with ``data``, the arrays the
-    figure draws (netCDF, :func:`vibroimpact.outputs.figdata.figure_data`, with ``attrs`` such as the config);
-    returns the paths."""
+    figure draws (netCDF, :func:`vibroimpact.outputs.figdata.figure_data`, with ``attrs`` such as the config)
+    and its layout verdict (attribute ``layout_problems``, :mod:`vibroimpact.outputs.layout`: recorded and
+    logged, never fatal, so the figure is always written; the tests fail on it); returns the paths."""
     from ...datasets import write_netcdf
+    from .. import layout
     from ..figdata import figure_data, image_hash
 
     bad = [f for f in formats if f not in FORMATS]
@@ -48,6 +51,10 @@ def save(fig, stem, *, data=None, attrs=None, formats=("png", "pdf")) -> list[Pa
     if data is not None:
         ds = figure_data(fig, attrs)
         ds.attrs["png_phash"] = image_hash(paths[0])  # the image layer of the regeneration check
+        problems = layout.layout_problems(fig)
+        ds.attrs[layout.ATTRIBUTE] = layout.to_attribute(problems)
+        for p in problems:
+            logging.getLogger(__name__).warning("%s: %s", stem.name, p)
         write_netcdf(ds, data, fmt="NETCDF3_64BIT")
         paths.append(Path(data))
     plt.close(fig)

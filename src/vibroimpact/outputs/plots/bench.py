@@ -5,6 +5,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ..layout import AROUND, place_labels
 from ._common import use_style
 
 FAMILY_STYLE = {
@@ -22,13 +23,17 @@ FAMILY_STYLE = {
 
 
 def _peers_note(ds):
-    """'peers: heyoka 7.13.2; siconos: not installed (...)' from a benchmark dataset's record."""
+    """'peers: heyoka 7.13.2; Siconos not installed' from a benchmark dataset's record (a version, or the reason
+    a peer is absent, which the dataset keeps in full)."""
     import ast
+    import re
 
     peers = ds.attrs.get("peers")
     if not peers:
         return None
-    return "peers: " + "; ".join(f"{k} {v}" for k, v in ast.literal_eval(peers).items())
+    names = {"siconos": "Siconos"}
+    return "peers: " + "; ".join(f"{names.get(k, k)} " + (v if re.fullmatch(r"\d+(\.\d+)*\S*", v) else "not installed")
+                                 for k, v in ast.literal_eval(peers).items())
 
 #: Okabe & Ito's colour-blind-safe palette, one colour per outcome of the failure map, with a glyph
 #: printed in each cell as a second cue (outcomes in the order of ``workprecision.OUTCOMES``)
@@ -58,6 +63,7 @@ def fig_work_precision(wp):
     step ladder, its first and last setting printed at its ends); a cross at the top where the
     method put impacts on the wrong walls."""
     use_style()
+    names = []  # the ladders' end labels, placed once the layout is fixed
     scenes = list(wp.scene.values)
     fig, axes = plt.subplots(1, len(scenes), figsize=(3.6 * len(scenes), 3.9), squeeze=False, sharey=True)
     top = 1.0
@@ -80,13 +86,14 @@ def fig_work_precision(wp):
             # the ladder's ends, so its direction and range can be read off each panel
             ends = [k for k in (0, len(x) - 1) if np.isfinite(settings[k]) and finite[k]]
             for k in ends[: 2 if len(x) > 1 else 1]:
-                ax.annotate(_setting_label(fam, settings[k]), (x[k], max(y[k], 1e-17)), fontsize=5, color=color,
-                            xytext=(4, 2 if k == 0 else -7), textcoords="offset points")
+                names.append((ax, _setting_label(fam, settings[k]),
+                              [((x[k], max(y[k], 1e-17)), off) for off in AROUND], dict(fontsize=5, color=color)))
         ax.set_title(f"{sc} motion")
         ax.set_xlabel("cost per impact (µs)")
     axes[0, 0].set_ylabel("largest impact-time error vs 40-digit reference\n(first 20 impacts; x: wrong walls)")
     fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="outside lower center", ncol=4, fontsize=6,
                title=_peers_note(wp), title_fontsize=6)
+    place_labels(fig, names)
     return fig
 
 
@@ -150,6 +157,7 @@ def fig_analytics_accuracy(a):
     error against cost.  (a) is measured against the finest step's located point (not drawn: it is
     the reference), (b) against the analytic G1 and G2 of the continued branches."""
     use_style()
+    names = []  # the points' settings, placed once the layout is fixed
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.9))
     ax = axes[0]
     ref = {k: a.attrs[f"{k}_reference"] for k in ("B", "fold") if f"{k}_reference" in a.attrs}
@@ -159,8 +167,8 @@ def fig_analytics_accuracy(a):
         ax.loglog(x[:-1], a.branch_located_err.values[:-1, k].clip(1e-17), "o-", color=color,
                   label=f"{kind}: located" + (f" (reference d = {ref[kind]:.10f})" if kind in ref else ""))
         if k == 0:
-            for xi, h, y in zip(x, a.step.values, a.branch_grid_err.values[:, k], strict=True):
-                ax.annotate(f"h={h:g}", (xi, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+            names += [(ax, f"h={h:g}", [((xi, y), off) for off in AROUND], dict(fontsize=6))
+                      for xi, h, y in zip(x, a.step.values, a.branch_grid_err.values[:, k], strict=True)]
     ax.set_xlabel("continuation time (s)")
     ax.set_ylabel(f"|d − d(located at finest step h={a.step.values[-1]:g})|\n(zero drawn at 1e-17)")
     ax.set_title(r"(a) 2:1 branch, $\beta=\pi/3$: B and fold by arclength step h")
@@ -173,8 +181,8 @@ def fig_analytics_accuracy(a):
         ax.loglog(x, a.sweep_located_err.values[:, k], "s-", color=color,
                   label=f"{kind}: located" + (f" (analytic d = {exact:.10f})" if exact is not None else ""))
         if k == 0:
-            for xi, n, y in zip(x, a.points.values, a.sweep_grid_err.values[:, k], strict=True):
-                ax.annotate(f"{n} pts", (xi, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+            names += [(ax, f"{n} pts", [((xi, y), off) for off in AROUND], dict(fontsize=6))
+                      for xi, n, y in zip(x, a.points.values, a.sweep_grid_err.values[:, k], strict=True)]
     ax.set_xlabel("sweep + location time (s)")
     ax.set_ylabel("|d − d(analytic branch)|")
     ax.set_title(r"(b) grazing G1 and fold G2 from sweeps, $\beta=\pi/6$, by sweep points")
@@ -183,4 +191,5 @@ def fig_analytics_accuracy(a):
 
     for ax in axes:  # decades only: the minor labels of a short log axis overlap
         ax.xaxis.set_minor_formatter(NullFormatter())
+    place_labels(fig, names)
     return fig

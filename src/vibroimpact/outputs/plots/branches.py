@@ -54,26 +54,40 @@ def critical_markers(br, d_lo, d_hi, admissible_only=True):
     return [tuple(m) for m in out]
 
 
-def _branch_legend(ax, with_sim=True, with_critical=True):
+#: the names of the critical points, as the figures define them (paper Table 1 and Fig 2's caption)
+CRITICAL_NAMES = {"A": r"A1, A2, ...: node $\leftrightarrow$ focus ($\Delta=0$)", "B": r"B: period doubling ($\lambda=-1$)",
+                  "F": "F: fold", "G": "G: grazing (a flight touches a wall)"}
+
+
+def _branch_legend(fig, grazing=None):
+    """One legend for all panels, below them: every line, marker and name the panels use."""
     from matplotlib.lines import Line2D
 
+    blank = dict(color="none", ls="", marker="")
     handles = [Line2D([], [], color=BOTTOM, label="bottom impacts"), Line2D([], [], color=TOP, label="top impacts"),
-               Line2D([], [], color="0.3", ls="-", label="stable"), Line2D([], [], color="0.3", ls="--", label="unstable")]
-    if with_sim:
-        handles.append(Line2D([], [], color="k", marker="o", mfc="none", ls="", ms=4, label="simulated attractor"))
-    if with_critical:
-        handles.append(Line2D([], [], color="k", marker="D", ls="", ms=4, label="critical point"))
-    ax.legend(handles=handles, loc="best", fontsize=6, framealpha=0.8)
+               Line2D([], [], color="0.3", ls="-", label="stable"), Line2D([], [], color="0.3", ls="--", label="unstable"),
+               Line2D([], [], color="k", marker="o", mfc="none", ls="", ms=4, label="simulated attractor"),
+               Line2D([], [], color="k", marker="D", ls="", ms=4, label="critical point:")]
+    handles += [Line2D([], [], **blank, label=name) for name in CRITICAL_NAMES.values()]
+    handles.append(Line2D([], [], **blank, label="P1, P2, P3: transitions (bottom to bottom, to top, top to bottom)"))
+    if grazing is not None:
+        handles += [Line2D([], [], color="k", ls="-.", lw=0.8, label="G1: the 2:1 orbit grazes (2:1 to 3:1 as d decreases)"),
+                    Line2D([], [], color="tab:red", ls="-.", lw=0.8, label="G2: the 3:1 branch folds (3:1 to 2:1 as d increases)")]
+    fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=7)
 
 
 def fig2(branches, sims, d_ranges, grazing=None):
-    """2:1 branches: Zdot_k, Delta t_j / 2, phi_k vs d for each incline (rows)."""
+    """2:1 branches: Zdot_k, Delta t_j / 2, phi_k vs d for each incline (rows).  Every name is set where it
+    overprints nothing (:func:`vibroimpact.outputs.layout.place_labels`); a critical point on a grazing line
+    is named by the line."""
+    from ..layout import AROUND, place_labels
 
     use_style()
     n = len(branches)
-    fig, axes = plt.subplots(n, 3, figsize=(10, 2.3 * n), squeeze=False, sharex="row")
+    fig, axes = plt.subplots(n, 3, figsize=(10, 2.3 * n + 1.0), squeeze=False, sharex="row")
     labels = iter("abcdefghijklmnopqrstuvwxyz")
-    for r_i, (row, br, sim, (lo, hi)) in enumerate(zip(axes, branches, sims, d_ranges, strict=True)):
+    names = []  # (ax, text, candidates, style), placed once the layout is fixed
+    for row, br, sim, (lo, hi) in zip(axes, branches, sims, d_ranges, strict=True):
         if br.attrs.get("status") == "failed":
             row[0].set_title(f"failed: {br.attrs['reason']}")
             continue
@@ -81,6 +95,9 @@ def fig2(branches, sims, d_ranges, grazing=None):
         d = br.d.values[m]
         st = br.stable.values[m]
         walls = br.wall.values
+        lines = {}
+        if grazing is not None and abs(br.attrs["beta"] - grazing["beta"]) < 1e-9:
+            lines = {"G1": (grazing["G1"], "k"), "G2": (grazing["G2"], "tab:red")}
         for col, (var, scale, ylabel) in enumerate(
             [("v_minus", 1.0, r"$\dot Z_k$"), ("dt", 0.5, r"$\Delta t_j/2$"), ("phase", 1.0, r"$\varphi_k$")]
         ):
@@ -93,16 +110,16 @@ def fig2(branches, sims, d_ranges, grazing=None):
                 if var == "phase":  # do not draw the jump where the phase wraps at 2 pi
                     y = np.where(np.abs(np.diff(y, prepend=y[0])) > np.pi, np.nan, y)
                 branch_line(ax, d, y, st, color)
-                # the transition this curve belongs to (paper's P1, P2, P3), on its stable sheet a quarter
-                # of the way along (the ends carry the critical points' names)
+                # the transition this curve belongs to (paper's P1, P2, P3), on its stable sheet, a quarter of
+                # the way along or wherever else along it the name overprints nothing
                 ok = np.flatnonzero(np.isfinite(y) & st)
                 ok = ok if ok.size else np.flatnonzero(np.isfinite(y))
                 if ok.size:
-                    target = d[ok].min() + 0.25 * np.ptp(d[ok])
-                    k = ok[np.argmin(np.abs(d[ok] - target))]
-                    ax.annotate(transition_name(walls, j, into=var != "phase"), (d[k], y[k]), xytext=(0, 4),
-                                textcoords="offset points", ha="center", fontsize=6, color=color,
-                                fontweight="bold")
+                    spots = [ok[np.argmin(np.abs(d[ok] - d[ok].min() - f * np.ptp(d[ok])))]
+                             for f in (0.25, 0.5, 0.1, 0.75, 0.4, 0.6, 0.9, 0.33, 0.66)]
+                    names.append((ax, transition_name(walls, j, into=var != "phase"),
+                                  [((d[k], y[k]), off) for k in spots for off in ((0, 4), (0, -4))],
+                                  dict(fontsize=6, color=color, fontweight="bold")))
                 if sim is not None and "v_minus" in sim and sim.sizes.get("sim", 0):
                     ys = sim[var].values[:, j] * scale
                     ax.plot(sim.d, np.abs(ys) if var == "v_minus" else ys, "o", mfc="none", color="k", ms=4)
@@ -114,32 +131,37 @@ def fig2(branches, sims, d_ranges, grazing=None):
                         continue  # the phase wraps between these points
                     yc = yall[k] + t * (yall[k + 1] - yall[k])
                     ax.plot([dc], [yc], "D", color="k", ms=3.5, zorder=5)
-                    if j == 0:
-                        ax.annotate(name, (dc, yc), xytext=(3, 4), textcoords="offset points", fontsize=7)
-            if grazing is not None and abs(br.attrs["beta"] - grazing["beta"]) < 1e-9:
-                for key, color, dx in (("G1", "k", -13), ("G2", "tab:red", 2)):
-                    ax.axvline(grazing[key], color=color, ls="-.", lw=0.8)
-                    ax.annotate(key, (grazing[key], 0.0), xycoords=("data", "axes fraction"), xytext=(dx, 3),
-                                textcoords="offset points", fontsize=7, color=color)
-            if col == 0 and r_i == 0:
-                _branch_legend(ax)
+                    on_line = any(abs(dc - g) <= 1e-9 for g, _ in lines.values())
+                    if j == 0 and not on_line:  # a grazing line names its point itself
+                        names.append((ax, name, [((dc, yc), off) for off in AROUND], dict(fontsize=7)))
+            for key, (g, color) in lines.items():
+                ax.axvline(g, color=color, ls="-.", lw=0.8)
+                names.insert(0, (ax, key, [((g, y0), (dx, dy)) for y0, dy in ((0.0, 3), (1.0, -3), (0.5, 3), (0.25, 3),
+                                                                              (0.75, 3)) for dx in (2, -2)],
+                                 dict(xycoords=("data", "axes fraction"), fontsize=7, color=color)))
             ax.set_ylabel(ylabel + (" (magnitude)" if var == "v_minus" else ""))
             ax.set_xlabel("d")
             ax.set_title(f"({next(labels)}) {beta_label(br.attrs['beta'])}")
             ax.set_xlim(lo, hi)
+    _branch_legend(fig, grazing)
+    place_labels(fig, names)
     return fig
 
 
 def fig3(branches, d_ranges):
-    """Delta = Tr^2 - 4 Det (left) and eigenvalues (right) along the 2:1 branches.  Stable stretches
+    """Delta = Tr^2 - 4 Det (left) and eigenvalues (right) along the 2:1 branches, in the caption's colours:
+    real eigenvalues blue and green (thin), the real part of a complex pair green (thick).  Stable stretches
     solid, unstable dashed, stretches that cross a wall (not admissible) grey; A (node <-> focus,
-    Delta = 0) and B (lambda = -1) marked and named."""
+    Delta = 0) and B (lambda = -1) marked and named, the legend below the panels."""
     from matplotlib.lines import Line2D
+
+    from ..layout import AROUND, place_labels
 
     use_style()
     n = len(branches)
-    fig, axes = plt.subplots(n, 2, figsize=(8, 2.3 * n), squeeze=False)
+    fig, axes = plt.subplots(n, 2, figsize=(8, 2.3 * n + 0.7), squeeze=False)
     labels = iter("abcdefghijklmnop")
+    names = []
     for row, br, (lo, hi) in zip(axes, branches, d_ranges, strict=True):
         if br.attrs.get("status") == "failed":
             row[0].set_title(f"failed: {br.attrs['reason']}")
@@ -160,7 +182,7 @@ def fig3(branches, d_ranges):
         row[0].set_ylabel(r"$\Delta=\mathrm{Tr}^2-4\,\mathrm{Det}$")
         for e, col in ((0, "tab:blue"), (1, "tab:green")):
             draw(row[1], np.where(real, br.eig_real.values[:, e], np.nan), col, lw=0.8)
-        draw(row[1], np.where(~real, br.eig_real.values[:, 0], np.nan), "tab:purple", lw=2.0)
+        draw(row[1], np.where(~real, br.eig_real.values[:, 0], np.nan), "tab:green", lw=2.2)
         row[1].axhline(-1, color="tab:red", ls="-.", lw=0.8)
         row[1].set_ylabel(r"$\lambda_{1,2}$")
         # scale to the physical stretch: beyond the fold the unstable branch diverges where an impact
@@ -177,17 +199,18 @@ def fig3(branches, d_ranges):
         for name, dc, _k, _t in critical_markers(br, lo, hi, admissible_only=False):
             if name.startswith("A"):
                 row[0].plot([dc], [0.0], "s", mfc="none", color="tab:red", ms=6)
-                row[0].annotate(name, (dc, 0.0), xytext=(3, 5), textcoords="offset points", fontsize=7)
+                names.append((row[0], name, [((dc, 0.0), off) for off in AROUND], dict(fontsize=7)))
             elif name == "B":
                 row[1].plot([dc], [-1.0], "o", mfc="none", color="tab:red", ms=7)
-                row[1].annotate("B", (dc, -1.0), xytext=(4, -11), textcoords="offset points", fontsize=7)
-    handles = [Line2D([], [], color="tab:blue", label=r"real $\lambda_1$ (stable: solid, unstable: dashed)"),
+                names.append((row[1], "B", [((dc, -1.0), off) for off in AROUND[1::2] + AROUND[::2]], dict(fontsize=7)))
+    handles = [Line2D([], [], color="tab:blue", lw=0.8, label=r"real $\lambda_1$; $\Delta$"),
                Line2D([], [], color="tab:green", lw=0.8, label=r"real $\lambda_2$"),
-               Line2D([], [], color="tab:purple", lw=2.0, label=r"Re $\lambda$ (complex pair)"),
+               Line2D([], [], color="tab:green", lw=2.2, label=r"Re $\lambda_{1,2}$ (complex pair)"),
+               Line2D([], [], color="0.3", ls="-", label="stable"), Line2D([], [], color="0.3", ls="--", label="unstable"),
                Line2D([], [], color="0.75", label="not admissible (crosses a wall)"),
-               Line2D([], [], color="tab:red", marker="o", mfc="none", ls="", label=r"B: $\lambda=-1$"),
-               Line2D([], [], color="tab:red", marker="s", mfc="none", ls="", label=r"A: $\Delta=0$ (node $\leftrightarrow$ focus)")]
-    axes[0, 1].legend(handles=handles, loc="lower right", fontsize=6, framealpha=0.85)
+               Line2D([], [], color="tab:red", ls="-.", lw=0.8, label=r"$\Delta=0$, $\lambda=-1$: stability boundaries"),
+               Line2D([], [], color="tab:red", marker="s", mfc="none", ls="", label=r"A: $\Delta=0$ (node $\leftrightarrow$ focus)"),
+               Line2D([], [], color="tab:red", marker="o", mfc="none", ls="", label=r"B: $\lambda=-1$ (period doubling)")]
+    fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=7)
+    place_labels(fig, names)
     return fig
-
-

@@ -314,12 +314,14 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
 def fig_design(s_sets, F_sets, table):
     """What a device delivers (:func:`vibroimpact.analysis.energy.delivered`: the exact cycle's U_T and U_I where
     the motion is periodic, the long run's where it is not; a gap where a transient outlasts the cap)
-    against s at fixed force and against F at fixed s, per incline, U_T solid and U_I dashed, with the
-    maxima of the design table marked."""
+    against s at fixed force and against F at fixed s, per incline, U_T solid and U_I dashed (kV), with the
+    maxima of the design table marked; one legend below both panels says what each line and mark is."""
+    from matplotlib.lines import Line2D
+
     from ...analysis.energy import delivered
 
     use_style()
-    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.4))
     colors = plt.get_cmap("tab10").colors
     for ax, sets, vary in ((axes[0], s_sets, "s"), (axes[1], F_sets, "F")):
         for k, e in enumerate(sets):
@@ -330,22 +332,26 @@ def fig_design(s_sets, F_sets, table):
             for q, style, lw, label in (("U_T", "-", 1.0, beta_label(e.attrs["beta"]) + r": $\overline{U}_T$"),
                                         ("U_I", "--", 0.8, None)):
                 value, se = delivered(e, q)
-                info = point_info(dn, every, q) | {"mean": value[down], "se": se[down]}
-                wellposed(ax.plot(e[vary], value[down], style, color=c, lw=lw, label=label)[0], "motions", **info)
+                info = point_info(dn, every, q) | {"mean": value[down] * KV, "se": se[down] * KV}
+                wellposed(ax.plot(e[vary], value[down] * KV, style, color=c, lw=lw, label=label)[0], "motions", **info)
             rows = table[(table.vary == vary) & (abs(table.beta - float(e.attrs["beta"])) < 1e-9)]
             for _, r in rows.iterrows():
                 value, se = (r.U_T, r.U_T_se) if r.maximise == "U_T" else (r.U_I, r.U_I_se)
-                mark = ax.plot(r.best, value, "o" if r.maximise == "U_T" else "s", mfc="none", color=c, ms=8)[0]
+                mark = ax.plot(r.best, value * KV, "o" if r.maximise == "U_T" else "s", mfc="none", color=c, ms=8)[0]
                 # a maximum where no period is found is the long run's mean, known to its standard error
-                wellposed(mark, "motions", motion=[r.motion], settled=[se == 0], unsettled=[False], mean=[value],
-                          se=[se])
+                wellposed(mark, "motions", motion=[r.motion], settled=[se == 0], unsettled=[False], mean=[value * KV],
+                          se=[se * KV])
         ax.set_xlabel("cylinder length s (m)" if vary == "s" else "forcing amplitude ||F|| (N)")
-        ax.set_ylabel("average output voltage (V)")
-        ax.set_title(("(a) length sweep at fixed force" if vary == "s" else "(b) force sweep at s = 0.85 m")
-                     + r"; dashed: $\overline{U}_I$; circles/squares: maxima" + "\nperiodic: the exact cycle's "
-                     "average; no period (chaotic, quasi-periodic): the long run's; a gap: a transient longer than the cap",
-                     fontsize=8)
-    axes[0].legend(loc="best", fontsize=6)
+        ax.set_ylabel("average output voltage (kV)")
+        ax.set_title("(a) length sweep at fixed force" if vary == "s" else "(b) force sweep at s = 0.85 m")
+    handles = [Line2D([], [], color=colors[k % 10], label=beta_label(e.attrs["beta"])) for k, e in enumerate(s_sets)]
+    handles += [Line2D([], [], color="0.3", ls="-", label=r"$\overline{U}_T$ (per unit time)"),
+                Line2D([], [], color="0.3", ls="--", lw=0.8, label=r"$\overline{U}_I$ (per impact)"),
+                Line2D([], [], color="0.3", marker="o", mfc="none", ls="", ms=8, label=r"largest $\overline{U}_T$"),
+                Line2D([], [], color="0.3", marker="s", mfc="none", ls="", ms=8, label=r"largest $\overline{U}_I$")]
+    fig.legend(handles=handles, loc="outside lower center", ncol=4, fontsize=7, title_fontsize=7,
+               title="periodic motion: the exact cycle's average; no period (chaotic, quasi-periodic): the long "
+                     "run's; a gap: a transient longer than the cap")
     return fig
 
 

@@ -1,0 +1,186 @@
+"""Figures a referee accepts: no text overprints another, none is cut off, no legend hides data
+(vibroimpact.outputs.layout), on small figures built to have each fault, and on every figure the workflow draws."""
+
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+import xarray as xr
+
+from vibroimpact.outputs import layout
+from vibroimpact.outputs.plots._common import save, use_style
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture
+def fig():
+    use_style()
+    f, ax = plt.subplots(figsize=(4, 3))
+    ax.plot([0.0, 1.0], [0.0, 1.0], "-", label="a curve")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_title("(a) a panel")
+    yield f
+    plt.close(f)
+
+
+def test_a_clean_figure_has_no_problems(fig):
+    ax = fig.axes[0]
+    ax.plot([0.2, 0.8], [0.2, 0.8], "o", mfc="none", label="points")
+    ax.text(0.1, 0.8, "a note")
+    ax.legend(loc="lower right")
+    assert layout.layout_problems(fig) == []
+
+
+def test_overlapping_texts_are_named(fig):
+    ax = fig.axes[0]
+    ax.annotate("A2", (0.9, 0.9))
+    ax.annotate("F", (0.91, 0.9))
+    problems = layout.layout_problems(fig)
+    assert len(problems) == 1 and problems[0].startswith("overlap: 'A2' (text of axes a0 '(a) a panel') and 'F'"), problems
+
+
+@pytest.mark.parametrize("gap_pt, reported", [(0.0, True), (0.5, True), (2.0, False)])
+def test_texts_set_flush_read_as_one_word(fig, gap_pt, reported):
+    """Two labels less than TOLERANCE_PT apart (paper units: points) are reported ("h=0.02h=0.01"), two
+    points apart they are not."""
+    ax = fig.axes[0]
+    first = ax.text(0.3, 0.5, "h=0.02")
+    fig.canvas.draw()
+    x = first.get_window_extent().x1 + gap_pt * fig.dpi / 72
+    ax.text(x, first.get_window_extent().y0, "h=0.01", transform=None)
+    problems = layout.layout_problems(fig)
+    assert bool(problems) == reported, problems
+    assert not problems or problems[0].startswith("overlap: 'h=0.02' (text of axes a0 '(a) a panel') and 'h=0.01'")
+
+
+def test_an_annotation_across_the_frame_is_named(fig):
+    """A label of a point at the axes' edge that sticks out across the frame; one wholly beside the axes is a
+    margin note and is fine."""
+    ax = fig.axes[0]
+    ax.annotate("h=0.0002", (1.0, 0.5), xytext=(3, 3), textcoords="offset points")
+    ax.annotate("a margin note", (1.02, 0.0), xycoords="axes fraction", fontsize=5)
+    problems = layout.layout_problems(fig)
+    assert len(problems) == 1 and problems[0].startswith("crosses the frame: 'h=0.0002' (text of axes a0"), problems
+
+
+def test_a_text_leaving_the_figure_is_named(fig):
+    fig.text(0.97, 0.5, "cut off at the edge")
+    problems = layout.layout_problems(fig)
+    assert len(problems) == 1 and problems[0].startswith("outside: 'cut off at the edge' (figure text) leaves the "
+                                                        "figure at the right by"), problems
+
+
+def test_a_legend_over_a_marker_is_named(fig):
+    ax = fig.axes[0]
+    ax.plot([0.05], [0.95], "o", label="corner point")
+    ax.legend(loc="upper left")
+    problems = layout.layout_problems(fig)
+    assert problems == ["legend over data: legend of axes a0 '(a) a panel' covers 1 marker(s) of a0_line1 'corner point' "
+                        "of axes a0 '(a) a panel'"], problems
+
+
+def test_a_legend_over_a_reference_line_is_named(fig):
+    """A line with no marker under the legend (lambda = -1, a wall) is hidden data too."""
+    ax = fig.axes[0]
+    ax.axhline(0.99, color="r")
+    ax.legend(loc="upper left")
+    problems = layout.layout_problems(fig)
+    assert problems == ["legend over data: legend of axes a0 '(a) a panel' covers line a0_line1 of axes a0 '(a) a panel'"], problems
+
+
+def test_a_legend_over_a_scatter_and_a_text_is_named(fig):
+    ax = fig.axes[0]
+    ax.scatter([0.02, 0.5], [0.98, 0.5])
+    ax.text(0.02, 0.97, "hidden")
+    ax.legend(loc="upper left")
+    problems = layout.layout_problems(fig)
+    assert sorted(problems) == sorted([
+        "legend over text: legend of axes a0 '(a) a panel' covers 'hidden' (text of axes a0 '(a) a panel')",
+        "legend over data: legend of axes a0 '(a) a panel' covers 1 point(s) of collection 0 of axes a0 '(a) a panel'"]), problems
+
+
+def test_what_is_not_drawn_is_not_reported(fig):
+    """Invisible texts, empty strings and tick labels beyond the view limits are never drawn."""
+    ax = fig.axes[0]
+    ax.text(0.5, 0.5, "invisible").set_visible(False)
+    ax.text(0.5, 0.5, "")
+    ax.text(0.5, 0.5, "drawn")
+    ax.set_xticks([-5.0, 0.0, 0.5, 1.0, 5.0])  # the outer two lie beyond the limits
+    ax.set_xlim(0, 1)
+    assert layout.layout_problems(fig) == []
+
+
+def test_save_records_the_verdict_beside_the_figure(fig, tmp_path):
+    fig.axes[0].annotate("A2", (0.9, 0.9))
+    fig.axes[0].annotate("F", (0.91, 0.9))
+    save(fig, tmp_path / "figures" / "f", data=tmp_path / "figures" / "data" / "f.nc")
+    with xr.open_dataset(tmp_path / "figures" / "data" / "f.nc", engine="scipy") as ds:
+        problems = layout.from_attribute(ds)
+    assert len(problems) == 1 and problems[0].startswith("overlap: 'A2'")
+    assert layout.check_results(tmp_path) == {"f": problems}
+    assert layout.main([str(tmp_path)]) == 1
+
+
+def _problems_text(found):
+    return "\n".join(f"{name}: {p}" for name, ps in found.items() for p in ps)
+
+
+def test_figures_already_built_here_have_a_clean_layout():
+    """The figures built in this checkout's results/ (quick, while working; skipped when none are built).
+    The same is asserted over a fresh clone's default target by the slow test below."""
+    found = layout.check_results(ROOT / "results")
+    if not found:
+        pytest.skip("no figure data in results/figures/data: build some figures first")
+    assert not any(found.values()), _problems_text(found)
+
+
+@pytest.mark.slow
+def test_every_figure_of_the_default_target_has_a_clean_layout(default_run):
+    """Every figure the default target draws (its saved data under results/figures/data) records no layout
+    problem: no overlapping texts, none leaving the figure, no legend over data."""
+    clone, _ = default_run
+    found = layout.check_results(clone / "results")
+    assert len(found) >= 15, sorted(found)
+    assert not any(found.values()), _problems_text(found)
+
+
+def test_the_attribute_is_json_of_the_problems():
+    assert json.loads(layout.to_attribute(["a β", "b"])) == ["a β", "b"]
+    assert layout.from_attribute(xr.Dataset(attrs={"layout_problems": "[]"})) == []
+    assert layout.from_attribute(xr.Dataset()) is None
+    assert np.isscalar(layout.TOLERANCE_PT)
+
+
+@pytest.mark.parametrize("dx_px, reported", [(6, True), (25, False)])
+def test_slanted_labels_are_compared_as_slanted(fig, dx_px, reported):
+    """Two labels turned by 70 degrees (a failure map's case names), ``dx_px`` apart side by side: at 25 px their
+    level boxes overlap but the glyphs stand well apart (no problem); at 6 px the labels themselves overlap."""
+    ax = fig.axes[0]
+    style = dict(rotation=70, ha="center", va="center", transform=None)
+    a = ax.text(150, 150, "a slanted case name", **style)
+    b = ax.text(150 + dx_px, 150, "a slanted case name", **style)
+    fig.canvas.draw()
+    ba, bb = a.get_window_extent(), b.get_window_extent()
+    assert min(ba.x1, bb.x1) - max(ba.x0, bb.x0) > 10  # their level boxes overlap
+    problems = layout.layout_problems(fig)
+    assert bool(problems) == reported, problems
+
+
+def test_placed_names_overprint_nothing(fig):
+    """Two points closer than their names are wide, at the frame's edge (Fig 2's A2 and F at the fold): each name
+    takes a place clear of the other, of the markers and of the frame."""
+    ax = fig.axes[0]
+    ax.set_xlim(0, 1)
+    ax.plot([0.975, 0.99], [0.5, 0.5], "D", color="k")
+    labels = [(ax, name, [((x, 0.5), off) for off in layout.AROUND], dict(fontsize=7))
+              for name, x in (("A2", 0.975), ("F", 0.99))]
+    placed = layout.place_labels(fig, labels)
+    assert [a.get_text() for a in placed] == ["A2", "F"] and ax.texts[:] == placed
+    assert layout.layout_problems(fig) == []

@@ -117,3 +117,62 @@ def test_a_family_that_never_ends_on_the_line_is_reported():
     d, g = _line(math.pi / 3, 0.45, 0.40)
     ex = family_exit(d, g, 0.5, 0.42, 0.87)
     assert ex["status"].startswith("not located: the attractor stays 1:1")
+
+
+def test_a_line_of_one_point_is_refused_and_the_smallest_d_is_named():
+    ex = family_exit([0.3], [0.12], 0.5, 0.42, 0.87)
+    assert ex["status"] == "not located: the line needs at least two points"
+    d, g = _line(math.pi / 3, 0.45, 0.40)
+    assert family_exit(d, g, 0.5, 0.42, 0.87)["status"].endswith(f"smallest d = {0.40:.6g}")
+
+
+def test_the_motion_beyond_d_graz_is_described_by_its_bottom_impacts_per_top_impact():
+    """Just past a grazing the motion adds a bottom impact now and then: more than one per top impact."""
+    d, g = _line(math.pi / 6, 0.222, 0.205, 10)
+    ex = family_exit(d, g, 0.5, 0.242, 0.676, xtol=1e-6)
+    head, ratio = ex["after"].split("(")
+    assert head == "no period found "
+    assert 1.0 < float(ratio.split()[0]) < 1.1
+
+
+#: d = K_F / F at s = 0.85 m (the paper's M and omega)
+K_F = 0.85 * 0.1245 * 25.0
+
+
+@pytest.mark.parametrize("vary, values, fixed", [("s", np.linspace(0.345, 0.33, 4), {"F": 5.0}),
+                                                 ("F", K_F / np.linspace(0.25, 0.19, 8), {"s": 0.85})])
+def test_sweep_d_graz_gives_the_device_at_d_graz(vary, values, fixed):
+    """The swept device at d_graz is the one whose d is d_graz: s proportional to d at fixed force, the force
+    inversely proportional at fixed s (d = s M omega^2 / (F pi^2))."""
+    from vibroimpact.analysis.family_exit import sweep_d_graz
+
+    beta = math.pi / 6
+    sw = vi.sweep(vary, values, beta=beta, phi=0.42, v0=0.87, long_impacts=0, **fixed)
+    g = sweep_d_graz(sw, xtol=1e-5)
+    assert str(g.d_graz_status.values) == "located"
+    p = vi.Params.from_physical(s=float(g.d_graz_s), F=float(g.d_graz_F), beta=beta)
+    assert p.d == pytest.approx(float(g.d_graz), rel=1e-12)
+    assert float(g.d_graz_F if vary == "s" else g.d_graz_s) == pytest.approx(fixed["F" if vary == "s" else "s"])
+    assert g.attrs["d_graz_xtol"] == 1e-5 and g.attrs["d_graz_impacts"] == 4000
+    assert g.d_graz.attrs["units"] == "1" and g.d_graz_s.attrs["units"] == "m"
+
+
+def test_d_graz_curve_follows_d_along_the_axis_that_changes_it():
+    """Lines along s (d proportional), along F (d inversely proportional) or along d; none where no axis
+    changes d.  Each line's exit is the device whose d is its d_graz."""
+    from vibroimpact.analysis.family_exit import d_graz_curve
+
+    beta = math.pi / 6
+    kw = dict(phi=0.42, v0=0.87, xtol=1e-5)
+    s_line = d_graz_curve("s", np.linspace(0.33, 0.345, 4), "beta", [beta], F=5.0, **kw)
+    F_line = d_graz_curve("beta", [beta], "F", K_F / np.linspace(0.25, 0.19, 8), s=0.85, **kw)
+    assert (s_line.attrs["along"], F_line.attrs["along"]) == ("s", "F")
+    for c, device in ((s_line, lambda a: dict(s=a, F=5.0)), (F_line, lambda a: dict(s=0.85, F=a))):
+        assert str(c.d_graz_kind.values[0]) == "grazing"
+        p = vi.Params.from_physical(beta=beta, **device(float(c["at"][0])))
+        assert p.d == pytest.approx(float(c.d_graz[0]), rel=1e-12)
+    assert s_line.attrs["grid_step"] == pytest.approx(0.005)
+    d_line = d_graz_curve("d", np.linspace(0.205, 0.215, 3), "gbar", [gbar_of(beta)], **kw)
+    assert float(d_line["at"][0]) == pytest.approx(float(d_line.d_graz[0]))
+    none = d_graz_curve("beta", [0.3, 0.5], "r", [0.5, 0.6], phi=0.42, v0=0.87)
+    assert none.sizes["line"] == 0 and none.attrs["status"].startswith("no d_graz curve")

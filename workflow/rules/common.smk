@@ -49,7 +49,7 @@ def caption_params(name):
         d=c["d"],
         gbar=ph["M"] * ph["g"] * math.sin(c["beta"]) / c.get("F", ph["F"]),
         F=c.get("F", ph["F"]),
-        omega=ph["omega"],
+        omega=c.get("omega", ph["omega"]),
         period=c.get("period", 0),
         beta=c["beta"],
         r=ph["r"],

@@ -102,10 +102,16 @@ def _interval_name(lo: str, hi: str) -> str:
     return f"d > {sub(lo)}" if hi == "branch end" else f"{sub(lo)} < d < {sub(hi)}"
 
 
-def table1(branches: list[xr.Dataset]) -> pd.DataFrame:
+def table1(branches: list[xr.Dataset], transitions: list[xr.Dataset] = ()) -> pd.DataFrame:
     """One row per incline: the stable interval with its causes, the period-doubling point B, the
     node/focus points A_i inside it and the fold, next to the paper's stable interval, and the type (node or
-    focus, stable or unstable) of each interval between them (:func:`stability_types`, column ``types``)."""
+    focus, stable or unstable) of each interval between them (:func:`stability_types`, column ``types``).
+
+    With the located ``transitions`` of sweeps (:func:`vibroimpact.sweep_d_graz`), the paper's two readings of
+    d_graz side by side, at the inclines a sweep covers: ``d_graz`` (where the 1:1 motion followed down
+    leaves its family, with ``d_graz_kind`` and ``d_graz_clearance``), the fold (the largest d of 2:1
+    period-2 solutions) and ``d_graz_minus_fold``."""
+    exits = {round(float(t.attrs["beta"]), 9): t for t in transitions if "d_graz" in t}
     rows = []
     for br in branches:
         beta = float(br.attrs["beta"])
@@ -125,6 +131,11 @@ def table1(branches: list[xr.Dataset]) -> pd.DataFrame:
         row.update(paper_from=paper[0] if paper else np.nan, paper_to=paper[1] if paper else np.nan)
         row["types"] = "; ".join(f"{_interval_name(r.from_point, r.to_point)}: {r.type}"
                                  for r in stability_types(br).itertuples())
+        t = exits.get(round(beta, 9))
+        if t is not None:
+            row.update(d_graz=float(t.d_graz), d_graz_kind=str(t.d_graz_kind.values),
+                       d_graz_status=str(t.d_graz_status.values),
+                       d_graz_clearance=float(t.d_graz_clearance), d_graz_minus_fold=float(t.d_graz) - row["d_fold"])
         # nothing dropped: why the continuation stopped each way, and any point not refined
         row.update(branch_stops=f"{br.attrs.get('stop_decreasing', '?')}; {br.attrs.get('stop_increasing', '?')}")
         if "critical_refined" in br and not bool(br.critical_refined.all()):
@@ -154,6 +165,21 @@ def table1_markdown(df: pd.DataFrame) -> str:
     for _, r in df.iterrows():
         name = names.get(round(r.beta_deg, 6), f"{r.beta:.4f}")
         lines.append(f"| {name} | {r.get('types', '')} |")
+    if "d_graz" in df:
+        lines += ["", "The paper's d_graz read both ways it states it: where the 1:1 motion, followed with d "
+                  "decreasing (the length sweep at the physics' force), leaves the 1:1 family, grazing (its clearance "
+                  "to the wall tends to 0) or not; and \"the maximum value for 2:1 period-2 solutions\", the 2:1 "
+                  "branch's fold:", "",
+                  "| β | d_graz: the 1:1 motion leaves its family | how | largest d of 2:1 period-2 (fold) | "
+                  "d_graz − fold |", "|---|---|---|---|---|"]
+        for _, r in df.iterrows():
+            name = names.get(round(r.beta_deg, 6), f"{r.beta:.4f}")
+            if not np.isfinite(r.get("d_graz", np.nan)):
+                lines.append(f"| {name} | — ({r.get('d_graz_status', 'no length sweep at this incline')}) | | "
+                             f"{r.d_fold:.6f} | |")
+                continue
+            lines.append(f"| {name} | {r.d_graz:.6f} | {r.d_graz_kind} (clearance {r.d_graz_clearance:.1e}) | "
+                         f"{r.d_fold:.6f} | {r.d_graz_minus_fold:+.6f} |")
     lines += ["", "Where each continuation stopped (decreasing; increasing arclength) and critical points that "
               "could not be refined:", ""]
     for _, r in df.iterrows():

@@ -40,6 +40,17 @@ def test_a_figure_is_named_by_its_printed_number_with_its_label_beside_it():
     assert caption_figure("mine") is None and caption_figure("fig7_a") is None
 
 
+def test_the_caption_table_names_each_orbit_by_its_printed_figure_and_panel():
+    import xarray as xr
+
+    from vibroimpact.outputs.portraits import summary_markdown
+
+    one = dict(d=0.197, motion_stated="1:1", motion_found="1:1 period-2", v0=0.5474, v_attractor=0.5474, dv=0.0,
+               phi=6.211, phase_attractor=6.211, dphase=0.0)
+    table = xr.Dataset({k: ("caption", [v]) for k, v in one.items()}, coords={"caption": ["figFN2_a"]})
+    assert "| Figure 3 (a) | figFN2_a | 0.197 |" in summary_markdown(table)
+
+
 #: a LaTeX label in text: "Fig 0", "Fig FN2", "Figs 0 and 5", "Fig. 2" (the project's file stems, fig0, do not match)
 LABEL = re.compile(r"\bFig(s?)\.?[ ~]?(0b|FN2|BiS|0|2|3|4|5)\b")
 

@@ -71,7 +71,7 @@ rule all:
             ext=RESOLUTION["figure_formats"],
         ),
         "results/tables/table1.csv",
-        [branch_path("orbit", math.pi / 3, "BT")] if "BT" in WORDS else [],  # 1:1 branch of Fig 0
+        [branch_path("orbit", math.pi / 3, "BT")] if "BT" in WORDS else [],  # 1:1 branch of Figure 2
         [sweep_path(n) for n in SWEEPS],
         [sweep_path(n, "-transitions") for n in SWEEPS],
         "results/tables/transitions.md",

@@ -3,7 +3,7 @@ Simulate an impacting motion and identify it
 ============================================
 
 The ball's flight between impacts is known in closed form, so :func:`vibroimpact.simulate` only
-locates impacts, and never misses one (a tangential, grazing one included). Here: the paper's Fig 4 (a)
+locates impacts, and never misses one (a tangential, grazing one included). Here: the paper's Figure 7 (a)
 caption orbit, β = π/6, d = 0.16, from the caption's bottom impact.
 """
 

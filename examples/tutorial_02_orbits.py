@@ -17,7 +17,7 @@ import numpy as np
 import vibroimpact as vi
 
 # %%
-# The 2:1 orbit (word BBT: two bottom impacts and one top per forcing period) of Fig BiS (e):
+# The 2:1 orbit (word BBT: two bottom impacts and one top per forcing period) of Figure 8 (e):
 p = vi.Params.from_physical(s=0.14 / 0.6225, beta=math.pi / 6)
 o = vi.find_orbit(p, "BBT", phi=5.855, v0=0.4185)
 print(o.stability, np.round(np.abs(o.eigenvalues), 4), "admissible:", o.admissible)

@@ -15,7 +15,7 @@ import numpy as np
 import vibroimpact as vi
 
 # %%
-# The length sweep of Fig 0 at β = π/3, coarse: 1:1, its period doublings, an aperiodic window, 2:1.
+# The length sweep of Figure 2 at β = π/3, coarse: 1:1, its period doublings, an aperiodic window, 2:1.
 sw = vi.sweep("s", np.linspace(0.19, 0.72, 60), beta=math.pi / 3, phi=0.42, v0=0.87)
 dn = sw.sel(direction="down")
 print(sorted(set(dn.label.values.astype(str))))
@@ -29,7 +29,7 @@ ax.set_xlabel("d")
 ax.set_ylabel(r"$|\dot Z_k|$ (black: exact cycle; grey: no period found)")
 
 # %%
-# Basins at the bistable point of Fig BiS (d = 0.14, β = π/6): the attractor reached from each first
+# Basins at the bistable point of Figure 8 (d = 0.14, β = π/6): the attractor reached from each first
 # bottom impact (phase, pre-impact velocity).
 p = vi.Params.from_physical(s=0.14 / 0.6225, beta=math.pi / 6)
 b = vi.basins(p, np.linspace(0, 2 * np.pi, 48), np.linspace(0.02, 1.2, 30))

@@ -24,7 +24,7 @@ mb = vi.Membrane(**cfg["membrane"])
 ph = cfg["physics"]
 
 # %%
-# The 2:1 orbit of Fig 4 (a) and the 1:1 orbit of Fig 0b (a): gains per impact and averages.
+# The 2:1 orbit of Figure 7 (a) and the 1:1 orbit of Figure 4 (a): gains per impact and averages.
 for s, beta, word, phi, v0 in ((0.16 / 0.6225, math.pi / 6, "BBT", 1.015, 0.1924),
                                (0.38 / 0.6225, math.pi / 3, "BT", 0.4217, 0.8673)):
     p = vi.Params.from_physical(s=s, beta=beta)

@@ -33,7 +33,9 @@ def test_every_row_the_check_can_produce_is_named_before_any_job():
     names = checks.item_names(["fig4_a"], [math.pi / 6, math.pi / 3])
     assert names.count("G1: 2:1 -> 3:1 grazing, d decreasing, beta=pi/6") == 1
     assert "2:1 stable interval, lower end, beta=pi/6" not in names  # that is G1, checked once
-    assert {"fig4_a: motion", "fig4_a: Zdot(t0)", "fig4_a: phi"} <= set(names)
+    # a caption orbit's rows name its printed figure and panel beside its config key
+    assert {"Figure 7 (a) (fig4_a): motion", "Figure 7 (a) (fig4_a): Zdot(t0)", "Figure 7 (a) (fig4_a): phi"} <= set(names)
+    assert "Figure 5: Zdot_k curves top to bottom, beta=pi/6" in names
 
 
 def test_known_discrepancy_must_name_a_checked_item():
@@ -76,11 +78,11 @@ def test_energy_at_the_same_d_compares_the_two_coexisting_motions():
 
 
 def test_zdot_order_of_the_2to1_orbit_is_its_voltage_order():
-    """Evidence for the known discrepancy of the Zdot_k order (Figs 0 (a), 2 captions: P3, P1, P2).
-    The 2:1 orbit at beta = pi/3, d = 0.19 (solved by Newton from the paper's Fig 0b (b) start), has
+    """Evidence for the known discrepancy of the Zdot_k order (captions of Figures 2 (a) and 5: P3, P1, P2).
+    The 2:1 orbit at beta = pi/3, d = 0.19 (solved by Newton from the paper's Figure 4 (b) start), has
     |Zdot| after P3 > after P2 > after P1, and the voltage rises with the impact speed on both walls
-    (one membrane model): so the Zdot_k order is the U_k order, which the captions of Fig 0 (b) and
-    Fig 5 give as P3, P2, P1."""
+    (one membrane model): so the Zdot_k order is the U_k order, which the captions of Figure 2 (b) and
+    Figure 9 give as P3, P2, P1."""
     import numpy as np
 
     from vibroimpact.analysis.energy import Membrane, speed_si, voltage_gain
@@ -119,8 +121,8 @@ def test_check_summaries_per_figure():
                             "variable": ["a0_line0_x", "a0_line0_y", checks.IMAGE_ROW, "a0_line0_x", checks.IMAGE_ROW],
                             "max_difference": [0.0, 1e-15, 0.0, float("nan"), 12.0],
                             "status": ["pass", "fail", "pass", "excluded", "excluded"]})
-    paper = pd.DataFrame({"item": ["fig4_a: motion", "simulated points on the BBT, beta=pi/2 branch", "x"],
-                          "where": ["caption", "Fig 2", "section 3"],
+    paper = pd.DataFrame({"item": ["Figure 7 (a) (fig4_a): motion", "simulated points on the BBT, beta=pi/2 branch", "x"],
+                          "where": ["Figure 7 caption", "Figure 5", "section 3"],
                           "status": ["pass", "pass", "known discrepancy"]})
     s = checks.check_summaries(paper, figures)
     assert "1 of 2 arrays pass, 1 FAIL" in s["fig2"] and "image: pass (perceptual hash distance 0 bits)" in s["fig2"]
@@ -198,7 +200,7 @@ BETAS4 = [math.pi / 6, math.pi / 4, math.pi / 3, math.pi / 2]
      ["pass", "fail", "fail", "fail"]),
 ])
 def test_d_graz_rows_hold_the_paper_s_statements(exits, folds, bs, status):
-    """Fig FN2 (f): d_graz = 0.213 at pi/6 (half a unit: 0.0005); section 5: d_graz and the 1:1 period
+    """Figure 3 (f): d_graz = 0.213 at pi/6 (half a unit: 0.0005); section 5: d_graz and the 1:1 period
     doubling rise with beta.  The first set is what the workflow computes, the second breaks each claim."""
     t1 = pd.DataFrame({"beta": BETAS4, "d_fold": folds})
     rows = checks.d_graz_rows([_exit(b, d) for b, d in zip(BETAS4, exits, strict=True)], t1,

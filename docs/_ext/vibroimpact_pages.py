@@ -1,9 +1,10 @@
 """Pages of the documentation generated from the workflow's results when the site is built.
 
-* ``paper.md``: every figure the workflow regenerates, with its caption (the same templates the
-  Snakemake report renders, ``workflow/report/*.rst``), its check result (arrays and image against the
-  committed reference) and the published values it shows, each with the value computed now and its
-  status; then the whole table of the paper's values.
+* ``paper.md``: every figure the workflow regenerates, the paper's first, by the numbers it prints
+  (Figure 2 ... Figure 9: :data:`vibroimpact.outputs.paper.FIGURE_NUMBERS`), then the project's own; each
+  with its caption (the same templates the Snakemake report renders, ``workflow/report/*.rst``), its check
+  result (arrays and image against the committed reference) and the published values it shows, each with
+  the value computed now and its status; then the whole table of the paper's values.
 * ``_generated/variables.md``: every variable the datasets carry, with its units and meaning
   (:data:`vibroimpact.datasets.VARIABLES`).
 
@@ -18,6 +19,8 @@ import jinja2
 import pandas as pd
 from sphinx.errors import ExtensionError
 
+from vibroimpact.outputs.paper import FIGURE_NUMBERS, figure_name
+
 #: figure -> (caption template, its wildcards), as the workflow's rules declare them
 CAPTIONS = {
     "fig0b": ("scene.rst", {"scene": "fig0b"}), "fig4": ("scene.rst", {"scene": "fig4"}),
@@ -29,13 +32,20 @@ CAPTIONS = {
     "failure_map": ("bench.rst", {"bench": "failure_map"}),
     "analytics_accuracy": ("bench.rst", {"bench": "analytics_accuracy"}),
 }
-TITLES = {"bifurcation_set_s_beta": "Bifurcation set over (s, β)", "bifurcation_set_s_F": "Bifurcation set over (s, ‖F̂‖)",
+#: what each of the paper's figures shows, for its title beside its printed number
+SUBJECTS = {"fig0": "impact speeds and output voltages, β = π/3",
+            "figFN2": "phase portraits from 1:1 through grazing to 2:1, β = π/2 and π/6",
+            "fig0b": "time series of the 1:1, 2:1 and 3:1 motions", "fig2": "the 2:1 branches",
+            "fig3": "stability of the 2:1 branches", "fig4": "phase portraits near grazing, β = π/6",
+            "figBiS": "bistable 2:1 and 3:1 motions near grazing, β = π/6",
+            "fig5": "output voltages for four inclines"}
+TITLES = {**{fig: f"{figure_name(fig)}: {what}" for fig, what in SUBJECTS.items()},
+          "bifurcation_set_s_beta": "Bifurcation set over (s, β)", "bifurcation_set_s_F": "Bifurcation set over (s, ‖F̂‖)",
           "bifurcation_set_d_gbar": "Bifurcation set over (d, ḡ)", "bifurcation_set_d_r": "Bifurcation set over (d, r)",
           "design_map_s_beta": "Design map over (s, β)", "design_map_s_F": "Design map over (s, ‖F̂‖)",
-          "fig0b": "Fig 0b", "fig4": "Fig 4", "figFN2": "Fig FN2", "fig2": "Fig 2", "fig3": "Fig 3",
-          "figBiS": "Fig BiS", "basins": "Basins of attraction", "regime_map": "Regime maps", "fig0": "Fig 0",
-          "fig5": "Fig 5", "lyapunov": "Largest Lyapunov exponent", "design": "Design guidance", "work_precision": "Work-precision",
-          "failure_map": "Failure map", "analytics_accuracy": "Accuracy of the analytics"}
+          "basins": "Basins of attraction", "regime_map": "Regime maps", "lyapunov": "Largest Lyapunov exponent",
+          "design": "Design guidance", "work_precision": "Work-precision", "failure_map": "Failure map",
+          "analytics_accuracy": "Accuracy of the analytics"}
 
 
 class _Namespace:
@@ -53,7 +63,8 @@ def _caption(report: Path, fig: str, checks: dict) -> str:
     else:
         raise ExtensionError(f"no caption template for figure {fig!r}")
     env = jinja2.Environment(loader=jinja2.FileSystemLoader(report), undefined=jinja2.StrictUndefined)
-    snakemake = _Namespace(wildcards=_Namespace(**wildcards), config={"_check_results": checks})
+    snakemake = _Namespace(wildcards=_Namespace(**wildcards),
+                           config={"_check_results": checks, "_figure_numbers": FIGURE_NUMBERS})
     return env.get_template(template).render(snakemake=snakemake).strip()
 
 
@@ -66,6 +77,13 @@ def _number(x):
 
 def _markdown_table(df: pd.DataFrame) -> str:
     return df.to_markdown(index=False).replace("|:-", "|--").replace("-:|", "--|")
+
+
+def page_order(figures) -> list[str]:
+    """The paper's figures in its order (Figure 2, 3, ...), then the project's own in the workflow's."""
+    figures = list(dict.fromkeys(figures))
+    return sorted((f for f in figures if f in FIGURE_NUMBERS), key=FIGURE_NUMBERS.get) + [
+        f for f in figures if f not in FIGURE_NUMBERS]
 
 
 def paper_page(root: Path) -> str:
@@ -89,12 +107,15 @@ def paper_page(root: Path) -> str:
            f"{summary.get('known discrepancy', 0)} known discrepancies (each with the evidence a test reproduces), "
            f"{summary.get('fail', 0)} fail. Figure arrays: {int((figures.status == 'pass').sum())} pass, "
            f"{int((figures.status == 'excluded').sum())} excluded (timings), "
-           f"{int((~figures.status.isin(['pass', 'excluded'])).sum())} fail.", ""]
+           f"{int((~figures.status.isin(['pass', 'excluded'])).sum())} fail.", "",
+           "The paper's figures come first, in its order and by the numbers the published paper prints, each "
+           "with its LaTeX label beside it (Figure 1, the device, is a sketch and is not regenerated); the "
+           "project's own figures follow.", ""]
     rows_of = {}
     for i, (item, where) in enumerate(zip(paper["item"], paper["where"], strict=True)):
         for fig in figures_of_item(str(item), str(where)):
             rows_of.setdefault(fig, []).append(i)
-    for fig in figures.figure.unique():
+    for fig in page_order(figures.figure):
         png = results / "figures" / f"{fig}.png"
         if not png.exists():
             raise ExtensionError(f"{png.relative_to(root)} is missing: run `snakemake --cores 2 docs`")

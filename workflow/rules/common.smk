@@ -439,6 +439,11 @@ def _check_summaries():
 # read by workflow/report/*.rst when `snakemake --report` renders the captions; not a setting
 config["_check_results"] = _check_summaries()
 
+# read by workflow/report/*.rst too: the number the published paper prints for each of its figures
+from vibroimpact.outputs.paper import FIGURE_NUMBERS
+
+config["_figure_numbers"] = FIGURE_NUMBERS
+
 
 def figure_formats(stem):
     """A figure's outputs besides its PNG: the quality preset's other ``figure_formats`` (PDF at paper

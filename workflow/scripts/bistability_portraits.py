@@ -1,4 +1,4 @@
-"""Phase portraits of the bistable 2:1 and 3:1 orbits at G1, d = 0.14 and G2 (Fig BiS (d)-(g))."""
+"""Phase portraits of the bistable 2:1 and 3:1 orbits at G1, d = 0.14 and G2 (Figure 8 (d)-(g))."""
 import logging
 
 import numpy as np

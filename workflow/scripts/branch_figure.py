@@ -1,4 +1,4 @@
-"""Draw a branch figure (Fig 2 or Fig 3) from the saved branch datasets."""
+"""Draw a branch figure (the paper's Figure 5 or 6: fig2, fig3) from the saved branch datasets."""
 import logging
 
 import xarray as xr

@@ -1,4 +1,4 @@
-"""Fig 0 or Fig 5: voltages (and for Fig 0 impact velocities) against d, from saved datasets."""
+"""The paper's Figure 2 or 9 (fig0, fig5): voltages (and for Figure 2 impact velocities) against d, from saved datasets."""
 import logging
 
 import xarray as xr

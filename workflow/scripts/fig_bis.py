@@ -1,4 +1,4 @@
-"""Fig BiS from the sweep, its transitions, the portraits and the analytic branches."""
+"""The paper's Figure 8 (figBiS) from the sweep, its transitions, the portraits and the analytic branches."""
 import logging
 
 import xarray as xr

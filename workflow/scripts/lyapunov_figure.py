@@ -1,4 +1,4 @@
-"""The lambda_1 figure (under the velocity bifurcation diagrams of Figs 0 and 5) and the table of chaotic
+"""The lambda_1 figure (under the velocity bifurcation diagrams of Figures 2 and 9) and the table of chaotic
 windows and chaotic outputs, from the saved sweeps, their energies and the continued branches."""
 import logging
 

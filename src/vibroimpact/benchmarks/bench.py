@@ -22,7 +22,7 @@ from ..dynamics.reference import first_impact
 from ..dynamics.simulate import simulate, simulate_batch
 from .methods import ivp_flight, run_ivp
 
-#: Benchmark scene: beta = pi/3, d = 0.235 lies in the chaotic window (paper Fig 0): every kind of flight.
+#: Benchmark scene: beta = pi/3, d = 0.235 lies in the chaotic window (paper Figure 2): every kind of flight.
 SCENE = dict(d=0.235, beta=math.pi / 3, phi=0.4, v0=0.6)
 
 
@@ -99,7 +99,7 @@ def report(ds: xr.Dataset) -> str:
         + (f"\nTwo-parameter curve (G1, the 2:1 grazing point, followed in (s, β) at 5 N): {int(v['curve_points'])} points, "
            f"its start located and its end points and events recorded, in {v['curve_seconds']:.2f} s.\n"
            if "curve_points" in v else "")
-        + (f"\nSweep of d through s at β = π/3 (Fig 0 range), {int(v['sweep_points'])} points up and {int(v['sweep_points'])} down "
+        + (f"\nSweep of d through s at β = π/3 (Figure 2's range), {int(v['sweep_points'])} points up and {int(v['sweep_points'])} down "
            f"(≤ 200 forcing periods of transient each, {int(v['sweep_events'])} events, {int(v['sweep_no_period'])} points without a period): "
            f"{v['sweep_seconds']:.2f} s on one core.\n" if "sweep_points" in v else "")
     )
@@ -154,7 +154,7 @@ def curve_benchmark(n_points: int = 200) -> xr.Dataset:
 
 
 def sweep_benchmark(n_points: int = 1000, max_periods: float = 200) -> xr.Dataset:
-    """Time a sweep of d through s at beta = pi/3 over the paper's Fig 0 range (1:1, period
+    """Time a sweep of d through s at beta = pi/3 over the range of the paper's Figure 2 (1:1, period
     doubling, chaos, 2:1, 3:1), up and down: ``2 n_points`` attractors, each with up to
     ``max_periods`` forcing periods of transient."""
     from ..analysis.sweeps import no_period, sweep

@@ -106,7 +106,7 @@ def simulate(
     Examples
     --------
     >>> import math, vibroimpact as vi
-    >>> p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)   # Fig 4 (a)
+    >>> p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)   # Figure 7 (a)
     >>> round(p.d, 4), round(p.gbar, 4)
     (0.16, 0.122)
     >>> run = vi.simulate(p, phi=1.015, v0=0.1924, n_impacts=200)

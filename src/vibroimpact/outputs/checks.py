@@ -16,12 +16,15 @@ import xarray as xr
 
 from .paper import (
     CURVE_ORDER,
+    FIGURE_NUMBERS,
     PI6_D_B,
     PI6_D_GRAZ,
     PI6_G1,
     PI6_G2,
     STABLE_2TO1,
     agreement_tolerance,
+    caption_figure,
+    figure_name,
     printed_unit,
 )
 
@@ -54,6 +57,23 @@ def _rounding_note(printed, span, d):
     return f"over the printed d's rounding ({d} +- {h:.0e}) the orbit's value spans [{lo:.5g}, {hi:.5g}], which {inside} the caption's"
 
 
+def _printed(stem):
+    """``"Figure 5"`` for ``"fig2"``: the check table names a figure by its printed number."""
+    return figure_name(stem, label=False)
+
+
+def caption_item(name: str, what: str) -> str:
+    """The check's item for a caption orbit's ``what``: ``"Figure 3 (a) (figFN2_a): motion"``, the printed
+    figure and panel with the caption's config key (the key alone where it names no panel of a paper figure)."""
+    fig = caption_figure(name)
+    return f"{fig} ({name}): {what}" if fig else f"{name}: {what}"
+
+
+def _caption_where(name):
+    stem = name.partition("_")[0]
+    return f"{_printed(stem)} caption" if caption_figure(name) else "caption"
+
+
 def caption_rows(captions: xr.Dataset) -> list[dict]:
     """Motion, Zdot(t0) and phase of every caption orbit, each against the rule of
     :func:`~vibroimpact.outputs.paper.agreement_tolerance`.  A value off by more is a known discrepancy only
@@ -65,7 +85,8 @@ def caption_rows(captions: xr.Dataset) -> list[dict]:
     for k, name in enumerate(captions.caption.values):
         c = captions.isel(caption=k)
         stated, found = str(c.motion_stated.values), str(c.motion_found.values)
-        rows.append(_row(f"{name}: motion", "caption", stated, found, "", bool(c.reproduced.values)))
+        where = _caption_where(str(name))
+        rows.append(_row(caption_item(str(name), "motion"), where, stated, found, "", bool(c.reproduced.values)))
         exact = "orbit_deviation" in c and float(c.orbit_deviation) <= ORBIT_AGREEMENT
         for label, printed, found_v, span in (
                 ("Zdot(t0)", float(c.v0), float(c.v_attractor), c.get("v_orbit_at_d_rounding")),
@@ -74,7 +95,7 @@ def caption_rows(captions: xr.Dataset) -> list[dict]:
             off = found_v - printed
             if label == "phi":
                 off = (off + math.pi) % (2 * math.pi) - math.pi
-            row = _row(f"{name}: {label}", "caption", printed, found_v, tol, abs(off) <= tol,
+            row = _row(caption_item(str(name), label), where, printed, found_v, tol, abs(off) <= tol,
                        "attractor's bottom impact nearest the caption's")
             if row["status"] == "fail" and exact:
                 row["status"] = "known discrepancy"
@@ -125,7 +146,7 @@ def grazing_rows(bis: xr.Dataset) -> list[dict]:
 
 
 #: the rows of :func:`d_graz_rows`
-D_GRAZ_ITEMS = ["d_graz, beta=pi/6 (Fig FN2 (f): the 1:1 motion grazes)",
+D_GRAZ_ITEMS = [f"d_graz, beta=pi/6 ({figure_name('figFN2', 'f', label=False)}: the 1:1 motion grazes)",
                 "d_graz rises with beta: where the 1:1 motion leaves its family",
                 "d_graz rises with beta: the largest d of 2:1 period-2 (its fold)",
                 "1:1 period doubling rises with beta"]
@@ -140,7 +161,7 @@ def _rises(values: dict[float, float]) -> tuple[str, bool]:
 
 
 def d_graz_rows(transitions: list[xr.Dataset], table1: pd.DataFrame, bt_branches: list[xr.Dataset]) -> list[dict]:
-    """The paper's d_graz (sections 2 and 5, Fig FN2 (b), (f)): "at d = d_graz, Zdot_j = 0 and Z_j = d/2, and
+    """The paper's d_graz (sections 2 and 5, Figure 3 (b), (f)): "at d = d_graz, Zdot_j = 0 and Z_j = d/2, and
     there is a transition to 2:1 motion for d < d_graz", "the maximum value for 2:1 period-2 solutions";
     "as beta increases, so do both the value of d at which period doubling of the 1:1 solution occurs, and
     the value of d_graz".  Both readings of d_graz are compared: where the 1:1 motion followed down leaves
@@ -153,7 +174,7 @@ def d_graz_rows(transitions: list[xr.Dataset], table1: pd.DataFrame, bt_branches
     if b6 is not None:
         tol = agreement_tolerance(PI6_D_GRAZ)
         d = float(exits[b6].d_graz)
-        rows.append(_row(D_GRAZ_ITEMS[0], "Fig FN2", PI6_D_GRAZ, d, tol, abs(d - PI6_D_GRAZ) <= tol,
+        rows.append(_row(D_GRAZ_ITEMS[0], _printed("figFN2"), PI6_D_GRAZ, d, tol, abs(d - PI6_D_GRAZ) <= tol,
                          f"the 1:1 motion followed down (length sweep) leaves its family at d_graz = {d:.7f} +- "
                          f"{0.5 * float(exits[b6].d_graz_width):.0e}: {kinds[b6]}; the 2:1 orbit's fold is at "
                          f"{_fold_of(table1, b6):.6f}"))
@@ -265,7 +286,7 @@ def simulation_rows(sims: list[xr.Dataset]) -> list[dict]:
     rows = []
     for sim in sims:
         if sim.attrs.get("status") == "failed":
-            rows.append(_row("simulated points on the branch", "Fig 2", "on the branch", "no branch", ORBIT_AGREEMENT,
+            rows.append(_row("simulated points on the branch", _printed("fig2"), "on the branch", "no branch", ORBIT_AGREEMENT,
                              False, str(sim.attrs.get("reason", ""))))
             continue
         where = f"{sim.attrs['word']}, beta={_beta_name(float(sim.attrs['beta']))}"
@@ -273,7 +294,7 @@ def simulation_rows(sims: list[xr.Dataset]) -> list[dict]:
         done = status == "compared"
         dev = float(np.max(sim.max_dev.values[done])) if done.any() else math.nan
         skipped = "; ".join(f"d = {float(sim.d[k]):.6g}: {status[k]}" for k in np.flatnonzero(~done))
-        rows.append(_row(f"simulated points on the {where} branch", "Fig 2", "on the branch",
+        rows.append(_row(f"simulated points on the {where} branch", _printed("fig2"), "on the branch",
                          f"{int(done.sum())} of {status.size} compared, max |difference| {dev:.1e}",
                          ORBIT_AGREEMENT, bool(done.any()) and dev <= ORBIT_AGREEMENT,
                          f"not compared: {skipped}" if skipped else "all compared"))
@@ -293,7 +314,7 @@ def transition_name(walls, j, *, into=True) -> str:
 
 
 def _order_item(fig, what, beta):
-    return f"{fig}: {what} curves top to bottom, beta={_beta_name(beta)}"
+    return f"{_printed(fig)}: {what} curves top to bottom, beta={_beta_name(beta)}"
 
 
 def curve_order_rows(orbit_branches: list[xr.Dataset], energy_branches: list[xr.Dataset]) -> list[dict]:
@@ -314,7 +335,7 @@ def curve_order_rows(orbit_branches: list[xr.Dataset], energy_branches: list[xr.
                 continue
             item = _order_item(fig, what, beta)
             if br.attrs.get("status") == "failed" or not br.sizes.get("point", 0):
-                rows.append(_row(item, fig, stated, "no branch", "", False, str(br.attrs.get("reason", ""))))
+                rows.append(_row(item, _printed(fig), stated, "no branch", "", False, str(br.attrs.get("reason", ""))))
                 continue
             ok = (br.stable & br.admissible).values
             edges = np.flatnonzero(np.diff(np.concatenate([[0], ok.astype(int), [0]]))).reshape(-1, 2)
@@ -327,7 +348,7 @@ def curve_order_rows(orbit_branches: list[xr.Dataset], energy_branches: list[xr.
             mid = orders[np.argmin(np.abs(d - 0.5 * (d.min() + d.max())))]
             note = "; ".join(f"{o} for d in [{d[orders == o].min():.4f}, {d[orders == o].max():.4f}]"
                              for o in dict.fromkeys(orders[np.argsort(d)]))
-            rows.append(_row(item, fig, stated, str(mid), "order at the middle of the stable stretch", mid == stated,
+            rows.append(_row(item, _printed(fig), stated, str(mid), "order at the middle of the stable stretch", mid == stated,
                              note))
     return rows
 
@@ -335,7 +356,7 @@ def curve_order_rows(orbit_branches: list[xr.Dataset], energy_branches: list[xr.
 def item_names(captions, betas) -> list[str]:
     """Every item the check produces for these caption names and inclines (rad): what
     ``checks.known`` may name, known before any job runs."""
-    names = [f"{c}: {what}" for c in captions for what in ("motion", "Zdot(t0)", "phi")]
+    names = [caption_item(c, what) for c in captions for what in ("motion", "Zdot(t0)", "phi")]
     for b in betas:
         if any(abs(b - pb) < 1e-9 for pb in STABLE_2TO1):
             name = _beta_name(b)
@@ -378,18 +399,17 @@ def markdown(df: pd.DataFrame) -> str:
 # Check results per figure (the report's captions)
 # ---------------------------------------------------------------------------------------------
 
-#: the figures each published item is drawn in (by the check table's "where" column, or the caption
-#: prefix of its item)
-WHERE_FIGURES = {"Fig 2": ("fig2",), "Fig 0": ("fig0",), "Fig 5": ("fig5",), "Fig FN2": ("figFN2", "fig5", "lyapunov"),
-                 "section 3": ("fig2", "fig3"), "section 4": ("fig3",),
-                 "section 4.2": ("figBiS",), "section 5": ("fig0", "fig5", "design")}
+#: the figures each published item is drawn in, by the check table's "where" column (a caption orbit's,
+#: "Figure 3 caption", is its own figure's)
+WHERE_FIGURES = {_printed("fig2"): ("fig2",), _printed("fig0"): ("fig0",), _printed("fig5"): ("fig5",),
+                 _printed("figFN2"): ("figFN2", "fig5", "lyapunov"), "section 3": ("fig2", "fig3"),
+                 "section 4": ("fig3",), "section 4.2": ("figBiS",), "section 5": ("fig0", "fig5", "design")}
 
 
 def figures_of_item(item: str, where: str) -> tuple[str, ...]:
     """The figures a row of the paper-value check belongs to."""
-    if where == "caption":
-        return (item.split("_", 1)[0],)
-    return WHERE_FIGURES.get(where, ())
+    stem = {f"{_printed(s)} caption": s for s in FIGURE_NUMBERS}.get(where)
+    return (stem,) if stem else WHERE_FIGURES.get(where, ())
 
 
 def check_summaries(paper: pd.DataFrame | None, figures: pd.DataFrame | None) -> dict[str, str]:

@@ -258,7 +258,7 @@ def compare_image(new: xr.Dataset, ref: xr.Dataset, *, max_distance: int, draws_
 
 
 #: the fewest bits a change of the drawn data changes the hash by: a single sample read on the other side of
-#: an impact's jump moved Figs FN2 and BiS by 2 bits, and so did rounding-level changes of Figs 4 and FN2
+#: an impact's jump moved Figures 3 and 8 by 2 bits, and so did rounding-level changes of Figures 7 and 3
 #: under the conditioning's perturbations (antialiased edges shift one grey level)
 ONE_POINT_BITS = 2
 

@@ -2,8 +2,74 @@
 
 import math
 
-__all__ = ["STABLE_2TO1", "PI6_D_B", "PI6_G1", "PI6_G2", "PI6_D_GRAZ", "CURVE_ORDER", "paper_stable",
-           "printed_unit", "agreement_tolerance"]
+__all__ = ["FIGURE_NUMBERS", "figure_name", "latex_label", "caption_figure", "STABLE_2TO1", "PI6_D_B", "PI6_G1",
+           "PI6_G2", "PI6_D_GRAZ", "CURVE_ORDER", "paper_stable", "printed_unit", "agreement_tolerance"]
+
+#: the number the published paper prints for each of its figures, by the project's file stem (the
+#: LaTeX label: ``fig0`` is ``\label{Fig0}``), in the paper's order; Figure 1, the device, is not regenerated
+FIGURE_NUMBERS = {"fig0": 2, "figFN2": 3, "fig0b": 4, "fig2": 5, "fig3": 6, "fig4": 7, "figBiS": 8, "fig5": 9}
+
+
+def latex_label(stem: str) -> str:
+    """The LaTeX label of a paper figure as the text writes it.
+
+    Parameters
+    ----------
+    stem : str
+        The figure's file stem, a key of :data:`FIGURE_NUMBERS`.
+
+    Returns
+    -------
+    str
+        ``"Fig 0"`` for ``"fig0"``, ``"Fig FN2"`` for ``"figFN2"``.
+    """
+    return "Fig " + stem.removeprefix("fig")
+
+
+def figure_name(stem: str, panel: str = "", *, label: bool = True) -> str:
+    """A paper figure named for text: its printed number, a panel, and its LaTeX label beside it.
+
+    Parameters
+    ----------
+    stem : str
+        The figure's file stem, a key of :data:`FIGURE_NUMBERS`.
+    panel : str, optional
+        The panel letter(s), e.g. ``"a"`` or ``"a)-(c"``.
+    label : bool, optional
+        Add the LaTeX label in parentheses.
+
+    Returns
+    -------
+    str
+        The name, e.g. ``"Figure 2 (Fig 0)"``.
+
+    Examples
+    --------
+    >>> figure_name("fig0")
+    'Figure 2 (Fig 0)'
+    >>> figure_name("figFN2", "f", label=False)
+    'Figure 3 (f)'
+    """
+    name = f"Figure {FIGURE_NUMBERS[stem]}" + (f" ({panel})" if panel else "")
+    return f"{name} ({latex_label(stem)})" if label else name
+
+
+def caption_figure(name: str) -> str | None:
+    """The printed figure and panel of a caption orbit named ``<stem>_<panel>`` in the config.
+
+    Parameters
+    ----------
+    name : str
+        The caption's config key, e.g. ``"figFN2_a"``.
+
+    Returns
+    -------
+    str or None
+        ``"Figure 3 (a)"``, or None where the name is not a panel of a paper figure.
+    """
+    stem, _, panel = name.partition("_")
+    return figure_name(stem, panel, label=False) if stem in FIGURE_NUMBERS and panel else None
+
 
 
 def printed_unit(x: float) -> float:
@@ -34,7 +100,7 @@ STABLE_2TO1 = {
 PI6_D_B = 0.133
 PI6_G1 = 0.1378
 PI6_G2 = 0.1419
-#: beta = pi/6: Fig FN2 (f), "grazing behavior of 1:1 period-10 motion", d = 0.213: the paper's d_graz, where
+#: beta = pi/6: Figure 3 (f) (Fig FN2), "grazing behavior of 1:1 period-10 motion", d = 0.213: the paper's d_graz, where
 #: the 1:1 motion grazes and 2:1 follows for smaller d (sections 2 and 5)
 PI6_D_GRAZ = 0.213
 
@@ -48,14 +114,14 @@ def paper_stable(beta):
 
 
 #: the 2:1 period-2 curves from top to bottom, named by their transitions (P1 bottom -> bottom, P2 bottom
-#: -> top, P3 top -> bottom), as the captions state: (figure, quantity) -> {beta: order}.  Zdot_k and U_k
+#: -> top, P3 top -> bottom), as the captions state: (figure stem, quantity) -> {beta: order}.  Zdot_k and U_k
 #: follow a transition (the flight into the impact), Delta t_j is its flight, phi_k is the phase before it.
 CURVE_ORDER = {
-    ("Fig 2", "Zdot_k"): {b: "P3, P1, P2" for b in (math.pi / 2, math.pi / 3, math.pi / 4, math.pi / 6)},
-    ("Fig 2", "Delta t_j"): {b: "P2, P3, P1" for b in (math.pi / 2, math.pi / 3, math.pi / 4, math.pi / 6)},
-    ("Fig 2", "phi_k"): {b: "P1, P3, P2" for b in (math.pi / 2, math.pi / 3, math.pi / 4, math.pi / 6)},
-    ("Fig 0", "Zdot_k"): {math.pi / 3: "P3, P1, P2"},
-    ("Fig 0", "U_k"): {math.pi / 3: "P3, P2, P1"},
-    ("Fig 5", "U_k"): {math.pi / 2: "P3, P2, P1", math.pi / 3: "P3, P2, P1", math.pi / 4: "P3, P2, P1",
+    ("fig2", "Zdot_k"): {b: "P3, P1, P2" for b in (math.pi / 2, math.pi / 3, math.pi / 4, math.pi / 6)},
+    ("fig2", "Delta t_j"): {b: "P2, P3, P1" for b in (math.pi / 2, math.pi / 3, math.pi / 4, math.pi / 6)},
+    ("fig2", "phi_k"): {b: "P1, P3, P2" for b in (math.pi / 2, math.pi / 3, math.pi / 4, math.pi / 6)},
+    ("fig0", "Zdot_k"): {math.pi / 3: "P3, P1, P2"},
+    ("fig0", "U_k"): {math.pi / 3: "P3, P2, P1"},
+    ("fig5", "U_k"): {math.pi / 2: "P3, P2, P1", math.pi / 3: "P3, P2, P1", math.pi / 4: "P3, P2, P1",
                        math.pi / 6: "P2, P3, P1"},
 }

@@ -1,4 +1,4 @@
-"""Datasets for phase portraits and time series of single runs (paper Figs 0b, 4, FN2, BiS)."""
+"""Datasets for phase portraits and time series of single runs (paper Figures 3, 4, 7 and 8)."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ import xarray as xr
 from ..datasets import annotate
 from ..dynamics.params import Params
 from ..dynamics.simulate import identify_attractor, simulate, trajectory
+from .paper import caption_figure
 
 __all__ = ["add_located_grazing", "bistability_dataset", "caption_summary", "orbit_dataset", "summary_markdown"]
 
@@ -179,13 +180,14 @@ def caption_summary(datasets: dict[str, xr.Dataset], expected: dict[str, str]) -
 
 
 def summary_markdown(table: xr.Dataset) -> str:
-    """The caption table as Markdown (for README.md)."""
-    rows = ["| caption | d | stated | found | Zdot- caption → attractor | phase caption → attractor |",
-            "|---|---|---|---|---|---|"]
+    """The caption table as Markdown (for README.md): each orbit by its printed figure and panel and its
+    config key."""
+    rows = ["| figure | caption | d | stated | found | Zdot- caption → attractor | phase caption → attractor |",
+            "|---|---|---|---|---|---|---|"]
     for i, name in enumerate(table.caption.values):
         r = table.isel(caption=i)
         rows.append(
-            f"| {name} | {float(r.d):.4g} | {str(r.motion_stated.values)} | {str(r.motion_found.values)} | "
+            f"| {caption_figure(str(name)) or ''} | {name} | {float(r.d):.4g} | {str(r.motion_stated.values)} | {str(r.motion_found.values)} | "
             f"{float(r.v0):.4g} → {float(r.v_attractor):.6f} ({float(r.dv):+.1e}) | "
             f"{float(r.phi):.4g} → {float(r.phase_attractor):.6f} ({float(r.dphase):+.1e}) |"
         )
@@ -194,7 +196,7 @@ def summary_markdown(table: xr.Dataset) -> str:
 
 def bistability_dataset(branch21: xr.Dataset, branch31: xr.Dataset, g1: float, g2: float, *, d_mid: float,
                         samples_per_unit: int = 400, offset: float = 1e-6) -> xr.Dataset:
-    """Phase portraits of the bistable 2:1 and 3:1 motions (paper Fig BiS (d)-(g)): the 2:1 orbit just
+    """Phase portraits of the bistable 2:1 and 3:1 motions (paper Figure 8 (d)-(g)): the 2:1 orbit just
     above G1, both orbits at ``d_mid``, and the 3:1 orbit just below G2, each over one period."""
     from ..analysis.orbits import find_orbit
 

@@ -190,7 +190,7 @@ def table1_markdown(df: pd.DataFrame) -> str:
 
 def grazing_lines(branches: list[xr.Dataset], scene: dict) -> dict:
     """G1 (grazing of the scene's branch at the graze incline) and G2 (fold of the other word's
-    branch, e.g. 3:1): the ends of the bistable interval (paper Fig 2 (j)-(l), Fig BiS)."""
+    branch, e.g. 3:1): the ends of the bistable interval (paper Figure 5 (j)-(l), Figure 8)."""
     n = len(scene["betas"])
     beta = scene["grazing"]["beta"]
     main = next(b for b in branches[:n] if abs(float(b.attrs["beta"]) - beta) < 1e-9)

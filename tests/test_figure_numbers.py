@@ -1,0 +1,125 @@
+"""The paper's figures by the numbers the published paper prints (Figure 2 ... Figure 9), from one
+definition (vibroimpact.outputs.paper.FIGURE_NUMBERS): every figure of the default config is numbered, and
+no page, caption or table names one by its LaTeX label alone."""
+
+import re
+import sys
+from types import SimpleNamespace
+
+import pytest
+import yaml
+from conftest import ROOT
+
+from vibroimpact.outputs.checks import item_names
+from vibroimpact.outputs.paper import FIGURE_NUMBERS, caption_figure, figure_name, latex_label
+
+
+def paper_figures(cfg):
+    """The figures the workflow files under "Paper figures": scenes, branch figures, Fig BiS, voltages."""
+    return [*cfg["scenes"], *cfg["branch_scenes"], "figBiS", *cfg["energy"]["figures"]]
+
+
+def test_the_numbers_follow_the_paper_s_order_each_once():
+    """In the paper's order (Figure 1, the device, is not regenerated): 2, 3, ..., 9."""
+    assert list(FIGURE_NUMBERS.values()) == list(range(2, 2 + len(FIGURE_NUMBERS)))
+    assert list(FIGURE_NUMBERS) == ["fig0", "figFN2", "fig0b", "fig2", "fig3", "fig4", "figBiS", "fig5"]
+
+
+def test_every_paper_figure_and_caption_of_the_default_config_is_numbered():
+    cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    assert sorted(paper_figures(cfg)) == sorted(FIGURE_NUMBERS)
+    assert all(caption_figure(name) for name in cfg["captions"]), cfg["captions"]
+
+
+def test_a_figure_is_named_by_its_printed_number_with_its_label_beside_it():
+    assert figure_name("fig0") == "Figure 2 (Fig 0)"
+    assert figure_name("fig5", label=False) == "Figure 9"
+    assert figure_name("figFN2", "f", label=False) == "Figure 3 (f)"
+    assert latex_label("fig0b") == "Fig 0b"
+    assert caption_figure("figBiS_e") == "Figure 8 (e)"
+    assert caption_figure("mine") is None and caption_figure("fig7_a") is None
+
+
+def test_the_caption_table_names_each_orbit_by_its_printed_figure_and_panel():
+    import xarray as xr
+
+    from vibroimpact.outputs.portraits import summary_markdown
+
+    one = dict(d=0.197, motion_stated="1:1", motion_found="1:1 period-2", v0=0.5474, v_attractor=0.5474, dv=0.0,
+               phi=6.211, phase_attractor=6.211, dphase=0.0)
+    table = xr.Dataset({k: ("caption", [v]) for k, v in one.items()}, coords={"caption": ["figFN2_a"]})
+    assert "| Figure 3 (a) | figFN2_a | 0.197 |" in summary_markdown(table)
+
+
+#: a LaTeX label in text: "Fig 0", "Fig FN2", "Figs 0 and 5", "Fig. 2" (the project's file stems, fig0, do not match)
+LABEL = re.compile(r"\bFig(s?)\.?[ ~]?(0b|FN2|BiS|0|2|3|4|5)\b")
+
+
+def bare_labels(text: str) -> list[str]:
+    """Where ``text`` names a paper figure by its LaTeX label without its printed number just before it
+    ("Figure 2 (Fig 0)" and "**Figure 2** (LaTeX label Fig 0)" pass; "Fig 0" and "Figs 0 and 5" do not)."""
+    bad = []
+    for m in LABEL.finditer(text):
+        number = FIGURE_NUMBERS["fig" + m.group(2)]
+        if m.group(1) or f"Figure {number}" not in text[max(0, m.start() - 40):m.start()]:
+            bad.append(" ".join(text[max(0, m.start() - 40):m.end() + 20].split()))
+    return bad
+
+
+class _Wildcards:
+    """Every wildcard a caption reads has one value."""
+
+    def __init__(self, value):
+        self.value = value
+
+    def __getattr__(self, name):
+        return self.value
+
+
+def rendered_captions():
+    """Each report caption (workflow/report/*.rst), rendered as the report and the docs render it, once
+    per figure it switches on and once for the rest."""
+    import jinja2
+
+    env = jinja2.Environment(loader=jinja2.FileSystemLoader(ROOT / "workflow" / "report"))
+    config = {"_check_results": {}, "_figure_numbers": FIGURE_NUMBERS}
+    for path in sorted((ROOT / "workflow" / "report").glob("*.rst")):
+        values = re.findall(r'snakemake\.wildcards\.\w+ == "(\w+)"', path.read_text())
+        for value in [*values, "other"]:
+            snakemake = SimpleNamespace(wildcards=_Wildcards(value), config=config)
+            yield f"{path.name} ({value})", env.get_template(path.name).render(snakemake=snakemake)
+
+
+def pages():
+    """Every page a reader sees: README, the docs' pages, the tutorials, the config's README, the citation
+    and the rendered captions."""
+    files = [ROOT / "README.md", ROOT / "CITATION.cff", ROOT / "config" / "README.md", *ROOT.glob("docs/*.md"),
+             *ROOT.glob("docs/guide/*.md"), *ROOT.glob("examples/*.py")]
+    yield from ((str(f.relative_to(ROOT)), f.read_text()) for f in files if f.name != "paper.md")
+    yield from rendered_captions()
+
+
+def test_the_label_check_finds_a_bare_label():
+    assert bare_labels("as in Fig 0 (a)") and bare_labels("Figs 0 and 5") and bare_labels("Figure 5 (Fig 0)")
+    assert bare_labels("fig0.png, Figure 2 (Fig 0), **Figure 3** (LaTeX label Fig FN2), Figure 9 (c)") == []
+
+
+def test_no_page_or_caption_names_a_paper_figure_by_its_label_alone():
+    """Figures are named by the numbers the published paper prints; a LaTeX label appears only beside its number."""
+    bad = {name: found for name, text in pages() if (found := bare_labels(text))}
+    assert not bad, bad
+
+
+def test_the_check_table_and_the_figures_page_name_figures_by_their_printed_numbers():
+    """The check's items (the keys of checks.known), the reasons the config gives, and the figures page's titles."""
+    cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    betas = sorted({b for sc in cfg["branch_scenes"].values() for b in sc["betas"]})
+    texts = [*item_names(list(cfg["captions"]), betas), *cfg["checks"]["known"].values()]
+    assert not [t for t in texts if bare_labels(t)]
+    pytest.importorskip("sphinx")
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    import vibroimpact_pages
+
+    assert not [t for t in vibroimpact_pages.TITLES.values() if bare_labels(t)]
+    assert all(vibroimpact_pages.TITLES[f].startswith(figure_name(f)) for f in FIGURE_NUMBERS)
+    assert vibroimpact_pages.page_order(["basins", "fig5", "fig0b", "fig0"]) == ["fig0", "fig0b", "fig5", "basins"]

@@ -46,19 +46,6 @@ rule branch_simulated:
         "../scripts/branch_simulated.py"
 
 
-def length_sweeps(betas):
-    """The widest sweep of s at the physics' force for each incline (Fig 5's (a)-(d)), where there is one."""
-    found = {}
-    for name, sc in SWEEPS.items():
-        if sc["vary"] != "s" or sc.get("F", config["physics"]["F"]) != config["physics"]["F"]:
-            continue
-        for b in betas:
-            width = sc["range"][1] - sc["range"][0]
-            if abs(sc["beta"] - b) < 1e-9 and width > found.get(b, ("", -1.0))[1]:
-                found[b] = (name, width)
-    return {b: name for b, (name, _) in found.items()}
-
-
 rule table1:
     input:
         lambda wc: scene_branch_files("fig3"),

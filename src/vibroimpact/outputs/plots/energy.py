@@ -125,17 +125,28 @@ def _motion_runs(ax, sw, direction="down", min_share=0.07):
         wellposed(text, "run", step=step)
 
 
-def _rows_of_names(fig, row_height=0.045):
+def _rows_of_names(fig, row_height=0.045, pad=3.0):
     """Once the figure is laid out (drawn once): each panel's motion names (:func:`_motion_runs`), left to
-    right, a row lower where they would overlap a name already placed."""
+    right, kept inside the panel (a name wider than its run at an end of the axis is aligned to that end)
+    and a row lower where they would come within ``pad`` pixels of a name already placed."""
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
     for ax in fig.axes:
         names = sorted((t for t in ax.texts if getattr(t, "_vi_run_name", False)), key=lambda t: t.get_position()[0])
+        frame = ax.get_window_extent(renderer)
+        lo, hi = ax.get_xlim()
         placed = []
         for text in names:
+            box = text.get_window_extent(renderer)
+            if box.x0 < frame.x0 + pad:
+                text.set_x(lo + (hi - lo) * 0.005)
+                text.set_horizontalalignment("left")
+            elif box.x1 > frame.x1 - pad:
+                text.set_x(hi - (hi - lo) * 0.005)
+                text.set_horizontalalignment("right")
             y0, row = text.get_position()[1], 0
-            while any(text.get_window_extent(renderer).overlaps(p.get_window_extent(renderer)) for p in placed):
+            while any(text.get_window_extent(renderer).expanded(1.0, 1.0).padded(pad).overlaps(
+                    p.get_window_extent(renderer)) for p in placed):
                 row += 1
                 text.set_y(y0 - row_height * row)
             placed.append(text)

@@ -61,6 +61,7 @@ def test_2to1_family_exit_is_the_analytic_grazing_G1():
     assert ex["kind"] == "grazing"
     assert ex["after"] == "3:1 period-2"
     assert abs(ex["d"] - g1) <= 0.5 * ex["d_width"] + max(1e-3 * (d[0] - d[1]), 4 * xtol)
+    assert xtol / 100 < ex["d_width"] <= xtol  # refined to xtol, and no further
     assert ex["clearance"] < 1e-6  # the orbit's loop nearly touches the wall at the bracket's upper end
 
 
@@ -154,6 +155,7 @@ def test_sweep_d_graz_gives_the_device_at_d_graz(vary, values, fixed):
     assert p.d == pytest.approx(float(g.d_graz), rel=1e-12)
     assert float(g.d_graz_F if vary == "s" else g.d_graz_s) == pytest.approx(fixed["F" if vary == "s" else "s"])
     assert g.attrs["d_graz_xtol"] == 1e-5 and g.attrs["d_graz_impacts"] == 4000
+    assert sweep_d_graz(sw).attrs["d_graz_xtol"] == 1e-7  # the default, recorded
     assert g.d_graz.attrs["units"] == "1" and g.d_graz_s.attrs["units"] == "m"
 
 

@@ -486,7 +486,7 @@ def figure_check_markdown(df: pd.DataFrame, conditioning: pd.DataFrame | None, *
     out = [f"# Figure regeneration check\n\nEach array of every figure against its committed reference, by one "
            f"rule: pointwise (|new - ref| <= {atol:g} + {rtol:g} |ref|) where the array's measured conditioning "
            "keeps another machine's perturbations within that; by what is well-posed about it where it does not "
-           "(vibroimpact.outputs.figcheck: motions, run, curve, on curve, boundary).  The image: within twice the "
+           "(vibroimpact.outputs.figcheck: motions, run, located, curve, on curve, boundary).  The image: within twice the "
            "perceptual-hash distance the perturbations moved it, and at least 2 bits.\n",
            summary.to_markdown(index=False),
            "\n## Images\n", rows[rows.variable == IMAGE_ROW][["figure", "rule", "max_difference", "status"]]

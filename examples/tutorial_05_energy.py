@@ -17,25 +17,24 @@ import yaml
 import vibroimpact as vi
 
 # %%
-# The membrane constants of the workflow's config (run from the repository or from its ``examples/``):
+# The device of the workflow's config, its physics and membrane constants (run from the repository or from
+# its ``examples/``):
 config = next(p for p in (Path("config/config.yaml"), Path("../config/config.yaml")) if p.exists())
 cfg = yaml.safe_load(config.read_text())
-mb = vi.Membrane(**cfg["membrane"])
-ph = cfg["physics"]
+device = vi.Device.from_config(cfg["physics"], cfg["membrane"])
 
 # %%
 # The 2:1 orbit of Figure 7 (a) and the 1:1 orbit of Figure 4 (a): gains per impact and averages.
 for s, beta, word, phi, v0 in ((0.16 / 0.6225, math.pi / 6, "BBT", 1.015, 0.1924),
                                (0.38 / 0.6225, math.pi / 3, "BT", 0.4217, 0.8673)):
-    p = vi.Params.from_physical(s=s, beta=beta)
-    o = vi.find_orbit(p, word, phi, v0)
-    e = vi.orbit_energy(o, mb, F=ph["F"], M=ph["M"], omega=ph["omega"])
+    o = vi.find_orbit(device.params(s=s, beta=beta), word, phi, v0)
+    e = vi.orbit_energy(o, device)
     print(word, np.round(e["gain"]), f"U_I = {e['U_I']:.0f} V, U_T = {e['U_T']:.0f} V per unit time")
 
 # %%
 # Along a sweep: where the motion is periodic the exact cycle's averages, where it is not the long run's.
-sw = vi.sweep("F", np.linspace(20, 22, 6), beta=math.pi / 3, s=0.85, phi=0.42, v0=0.87)
-en = vi.sweep_energy(sw, mb, M=ph["M"], omega=ph["omega"])
+sw = vi.sweep("F", np.linspace(20, 22, 6), beta=math.pi / 3, s=0.85, phi=0.42, v0=0.87, device=device)
+en = vi.sweep_energy(sw, device)
 value, se = vi.delivered(en, "U_T")
 for i, lab in enumerate(en.label.sel(direction="down").values.astype(str)):
     print(f"F = {float(en.F[i]):5.2f} N  {lab:18s} U_T = {value[1, i]:9.0f} ± {se[1, i]:.0f} V")

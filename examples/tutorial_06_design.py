@@ -15,9 +15,8 @@ import numpy as np
 
 import vibroimpact as vi
 
-mb = vi.Membrane(h=2.6, K=4.0847e5, R=6.3e-3, r_b=5.0e-3, U_in=2000.0, m=4.11e-3)
 phi, v0 = vi.start_states(16, distribution="rest", seed=1)
-ds = vi.design_map("s", np.linspace(0.3, 0.7, 6), "F", np.linspace(4, 8, 4), phi=phi, v0=v0, membrane=mb,
+ds = vi.design_map("s", np.linspace(0.3, 0.7, 6), "F", np.linspace(4, 8, 4), phi=phi, v0=v0, device=vi.Device(),
                    beta=math.pi / 6)
 print(ds[["E_U_T", "worst_U_T", "n_attractors"]].to_dataframe().head())
 

@@ -9,6 +9,7 @@ import xarray as xr
 import yaml
 from conftest import ROOT
 
+import vibroimpact as vi
 from vibroimpact.analysis.design import (
     best_designs,
     box_minimum,
@@ -29,6 +30,8 @@ from vibroimpact.dynamics.params import Params
 CFG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 PH = CFG["physics"]
 MB = Membrane(**CFG["membrane"])
+#: the config's device (its physics and membrane, as the workflow builds it)
+DEV = vi.Device.from_config(PH, CFG["membrane"])
 BETA = math.pi / 6
 #: relative agreement of a simulated periodic output with the analytic orbit's: the periodicity
 #: tolerance of the attractor identification (1e-9), as the issue of this check states
@@ -42,8 +45,7 @@ def s_of_d(d, F=PH["F"]):
 
 def point(d, phi, v0, **kw):
     """A one-point design map at incline pi/6 and the physics' force."""
-    return design_map("s", [s_of_d(d)], "beta", [BETA], phi=phi, v0=v0, membrane=MB, M=PH["M"], omega=PH["omega"],
-                      g=PH["g"], r=PH["r"], F=PH["F"], progress=False, **kw).isel(s=0, beta=0)
+    return design_map("s", [s_of_d(d)], "beta", [BETA], phi=phi, v0=v0, device=DEV, F=PH["F"], progress=False, **kw).isel(s=0, beta=0)
 
 
 def attractors(p):
@@ -80,7 +82,7 @@ def test_where_one_analytic_orbit_is_the_only_attractor_E_U_T_is_its_output():
     params = Params.from_physical(s=s_of_d(0.40), beta=BETA, M=PH["M"], F=PH["F"], omega=PH["omega"], r=PH["r"],
                                   g=PH["g"])
     orbit = find_orbit(params, "BT", CFG["branches"]["words"]["BT"]["phi"], CFG["branches"]["words"]["BT"]["v0"])
-    exact = orbit_energy(orbit, MB, F=PH["F"], M=PH["M"], omega=PH["omega"])
+    exact = orbit_energy(orbit, DEV)
     assert float(p.E_U_T) == pytest.approx(exact["U_T"], rel=REL)
     assert float(p.E_U_I) == pytest.approx(exact["U_I"], rel=REL)
     assert float(p.worst_U_T) == float(p.E_U_T) and not bool(p.multistable)
@@ -100,7 +102,7 @@ def test_inside_G1_G2_the_two_attractors_are_the_analytic_2to1_and_3to1_orbits()
         c = CFG["captions"][cap]
         orbit = find_orbit(params, word, c["phi"], c["v0"])
         k, (_, share, u_t, *_) = got[label]
-        assert u_t == pytest.approx(orbit_energy(orbit, MB, F=PH["F"], M=PH["M"], omega=PH["omega"])["U_T"], rel=REL)
+        assert u_t == pytest.approx(orbit_energy(orbit, DEV)["U_T"], rel=REL)
         bottom = np.asarray(orbit.walls) == 1
         phases, vms = np.asarray(orbit.phase)[bottom] % (2 * math.pi), np.asarray(orbit.v_minus)[bottom]
         dist = np.hypot(np.angle(np.exp(1j * (phases - float(p.impact_phase[k])))), vms - float(p.impact_v_minus[k]))
@@ -300,7 +302,7 @@ def test_a_beta_axis_gets_a_row_for_each_table_incline():
 
 def test_chunks_merge_into_the_whole_map():
     phi, v0 = start_states(8, seed=5)
-    kw = dict(phi=phi, v0=v0, membrane=MB, M=PH["M"], omega=PH["omega"], g=PH["g"], r=PH["r"], F=PH["F"],
+    kw = dict(phi=phi, v0=v0, device=DEV, F=PH["F"],
               progress=False, max_periods=100)
     xs, ys = np.linspace(0.2, 0.7, 4), np.array([0.3, 0.6, 1.0, 1.4])
     whole = design_map("s", xs, "beta", ys, **kw)
@@ -317,8 +319,7 @@ def test_the_longest_device_at_pi_3_mostly_switches_on_into_a_motion_that_never_
     from vibroimpact.dynamics.simulate import simulate
 
     phi, v0 = start_states(16, seed=16)
-    p = design_map("s", [0.72], "beta", [math.pi / 3], phi=phi, v0=v0, membrane=MB, M=PH["M"], omega=PH["omega"],
-                   g=PH["g"], r=PH["r"], F=PH["F"], progress=False).isel(s=0, beta=0)
+    p = design_map("s", [0.72], "beta", [math.pi / 3], phi=phi, v0=v0, device=DEV, F=PH["F"], progress=False).isel(s=0, beta=0)
     atts = attractors(p)
     assert len(atts) == 2 and atts[0][0].endswith("with sticking") and int(p.n_top[0]) == 0 and int(p.n_top[1]) > 0
     params = Params.from_physical(s=0.72, beta=math.pi / 3, M=PH["M"], F=PH["F"], omega=PH["omega"], r=PH["r"], g=PH["g"])
@@ -337,8 +338,7 @@ def test_a_device_too_weakly_driven_to_lift_the_ball_rests_and_delivers_nothing(
     from vibroimpact.analysis.design import AT_REST
 
     phi, v0 = start_states(8, distribution="box", seed=2, v0_range=(0.0, 0.5))
-    p = design_map("s", [0.5], "F", [0.5], phi=phi, v0=v0, membrane=MB, M=PH["M"], omega=PH["omega"], g=PH["g"],
-                   r=PH["r"], beta=math.pi / 2, progress=False).isel(s=0, F=0)
+    p = design_map("s", [0.5], "F", [0.5], phi=phi, v0=v0, device=DEV, beta=math.pi / 2, progress=False).isel(s=0, F=0)
     assert float(p.gbar) > 1
     assert attractors(p) == [(AT_REST, 1.0, 0.0, pytest.approx(share_interval(8, 8, 0.95)[0]), 1.0)]
     assert float(p.E_U_T) == 0.0 and np.isnan(float(p.E_U_I)) and float(p.worst_U_T) == 0.0
@@ -350,18 +350,18 @@ def test_a_chaotic_attractor_is_named_so_and_delivers_its_long_run_average():
     another start within Z_CRIT combined standard errors (a statistic of a chaotic motion, not a pointwise
     value)."""
     from vibroimpact.analysis.design import _settle_attractor
-    from vibroimpact.analysis.energy import LONG_BATCHES, _batch_averages
+    from vibroimpact.analysis.energy import LONG_BATCHES, batch_averages
     from vibroimpact.analysis.settled import LONG_IMPACTS, long_run
     from vibroimpact.analysis.sweeps import APERIODIC
     from vibroimpact.outputs.figcheck import Z_CRIT
 
     gbar = PH["M"] * 9.8 * math.sin(math.pi / 3) / PH["F"]
     att = {"label": APERIODIC, "impact": (0.42, 0.87), "period": 0}
-    _settle_attractor(att, None, 0, 0.235, gbar, 0.5, PH["F"], MB, PH["M"], PH["omega"])
+    _settle_attractor(att, None, 0, 0.235, gbar, 0.5, PH["F"], DEV)
     assert att["label"] == "chaotic" and not att["settled"]
     assert att["U_T_se"] > 0 and att["U_I_se"] > 0
     other = long_run(0.235, gbar, 0.5, 0.0, 0.5, impacts=LONG_IMPACTS)
-    u_i, se_i, u_t, se_t = _batch_averages(other, PH["F"], MB, M=PH["M"], omega=PH["omega"], batches=LONG_BATCHES)
+    u_i, se_i, u_t, se_t = batch_averages(other, PH["F"], DEV, batches=LONG_BATCHES)
     assert abs(att["U_T"] - u_t) < Z_CRIT * math.hypot(att["U_T_se"], se_t)
     assert abs(att["U_I"] - u_i) < Z_CRIT * math.hypot(att["U_I_se"], se_i)
     assert abs(att["U_T"] - u_t) > 1e-9 * u_t  # two different runs: not the same numbers

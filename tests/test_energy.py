@@ -25,6 +25,8 @@ PAPER = dict(h=2.6, K=4.0847e5, R=6.3e-3, r_b=5.0e-3, U_in=2000.0, m=4.11e-3)
 VARIANTS = [PAPER, dict(PAPER, m=1e-3), dict(PAPER, K=4.0847e4, h=2.0), dict(PAPER, R=8e-3, r_b=4e-3, m=2e-2)]
 M, OMEGA = 0.1245, 5 * math.pi
 K_S = M * OMEGA**2 / (5 * math.pi**2)
+#: the paper's device from the values above (independently of vibroimpact.PAPER)
+DEVICE = vi.Device(M=M, F=5.0, omega=OMEGA, g=9.8, r=0.5, membrane=vi.Membrane(**PAPER))
 
 
 def test_membrane_gain_is_zero_at_rest_and_grows_with_speed():
@@ -72,7 +74,7 @@ def test_1to1_averages_from_a_long_simulated_run_equal_the_analytic_orbit(consts
     mb = Membrane(**consts)
     gains = voltage_gain(speed_si(vm[first:-1], 5.0, M, OMEGA), mb)
     u_i, u_t = averages(gains, t[-1] - t[first])  # impacts first .. n-2 span [t_first, t_last)
-    exact = orbit_energy(o, mb, F=5.0, M=M, omega=OMEGA)
+    exact = orbit_energy(o, DEVICE.replace(membrane=mb))
     assert u_i == pytest.approx(exact["U_I"], rel=1e-9) and u_t == pytest.approx(exact["U_T"], rel=1e-9)
     assert u_i == pytest.approx(u_t, rel=1e-9)
 
@@ -91,7 +93,7 @@ def _is_n_to_n(label):
 def test_1to1_to_2to1_drops_U_I_and_raises_U_T(pi3_sweep, consts):
     """Paper: across the transition from the 1:1 family to 2:1 (an extra low-velocity impact), the
     average per impact drops and the average per unit time rises."""
-    e = sweep_energy(pi3_sweep, Membrane(**consts), M=M, omega=OMEGA).sel(direction="down")
+    e = sweep_energy(pi3_sweep, DEVICE.replace(membrane=Membrane(**consts))).sel(direction="down")
     lab, d = e.label.values, e.d.values
     top21 = max(np.flatnonzero(lab == "2:1 period-2"), key=lambda i: d[i])
     first11 = min((i for i in range(len(d)) if d[i] > d[top21] and _is_n_to_n(lab[i])), key=lambda i: d[i])
@@ -116,7 +118,7 @@ def pi6_g1_orbits():
 def test_2to1_to_3to1_drops_U_I(pi6_g1_orbits, consts):
     o2, o3 = pi6_g1_orbits
     mb = Membrane(**consts)
-    e2, e3 = (orbit_energy(o, mb, F=5.0, M=M, omega=OMEGA) for o in (o2, o3))
+    e2, e3 = (orbit_energy(o, DEVICE.replace(membrane=mb)) for o in (o2, o3))
     assert e3["U_I"] < 0.8 * e2["U_I"]
 
 
@@ -139,10 +141,10 @@ def test_U_T_of_3to1_against_2to1_at_the_same_d(pi6_g1_orbits):
         a = find_orbit(vi.Params(d=d, gbar=o2.params.gbar, r=0.5), "BBT", o2.phi, o2.v_minus[0])
         b = find_orbit(vi.Params(d=d, gbar=o2.params.gbar, r=0.5), "BBBT", o3.phi, o3.v_minus[0])
         assert a.admissible and b.admissible and a.stable and b.stable
-        changes.append([orbit_energy(b, Membrane(**c), F=5.0, M=M, omega=OMEGA)["U_T"]
-                        / orbit_energy(a, Membrane(**c), F=5.0, M=M, omega=OMEGA)["U_T"] - 1 for c in MEMBRANES])
-    across = [orbit_energy(o3, Membrane(**c), F=5.0, M=M, omega=OMEGA)["U_T"]
-              / orbit_energy(o2, Membrane(**c), F=5.0, M=M, omega=OMEGA)["U_T"] - 1 for c in MEMBRANES]
+        changes.append([orbit_energy(b, DEVICE.replace(membrane=Membrane(**c)))["U_T"]
+                        / orbit_energy(a, DEVICE.replace(membrane=Membrane(**c)))["U_T"] - 1 for c in MEMBRANES])
+    across = [orbit_energy(o3, DEVICE.replace(membrane=Membrane(**c)))["U_T"]
+              / orbit_energy(o2, DEVICE.replace(membrane=Membrane(**c)))["U_T"] - 1 for c in MEMBRANES]
     changes = np.array(changes + [across])
     assert np.all(np.abs(changes) < 0.03)
     assert (changes > 0).any() and (changes < 0).any()
@@ -161,7 +163,7 @@ def one_to_one_branches():
 
 def test_output_grows_with_length_at_fixed_force(one_to_one_branches):
     for br in one_to_one_branches.values():
-        e = branch_energy(br, Membrane(**PAPER), M=M, omega=OMEGA)
+        e = branch_energy(br, DEVICE.replace(membrane=Membrane(**PAPER)))
         m = (e.stable & e.admissible).values
         order = np.argsort(e.s.values[m])
         assert np.all(np.diff(e.U_T.values[m][order]) > 0)
@@ -171,7 +173,7 @@ def test_output_grows_with_force_at_fixed_length():
     p = vi.Params.from_physical(s=0.85, beta=math.pi / 6, F=7.0)
     br = branch_from_simulation(p, "BT", vary="F", d_range=(K_S * 5 * 0.85 / 22, K_S * 5 * 0.85 / 6), step=2e-3,
                                 phi=0.42, v0=0.87)
-    e = branch_energy(br, Membrane(**PAPER), M=M, omega=OMEGA)
+    e = branch_energy(br, DEVICE.replace(membrane=Membrane(**PAPER)))
     m = (e.stable & e.admissible).values
     order = np.argsort(e.F.values[m])
     assert m.sum() > 50 and np.all(np.diff(e.U_T.values[m][order]) > 0)
@@ -182,7 +184,7 @@ def test_maximum_1to1_output_changes_less_than_one_percent_with_incline(one_to_o
     with beta."""
     maxima = []
     for br in one_to_one_branches.values():
-        e = branch_energy(br, Membrane(**PAPER), M=M, omega=OMEGA)
+        e = branch_energy(br, DEVICE.replace(membrane=Membrane(**PAPER)))
         m = (e.stable & e.admissible & (e.s <= 0.72)).values
         maxima.append(float(e.U_T.values[m].max()))
     assert (max(maxima) - min(maxima)) / np.mean(maxima) < 0.01
@@ -208,7 +210,7 @@ def test_sweep_averages_over_one_period_or_the_last_window(pi3_sweep, which):
     window_time time units where no period was found."""
     sw = pi3_sweep if which == "pi3" else sweep("s", [0.3, 0.5, 0.7], beta=math.pi / 2, F=1.4, max_periods=60)
     mb = Membrane(**PAPER)
-    e = sweep_energy(sw, mb, M=M, omega=OMEGA)  # default window: the paper's 30 time units
+    e = sweep_energy(sw, DEVICE.replace(membrane=mb))  # default window: the paper's 30 time units
     kinds_seen, aperiodic = set(), 0
     for a in range(2):
         for i in range(sw.sizes["point"]):
@@ -248,7 +250,7 @@ def test_ball_resting_on_the_bottom_for_good_gives_no_output():
     in the long run there is no impact: U_T = 0, and no impact to average U_I over."""
     sw = sweep("s", [0.3, 0.5], beta=math.pi / 2, F=1.0, max_periods=60)
     assert set(sw.status.values.ravel()) == {kernels.STUCK_FOREVER}
-    e = sweep_energy(sw, Membrane(**PAPER), M=M, omega=OMEGA)
+    e = sweep_energy(sw, DEVICE.replace(membrane=Membrane(**PAPER)))
     assert np.all(e.U_T.values == 0.0) and np.all(np.isnan(e.U_I.values)) and np.all(np.isinf(e.window_time.values))
 
 
@@ -275,7 +277,7 @@ def test_averages_per_orbit_row_and_branch_period(one_to_one_branches):
     np.testing.assert_array_equal(u_t, [1.0, 1.0, 1.0])
     br = one_to_one_branches[math.pi / 3]
     mb = Membrane(**PAPER)
-    e = branch_energy(br, mb, M=M, omega=OMEGA)
+    e = branch_energy(br, DEVICE.replace(membrane=mb))
     i = int(np.flatnonzero((br.stable & br.admissible).values)[0])
     speed = speed_si(br.v_minus.values[i], float(br.F[i]), M, OMEGA)
     gains = voltage_gain(speed, mb)
@@ -295,5 +297,5 @@ def test_window_without_impacts_gives_no_output():
          "period_events": (("direction", "point"), np.array([[0]])), "period": (("direction", "point"), np.array([[0]])),
          "label": (("direction", "point"), np.array([["no period found"]]))},
         coords={"direction": ["up"], "point": [0], "d": ("point", [0.2]), "F": ("point", [5.0])})
-    e = sweep_energy(sw, Membrane(**PAPER), M=M, omega=OMEGA)
+    e = sweep_energy(sw, DEVICE.replace(membrane=Membrane(**PAPER)))
     assert float(e.U_T[0, 0]) == 0.0 and np.isnan(float(e.U_I[0, 0])) and int(e.window_impacts[0, 0]) == 0

@@ -146,14 +146,14 @@ def test_a_cycle_a_hundredth_off_its_orbit_is_another_orbit_s():
 def test_a_sticking_output_is_known_to_its_chatter_accuracy_and_no_worse():
     """delivered() gives a sticking point its value with the chatter sum's accuracy: a change of 1e-7
     (relative) is far beyond it, in units of the check's combined standard errors."""
-    from test_energy import OMEGA, PAPER, M
+    from test_energy import DEVICE, PAPER
 
     from vibroimpact.analysis.energy import Membrane, delivered, sweep_energy
     from vibroimpact.analysis.settled import STICK_REL
     from vibroimpact.outputs.figcheck import Z_CRIT
 
     sw = sweep("s", [0.3, 0.5], beta=math.pi / 2, F=1.4, max_periods=60, long_impacts=0)
-    value, se = delivered(sweep_energy(sw, Membrane(**PAPER), M=M, omega=OMEGA), "U_T")
+    value, se = delivered(sweep_energy(sw, DEVICE.replace(membrane=Membrane(**PAPER))), "U_T")
     assert np.all(value > 0) and np.allclose(se, STICK_REL * value, rtol=1e-15)
     assert 1e-7 / (math.sqrt(2) * STICK_REL) > Z_CRIT
 

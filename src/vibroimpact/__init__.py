@@ -30,6 +30,7 @@ from ._version import __version__
 _WHERE = {
     # dynamics
     "Params": "dynamics.params", "PhysicalScales": "dynamics.params",
+    "Device": "dynamics.device", "Membrane": "dynamics.device",
     "simulate": "dynamics.simulate", "simulate_batch": "dynamics.simulate", "trajectory": "dynamics.simulate",
     "identify_attractor": "dynamics.simulate", "Attractor": "dynamics.simulate",
     # analysis: periodic orbits and their branches
@@ -46,7 +47,7 @@ _WHERE = {
     "family_exit": "analysis.family_exit", "sweep_d_graz": "analysis.family_exit",
     "d_graz_curve": "analysis.family_exit",
     # analysis: energy and design
-    "Membrane": "analysis.energy", "voltage_gain": "analysis.energy", "speed_si": "analysis.energy",
+    "voltage_gain": "analysis.energy", "speed_si": "analysis.energy",
     "averages": "analysis.energy", "orbit_energy": "analysis.energy", "branch_energy": "analysis.energy",
     "sweep_energy": "analysis.energy", "delivered": "analysis.energy",
     "design_map": "analysis.design", "start_states": "analysis.design", "tolerance_analysis": "analysis.design",

@@ -51,7 +51,7 @@ rule bifurcation_set:
         "../envs/vibroimpact.yaml"
     params:
         map=lambda wc: ALL_MAPS[wc.map],
-        physics=config["physics"],
+        device=DEVICE_SPEC,
         bifurcation=config["bifurcation"],
     script:
         "../scripts/bifurcation_set.py"
@@ -72,7 +72,7 @@ rule d_graz_curve:
             if wc.map in config["maps"]
             else {"beta": config["bifurcation"]["beta"]} | ALL_MAPS[wc.map]
         ),
-        physics=config["physics"],
+        device=DEVICE_SPEC,
         grid=RESOLUTION["map_grid"],
         lines=config["bifurcation"]["d_graz_lines"],
         xtol=config["sweeps"]["locate"]["xtol"],

@@ -13,6 +13,11 @@ def _check_range(key, value, what="[low, high] with low < high"):
         _fail(key, list(value), what)
 
 
+#: the device the config describes, as every job builds it (vibroimpact.Device.from_config)
+DEVICE_SPEC = dict(
+    physics=config["physics"], membrane=config["membrane"], name=config.get("device")
+)
+
 CAPTIONS = config["captions"]
 SCENES = list(config["scenes"])
 QUALITY = config["quality"]

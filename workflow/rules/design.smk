@@ -29,8 +29,7 @@ rule design_chunk:
     threads: 2
     params:
         spec=lambda wc: config["maps"][wc.dmap],
-        physics=config["physics"],
-        membrane=config["membrane"],
+        device=DEVICE_SPEC,
         design=DESIGN,
         preset=RESOLUTION["design"],
         max_periods=config["sweeps"]["max_periods"],

@@ -15,7 +15,7 @@ rule branch:
         "../envs/vibroimpact.yaml"
     params:
         beta=lambda wc: beta_value(wc.beta),
-        physics=config["physics"],
+        device=DEVICE_SPEC,
         r=lambda wc: r_value(wc.r),
         word=lambda wc: wc.word,
         vary=lambda wc: wc.vary,
@@ -23,7 +23,6 @@ rule branch:
         d_range=config["branches"]["d_range"],
         force=config["branches"]["force"],
         step=RESOLUTION["branch_step"],
-        membrane=config["membrane"],
     script:
         "../scripts/branch.py"
 

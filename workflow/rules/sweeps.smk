@@ -16,11 +16,10 @@ rule sweep:
         "../envs/vibroimpact.yaml"
     params:
         scene=sweep_scene,
-        physics=config["physics"],
+        device=DEVICE_SPEC,
         r=lambda wc: r_value(wc.r),
         sweeps={k: v for k, v in config["sweeps"].items() if k != "scenes"},
         points=RESOLUTION["sweep_points"],
-        membrane=config["membrane"],
         window_time=config["energy"]["window_time"],
         locate=config["sweeps"]["locate"],
     script:
@@ -39,7 +38,7 @@ rule basins:
     threads: 2
     params:
         spec=lambda wc: config["basins"][wc.basin],
-        physics=config["physics"],
+        device=DEVICE_SPEC,
         grid=RESOLUTION["basin_grid"],
         tol=config["sweeps"]["tol"],
     script:
@@ -63,7 +62,7 @@ rule regime_map:
             if wc.map in config["maps"]
             else {"beta": config["bifurcation"]["beta"]} | ALL_MAPS[wc.map]
         ),
-        physics=config["physics"],
+        device=DEVICE_SPEC,
         grid=RESOLUTION["map_grid"],
         max_periods=config["sweeps"]["max_periods"],
         tol=config["sweeps"]["tol"],

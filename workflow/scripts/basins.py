@@ -10,9 +10,8 @@ from vibroimpact.datasets import provenance, write_netcdf
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 numba.set_num_threads(max(1, min(snakemake.threads, numba.config.NUMBA_NUM_THREADS)))
-sp, ph = snakemake.params.spec, snakemake.params.physics
-k_s = ph["M"] * ph["omega"] ** 2 / (ph["F"] * np.pi**2)
-p = vi.Params.from_physical(s=sp["d"] / k_s, beta=sp["beta"], M=ph["M"], F=ph["F"], omega=ph["omega"], r=ph["r"], g=ph["g"])
+sp, device = snakemake.params.spec, vi.Device.from_config(**snakemake.params.device)
+p = device.params(s=device.s(sp["d"]), beta=sp["beta"])
 n_phi, n_v = snakemake.params.grid
 ds = basins(p, np.linspace(0, 2 * np.pi, n_phi, endpoint=False), np.linspace(*sp["v0_range"], n_v),
             max_periods=sp["max_periods"], tol=snakemake.params.tol)

@@ -5,9 +5,11 @@ import xarray as xr
 
 from vibroimpact.analysis.bifurcation import curve_set
 from vibroimpact.datasets import provenance, write_netcdf
+from vibroimpact.dynamics.device import Device
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
-mp, ph, bf = snakemake.params.map, snakemake.params.physics, snakemake.params.bifurcation
+mp, bf = snakemake.params.map, snakemake.params.bifurcation
+ph = Device.from_config(**snakemake.params.device).physics()
 branches = [xr.load_dataset(f, engine="netcdf4") for f in snakemake.input]
 ranges = (tuple(mp["x_range"]), tuple(mp["y_range"]))
 ds = curve_set(branches, (mp["x"], mp["y"]), ranges, kinds=bf["kinds"], step=bf["step"],

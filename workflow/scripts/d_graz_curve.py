@@ -6,9 +6,10 @@ import numpy as np
 
 from vibroimpact.analysis.family_exit import d_graz_curve
 from vibroimpact.datasets import provenance, write_netcdf
+from vibroimpact.dynamics.device import Device
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
-sp, ph = snakemake.params.spec, snakemake.params.physics
+sp, device = snakemake.params.spec, Device.from_config(**snakemake.params.device)
 nx, ny = snakemake.params.grid
 fixed = {k: sp[k] for k in ("beta", "s", "F") if k in sp}
 lines = snakemake.params.lines
@@ -16,7 +17,7 @@ lines = snakemake.params.lines
 xs = np.linspace(*sp["x_range"], nx if sp["x"] in ("s", "F", "d") else lines)
 ys = np.linspace(*sp["y_range"], lines if sp["x"] in ("s", "F", "d") else ny)
 ds = d_graz_curve(sp["x"], xs, sp["y"], ys, phi=sp["phi"], v0=sp["v0"], xtol=snakemake.params.xtol,
-                  M=ph["M"], omega=ph["omega"], g=ph["g"], r=ph["r"], **({"F": ph["F"]} | fixed))
+                  device=device, **fixed)
 ds.attrs.update(provenance(**dict(snakemake.params)))
 write_netcdf(ds, snakemake.output[0])
 logging.info("%s: %s", ds.attrs["status"], list(zip(ds.get("at", []).values.tolist() if "at" in ds else [],

@@ -5,21 +5,22 @@ import logging
 import numpy as np
 import xarray as xr
 
-from vibroimpact.analysis.energy import Membrane, sweep_energy
+from vibroimpact.analysis.energy import sweep_energy
 from vibroimpact.analysis.family_exit import sweep_d_graz
 from vibroimpact.analysis.sweeps import bistable_intervals, locate_transitions, sweep
 from vibroimpact.datasets import provenance, write_netcdf
+from vibroimpact.dynamics.device import Device
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
-sc, ph, sw = snakemake.params.scene, snakemake.params.physics, snakemake.params.sweeps
+sc, sw = snakemake.params.scene, snakemake.params.sweeps
+device = Device.from_config(**snakemake.params.device).replace(r=snakemake.params.r)
 values = np.linspace(sc["range"][0], sc["range"][1], snakemake.params.points)
-fixed = {"F": sc.get("F", ph["F"])} if sc["vary"] == "s" else {"s": sc["s"]}
+fixed = {"F": sc.get("F", device.F)} if sc["vary"] == "s" else {"s": sc["s"]}
 ds = sweep(sc["vary"], values, beta=sc["beta"], phi=sc["phi"], v0=sc["v0"], max_periods=sw["max_periods"],
-           tol=sw["tol"], window=sw["window"], M=ph["M"], omega=ph["omega"], g=ph["g"], r=snakemake.params.r, **fixed)
+           tol=sw["tol"], window=sw["window"], device=device, **fixed)
 ds.attrs.update(provenance(**dict(snakemake.params)))
 write_netcdf(ds, snakemake.output.sweep)
-en = sweep_energy(ds, Membrane(**snakemake.params.membrane), M=ph["M"], omega=ph["omega"],
-                  window_time=snakemake.params.window_time)
+en = sweep_energy(ds, device, window_time=snakemake.params.window_time)
 en.attrs.update(provenance(**dict(snakemake.params)))
 write_netcdf(en, snakemake.output.energy)
 logging.info("labels: %s", sorted(set(ds.label.values.ravel())))

@@ -28,7 +28,7 @@ from scipy.optimize import brentq
 
 from .._progress import Progress
 from ..datasets import VARIABLES, annotate
-from ..dynamics.params import Params
+from ..dynamics.params import Params, length_factor
 from .orbits import Orbit, OrbitError, _residual_and_jacobian, find_orbit, orbit_from_vector, parse_word
 
 __all__ = ["PARAMETERS", "ParameterMap", "branch_from_simulation", "branch_parameters", "continue_orbit", "simulate_along"]
@@ -52,7 +52,7 @@ def branch_parameters(orbit: Orbit, vary: str):
     def to_physical(d):
         if not phys:
             return {}
-        k = phys["M"] * phys["omega"] ** 2 / math.pi**2  # d = k s / F
+        k = length_factor(phys["M"], phys["omega"])  # d = k s / F
         if vary == "F":
             F = k * phys["s"] / d
             return dict(s=phys["s"], F=F)
@@ -113,7 +113,7 @@ class ParameterMap:
             return self.d0, self.g0, lam
         if self.vary == "beta":
             return self.d0, ph["M"] * ph["g"] * math.sin(lam) / ph["F"], self.r0
-        return ph["s"] * ph["M"] * lam**2 / (ph["F"] * math.pi**2), self.g0, self.r0  # omega
+        return length_factor(ph["M"], lam) * ph["s"] / ph["F"], self.g0, self.r0  # omega
 
     def deriv(self, lam):
         """``(dd/dlam, dgbar/dlam, dr/dlam)``."""
@@ -134,7 +134,7 @@ class ParameterMap:
         if not self.phys:
             return {}
         d, _, _ = self.at(lam)
-        ph, k = self.phys, self.phys["M"] * self.phys["omega"] ** 2 / math.pi**2
+        ph, k = self.phys, length_factor(self.phys["M"], self.phys["omega"])
         if self.vary == "F":
             return dict(s=ph["s"], F=k * ph["s"] / d)
         if self.vary in ("s", "d"):
@@ -359,7 +359,7 @@ def _lam_range(pm: ParameterMap, orbit: Orbit, d_range, value_range):
         vals = [float(x) for x in value_range]
         if pm.vary in ("s", "F"):  # to d: d = k s / F
             ph = pm.phys
-            kk = ph["M"] * ph["omega"] ** 2 / math.pi**2
+            kk = length_factor(ph["M"], ph["omega"])
             vals = [kk * v / ph["F"] if pm.vary == "s" else kk * ph["s"] / v for v in vals]
         lo, hi = sorted(vals)
         what, rng = "value_range", value_range

@@ -35,8 +35,17 @@ from scipy.stats import binomtest
 from .._progress import Progress, _interactive
 from ..datasets import annotate
 from ..dynamics import kernels as K
-from .energy import Membrane, window_averages
-from .sweeps import APERIODIC, _last_bottom, attractor_batch, no_period, plane_params, split_no_period
+from ..dynamics.device import Device
+from .energy import window_averages
+from .sweeps import (
+    APERIODIC,
+    _last_bottom,
+    attractor_batch,
+    held_values,
+    no_period,
+    plane_params,
+    split_no_period,
+)
 
 __all__ = ["DISTRIBUTIONS", "MIN_STARTS", "AT_REST", "start_states", "check_design", "design_map",
            "merge_chunks", "share_interval", "table_designs", "tolerance_analysis", "curve_margin", "box_minimum", "best_designs"]
@@ -186,14 +195,14 @@ def share_interval(k: int, n: int, confidence: float) -> tuple[float, float]:
     return float(ci.low), float(ci.high)
 
 
-def _settle_attractor(att, events, lag, d, gbar, r, F, membrane, M, omega):
+def _settle_attractor(att, events, lag, d, gbar, r, F, device):
     """Make an attractor's outputs well-posed (:mod:`vibroimpact.analysis.settled`): a periodic one's are its exact
     cycle's (solved through one of its runs' recorded cycle), settled; resting on the bottom gives 0,
     settled; a motion with no period gets the long run's averages with their batch-means standard errors
     (continued from one of its runs: the window of a run is one sample of the motion, and the runs of one
     attractor need not be independent samples: starts at rest all leave the wall at the release phase),
     or keeps its runs' mean with no standard error where the long run settles after all."""
-    from .energy import LONG_BATCHES, _batch_averages, speed_si, voltage_gain
+    from .energy import LONG_BATCHES, batch_averages, voltage_gain
     from .settled import LONG_IMPACTS, STICK_REL, polish_cycle
 
     att["settled"], att["U_T_se"], att["U_I_se"] = False, math.nan, math.nan
@@ -209,7 +218,7 @@ def _settle_attractor(att, events, lag, d, gbar, r, F, membrane, M, omega):
         run = split["run"]
         if run["status"] != "aperiodic":
             return
-        u_i, se_i, u_t, se_t = _batch_averages(run, F, membrane, M=M, omega=omega, batches=LONG_BATCHES)
+        u_i, se_i, u_t, se_t = batch_averages(run, F, device, batches=LONG_BATCHES)
         att.update(U_I=float(u_i), U_I_se=float(se_i), U_T=float(u_t), U_T_se=float(se_t))
         return
     t, wall, vm, phase, kind = events
@@ -221,7 +230,7 @@ def _settle_attractor(att, events, lag, d, gbar, r, F, membrane, M, omega):
     if not (res["settled"] or res["status"] == "sticking"):
         return
     hit = (res["kind"] == K.IMPACT) | (res["kind"] == K.GRAZING)
-    gain = voltage_gain(speed_si(res["v_minus"][hit], F, M, omega), membrane)
+    gain = voltage_gain(device.speed_si(res["v_minus"][hit], F), device.membrane)
     att["U_T"] = float(gain.sum() / (2.0 * att["period"])) if att["period"] else math.nan
     att["U_I"] = float(gain.mean()) if gain.size else math.nan
     att["settled"] = bool(res["settled"])
@@ -243,10 +252,10 @@ def _point_attractors(labels, u_t, u_i, confidence):
     return out
 
 
-def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, membrane: Membrane, max_periods: float = 200,
+def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, device: Device | None = None, max_periods: float = 200,
                tol: float = 1e-9, window: int = 96, window_time: float = 30.0, min_share: float = 0.01,
                confidence: float = 0.95, block: int = 20_000, progress: bool | None = None,
-               **physical) -> xr.Dataset:
+               **held) -> xr.Dataset:
     """Attractors, their shares and outputs at every point of a grid over two design parameters.
 
     Parameters
@@ -257,8 +266,8 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, membrane: Membrane,
         Their values (m, N or rad).
     phi, v0 : array_like
         The start states (:func:`start_states`), the same at every point.
-    membrane : Membrane
-        Membrane and ball constants for the outputs.
+    device : Device, optional
+        The harvester (default the paper's, ``Device()``): its physics and the membranes of the outputs.
     max_periods, tol, window
         As in :func:`vibroimpact.analysis.sweeps.attractor_batch` (``window``: events kept per run, enough to
         span ``window_time`` where no period is found).
@@ -273,8 +282,9 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, membrane: Membrane,
         Runs simulated at once (bounds the memory of the event windows).
     progress : bool, optional
         A progress bar over the points (default: only when run interactively).
-    **physical
-        The values held fixed (``s``, ``F``, ``beta``, ``M``, ``omega``, ``g``, ``r``).
+    **held
+        The values held where they are not an axis (``s``, ``F``, ``beta``; ``r`` changes the device's):
+        :func:`vibroimpact.analysis.sweeps.plane_params`.
 
     Returns
     -------
@@ -291,10 +301,10 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, membrane: Membrane,
     phi, v0 = (np.atleast_1d(np.asarray(a, dtype=float)) for a in np.broadcast_arrays(phi, v0))
     if phi.size < MIN_STARTS:
         _fail("starts", int(phi.size), f"at least {MIN_STARTS} start states")
-    X, Y, d, gbar, r, fixed = plane_params(x_name, xs, y_name, ys, **physical)
+    device, held = held_values(device, held)
+    X, Y, d, gbar, r, fixed = plane_params(x_name, xs, y_name, ys, device=device, **held)
     F = X if x_name == "F" else Y if y_name == "F" else np.full(X.shape, float(fixed["F"]))
     shape, n_pts, n_st = X.shape, X.size, phi.size
-    M, omega = float(fixed["M"]), float(fixed["omega"])  # plane_params holds every value not on an axis
     per_pt = max(1, block // n_st)
     points = []
     total = 0
@@ -309,7 +319,7 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, membrane: Membrane,
             st = runs["status"].values
             _, _, u_i, u_t, _, _ = window_averages(
                 runs["t"].values, runs["v_minus"].values, runs["kind"].values, st, runs["period_events"].values,
-                rep(F), membrane, M=M, omega=omega, window_time=window_time)
+                rep(F), device, window_time=window_time)
             labels = np.where(st == K.STUCK_FOREVER, AT_REST, runs["label"].values)
             total += int(runs["n_events"].values.sum())
             ev = [runs[v].values for v in ("t", "wall", "v_minus", "phase", "kind")]
@@ -326,7 +336,7 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, membrane: Membrane,
                     for v in ("period", "n_bottom", "n_top"):
                         att[v] = int(runs[v].values[k])
                     _settle_attractor(att, [e[k][:int(nw[k])] for e in ev], int(lags[k]), d.flat[pt], gbar.flat[pt],
-                                      r.flat[pt], F.flat[pt], membrane, M, omega)
+                                      r.flat[pt], F.flat[pt], device)
                 points.append((atts, int(runs["n_events"].values[rs].sum())))
             bar.update(b - a)
     return _assemble(points, shape, x_name, xs, y_name, ys, d, gbar, fixed, n_st, total,

@@ -19,53 +19,17 @@ Averages over a window of N impacts lasting ``t_f - t_0`` (non-dimensional time)
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
 
 import numpy as np
 import xarray as xr
 
 from ..datasets import annotate
 from ..dynamics import kernels as K
+from ..dynamics.device import PAPER, Device, Membrane, speed_si
 from .settled import LONG_BATCHES
 
 __all__ = ["Membrane", "voltage_gain", "speed_si", "averages", "window_averages", "orbit_energy", "branch_energy", "sweep_energy",
            "delivered"]
-
-
-@dataclass(frozen=True)
-class Membrane:
-    """Membrane and ball constants (SI); ``config/config.yaml`` gives each value's provenance.
-
-    Parameters
-    ----------
-    h : float
-        Exponent of the membrane force ``K delta^h``.
-    K : float
-        Its stiffness coefficient (N / m^h).
-    R : float
-        Active membrane radius (m); must exceed ``r_b``.
-    r_b : float
-        Ball radius (m).
-    U_in : float
-        Input voltage (V).
-    m : float
-        Ball mass (kg).
-    """
-
-    h: float  #: exponent of the membrane force K delta^h
-    K: float  #: stiffness coefficient of the membrane force (N / m^h)
-    R: float  #: active membrane radius (m)
-    r_b: float  #: ball radius (m)
-    U_in: float  #: input voltage (V)
-    m: float  #: ball mass (kg)
-
-    def __post_init__(self):
-        for name, value in asdict(self).items():
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise ValueError(f"membrane {name} = {value!r}; allowed: a finite number > 0")
-        if self.R <= self.r_b:
-            raise ValueError(f"membrane R = {self.R!r} must exceed the ball radius r_b = {self.r_b!r} "
-                             "(the stretched-cap geometry has no real solution otherwise)")
 
 
 def deflection(speed, membrane: Membrane) -> np.ndarray:
@@ -106,24 +70,6 @@ def voltage_gain(speed, membrane: Membrane) -> np.ndarray:
     return mb.U_in * (area / (math.pi * mb.R**2)) ** 2 - mb.U_in
 
 
-def speed_si(v_nondim, F, M, omega):
-    """Dimensional impact speed of a non-dimensional ``Zdot-``: ``|v| F pi / (M omega)``.
-
-    Parameters
-    ----------
-    v_nondim : array_like
-        Non-dimensional pre-impact velocities.
-    F, M, omega : float or array_like
-        Forcing amplitude (N), cylinder mass (kg), forcing frequency (rad/s).
-
-    Returns
-    -------
-    numpy.ndarray
-        Speeds (m/s).
-    """
-    return np.abs(np.asarray(v_nondim, dtype=float)) * np.asarray(F, dtype=float) * math.pi / (M * omega)
-
-
 def averages(gain, duration):
     """Averages of the gains of ``N`` impacts: per impact and per unit time.
 
@@ -144,17 +90,16 @@ def averages(gain, duration):
     return total / gain.shape[-1], total / duration
 
 
-def orbit_energy(orbit, membrane: Membrane, *, F: float, M: float, omega: float) -> dict:
+def orbit_energy(orbit, device: Device = PAPER) -> dict:
     """Exact energy of a periodic orbit over one period.
 
     Parameters
     ----------
     orbit : Orbit
-        From :func:`~vibroimpact.analysis.orbits.find_orbit`.
-    membrane : Membrane
-        Membrane and ball constants.
-    F, M, omega : float
-        Forcing amplitude (N), cylinder mass (kg), forcing frequency (rad/s).
+        From :func:`~vibroimpact.analysis.orbits.find_orbit`; its forcing is the one its parameters were
+        built with (:meth:`vibroimpact.Device.params`), else the device's.
+    device : Device
+        The harvester (its mass, forcing frequency and membranes).
 
     Returns
     -------
@@ -166,27 +111,25 @@ def orbit_energy(orbit, membrane: Membrane, *, F: float, M: float, omega: float)
     --------
     >>> import math, vibroimpact as vi
     >>> o = vi.find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
-    >>> mb = vi.Membrane(h=2.6, K=4.0847e5, R=6.3e-3, r_b=5.0e-3, U_in=2000.0, m=4.11e-3)
-    >>> e = vi.orbit_energy(o, mb, F=5.0, M=0.1245, omega=5 * math.pi)
+    >>> e = vi.orbit_energy(o, vi.Device())  # the paper's device
     >>> round(e["U_T"]), round(e["U_I"])
     (33376, 22251)
     """
-    gain = voltage_gain(speed_si(orbit.v_minus, F, M, omega), membrane)
+    F = orbit.params.physical.get("F", device.F)
+    gain = voltage_gain(device.speed_si(orbit.v_minus, F), device.membrane)
     u_i, u_t = averages(gain, 2.0 * orbit.k)
     return {"gain": gain, "U_I": float(u_i), "U_T": float(u_t)}
 
 
-def branch_energy(branch: xr.Dataset, membrane: Membrane, *, M: float, omega: float) -> xr.Dataset:
+def branch_energy(branch: xr.Dataset, device: Device = PAPER) -> xr.Dataset:
     """Gains and averages along an analytic branch, exact over one period at every point.
 
     Parameters
     ----------
     branch : xarray.Dataset
         From :func:`~vibroimpact.analysis.continuation.continue_orbit` with ``vary="s"`` or ``"F"``.
-    membrane : Membrane
-        Membrane and ball constants.
-    M, omega : float
-        Cylinder mass (kg) and forcing frequency (rad/s).
+    device : Device
+        The harvester (its mass, forcing frequency and membranes; the forcing of each point is the branch's).
 
     Returns
     -------
@@ -196,8 +139,8 @@ def branch_energy(branch: xr.Dataset, membrane: Membrane, *, M: float, omega: fl
     if not branch.sizes.get("point", 0):
         return xr.Dataset(attrs=dict(branch.attrs))
     F = branch["F"].values[:, None]
-    speed = speed_si(branch["v_minus"].values, F, M, omega)
-    gain = voltage_gain(speed, membrane)
+    speed = device.speed_si(branch["v_minus"].values, F)
+    gain = voltage_gain(speed, device.membrane)
     k = float(branch.attrs.get("k", 1))
     u_i, u_t = averages(gain, 2.0 * k)
     ds = xr.Dataset(
@@ -207,11 +150,11 @@ def branch_energy(branch: xr.Dataset, membrane: Membrane, *, M: float, omega: fl
         coords={c: branch[c] for c in ("point", "impact", "d", "s", "F") if c in branch.variables},
     )
     ds.attrs.update({k_: v for k_, v in branch.attrs.items() if k_ in ("word", "k", "beta", "r", "vary")})
-    ds.attrs.update({f"membrane_{k_}": v for k_, v in asdict(membrane).items()})
+    ds.attrs.update(device.attrs())
     return annotate(ds)
 
 
-def window_averages(t, v_minus, kind, status, period_events, F, membrane: Membrane, *, M: float, omega: float,
+def window_averages(t, v_minus, kind, status, period_events, F, device: Device = PAPER, *,
                     window_time: float = 30.0):
     """Gains and averages of runs from their saved windows of events (the last events of each run).
 
@@ -227,7 +170,7 @@ def window_averages(t, v_minus, kind, status, period_events, F, membrane: Membra
         Events on ``(..., event)``, NaN-padded after the last real event.
     status, period_events, F : numpy.ndarray
         Per run (shape ``...``): the run status, events per period (0: none found) and the force (N).
-    membrane, M, omega, window_time
+    device, window_time
         As in :func:`sweep_energy`.
 
     Returns
@@ -239,9 +182,9 @@ def window_averages(t, v_minus, kind, status, period_events, F, membrane: Membra
     """
     t, vm, kind = (np.asarray(a) for a in (t, v_minus, kind))
     shape = t.shape[:-1]
-    speed = speed_si(vm, np.asarray(F, dtype=float)[..., None], M, omega)
+    speed = device.speed_si(vm, np.asarray(F, dtype=float)[..., None])
     hit = np.isfinite(t) & ((kind == 0) | (kind == 1))
-    gain_all = np.where(hit, voltage_gain(np.where(hit, speed, 0.0), membrane), np.nan)
+    gain_all = np.where(hit, voltage_gain(np.where(hit, speed, 0.0), device.membrane), np.nan)
     u_i, u_t, span = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
     count = np.zeros(shape, np.int64)
     status, lags = np.asarray(status), np.asarray(period_events)
@@ -276,7 +219,7 @@ def window_averages(t, v_minus, kind, status, period_events, F, membrane: Membra
     return np.where(hit, speed, np.nan), gain_all, u_i, u_t, span, count
 
 
-def _settled_energy(sw, F, membrane, *, M, omega):
+def _settled_energy(sw, F, device):
     """Gains and averages of each attractor's exact cycle (:func:`vibroimpact.analysis.sweeps.settle`), and the
     long-run averages (batch means, with standard errors) of each motion with no period."""
     from .settled import long_run
@@ -284,7 +227,8 @@ def _settled_energy(sw, F, membrane, *, M, omega):
     shape = sw["status"].shape
     vm, kind = sw["cycle_v_minus"].values, sw["cycle_kind"].values
     hit = np.isfinite(vm) & ((kind == K.IMPACT) | (kind == K.GRAZING))
-    cyc_gain = np.where(hit, voltage_gain(np.where(hit, speed_si(vm, F[..., None], M, omega), 0.0), membrane), np.nan)
+    cyc_gain = np.where(hit, voltage_gain(np.where(hit, device.speed_si(vm, F[..., None]), 0.0), device.membrane),
+                        np.nan)
     per = sw["period"].values.astype(float)
     n_hit = hit.sum(axis=-1)
     total = np.nansum(cyc_gain, axis=-1)
@@ -300,7 +244,7 @@ def _settled_energy(sw, F, membrane, *, M, omega):
                        sw["long_v0"].values[idx], impacts=int(sw.attrs["long_impacts"]), tol=float(sw.attrs.get("tol", 1e-9)))
         if run["status"] != "aperiodic":
             continue
-        long[idx] = _batch_averages(run, F[idx], membrane, M=M, omega=omega, batches=batches)
+        long[idx] = batch_averages(run, F[idx], device, batches=batches)
     dims, edims = ("direction", "point"), ("direction", "point", "cycle")
     return {
         "cycle_gain": (edims, cyc_gain, {"units": "V", "long_name": "gain of each impact of the attractor's cycle"}),
@@ -313,11 +257,12 @@ def _settled_energy(sw, F, membrane, *, M, omega):
     }
 
 
-def _batch_averages(run, F, membrane, *, M, omega, batches):
-    """``U_I``, its standard error, ``U_T``, its standard error over the impacts of a long run, from
-    ``batches`` consecutive batches of equally many impacts."""
+def batch_averages(run, F, device: Device, *, batches: int) -> np.ndarray:
+    """``U_I``, its standard error, ``U_T``, its standard error over the impacts of a long run
+    (:func:`vibroimpact.long_run`'s dict) at forcing ``F``, from ``batches`` consecutive batches of equally
+    many impacts."""
     hit = (run["kind"] == K.IMPACT) | (run["kind"] == K.GRAZING)
-    t, gain = run["t"][hit], voltage_gain(speed_si(run["v_minus"][hit], F, M, omega), membrane)
+    t, gain = run["t"][hit], voltage_gain(device.speed_si(run["v_minus"][hit], F), device.membrane)
     m = gain.size // batches
     if m < 2:
         return np.full(4, np.nan)
@@ -368,7 +313,7 @@ def delivered(en: xr.Dataset, q: str = "U_T"):
     return value, se
 
 
-def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, window_time: float = 30.0) -> xr.Dataset:
+def sweep_energy(sw: xr.Dataset, device: Device = PAPER, *, window_time: float = 30.0) -> xr.Dataset:
     """Gains and averages at every point of a sweep.
 
     A periodic attractor is averaged over one whole period: its exact cycle's where the sweep settled it
@@ -382,10 +327,8 @@ def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, 
     ----------
     sw : xarray.Dataset
         From :func:`~vibroimpact.analysis.sweeps.sweep`.
-    membrane : Membrane
-        Membrane and ball constants.
-    M, omega : float
-        Cylinder mass (kg) and forcing frequency (rad/s).
+    device : Device
+        The harvester (its mass, forcing frequency and membranes; each point's forcing is the sweep's).
     window_time : float
         Averaging span for aperiodic points (non-dimensional time).
 
@@ -400,14 +343,14 @@ def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, 
     Fb = np.broadcast_to(F[None, :], sw["status"].shape)
     speed, gain_all, u_i, u_t, span, count = window_averages(
         sw["t"].values, sw["v_minus"].values, sw["kind"].values, sw["status"].values, sw["period_events"].values,
-        Fb, membrane, M=M, omega=omega, window_time=window_time)
+        Fb, device, window_time=window_time)
     data = {"speed": (("direction", "point", "event"), speed),
             "gain": (("direction", "point", "event"), gain_all),
             "U_I": (("direction", "point"), u_i), "U_T": (("direction", "point"), u_t),
             "window_time": (("direction", "point"), span), "window_impacts": (("direction", "point"), count),
             "label": sw["label"]}
     if "cycle_v_minus" in sw:
-        data |= _settled_energy(sw, Fb, membrane, M=M, omega=omega)
+        data |= _settled_energy(sw, Fb, device)
         # a settled attractor's averages are its exact cycle's (the window's are that cycle's to the
         # periodicity tolerance); resting for good keeps U_T = 0
         exact = sw["settled"].values & np.isfinite(data["cycle_U_T"][1])
@@ -417,5 +360,5 @@ def sweep_energy(sw: xr.Dataset, membrane: Membrane, *, M: float, omega: float, 
         data["long_status"] = sw["long_status"]
     ds = xr.Dataset(data, coords={c: sw[c] for c in ("direction", "point", "d", "s", "F", "gbar") if c in sw.variables})
     ds.attrs.update({k: sw.attrs[k] for k in ("vary", "beta", "r") if k in sw.attrs}, window_time=window_time)
-    ds.attrs.update({f"membrane_{k}": v for k, v in asdict(membrane).items()})
+    ds.attrs.update(device.attrs())
     return annotate(ds)

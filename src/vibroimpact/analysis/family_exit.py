@@ -222,7 +222,7 @@ def sweep_d_graz(sw: xr.Dataset, **kw) -> xr.Dataset:
 _ALONG_D = {"s": 1.0, "d": 1.0, "F": -1.0}
 
 
-def d_graz_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, **kw) -> xr.Dataset:
+def d_graz_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, device=None, **kw) -> xr.Dataset:
     """The paper's d_graz as a curve in a plane of two parameters: :func:`family_exit` of the 1:1 family
     along lines of the plane, each followed from its largest d down.
 
@@ -234,9 +234,11 @@ def d_graz_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, **k
         the other axis.
     phi, v0 : float
         Start of each line's first run (a bottom impact at its largest d).
+    device : Device, optional
+        The harvester (default the paper's, ``Device()``).
     **kw
-        The physical values held fixed (``M``, ``omega``, ``g``, ``r``, ``F`` or ``s``, ``beta``; as
-        :func:`vibroimpact.regime_map`), and :func:`family_exit`'s ``impacts``, ``transient``, ``xtol``.
+        The values held where they are not an axis (``s``, ``F``, ``beta``; ``r``), as
+        :func:`vibroimpact.regime_map`, and :func:`family_exit`'s ``impacts``, ``transient``, ``xtol``.
 
     Returns
     -------
@@ -269,8 +271,8 @@ def d_graz_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, **k
     grid = np.asarray(xs if along == x_name else ys, float)
     rows = []
     for v in np.asarray(values, float):
-        X, Y, d, gbar, r, _ = (plane_params(along, grid, other, [v], **kw) if along == x_name
-                               else plane_params(other, [v], along, grid, **kw))
+        X, Y, d, gbar, r, _ = (plane_params(along, grid, other, [v], device=device, **kw) if along == x_name
+                               else plane_params(other, [v], along, grid, device=device, **kw))
         d, gbar, r, a = d.ravel(), gbar.ravel(), float(r.ravel()[0]), (X if along == x_name else Y).ravel()
         ex = family_exit(d, gbar, r, phi, v0, n=1, **fam)
         # the line's parameter at the exit: proportional to d (s, d) or inversely (F)

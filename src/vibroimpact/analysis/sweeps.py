@@ -18,6 +18,7 @@ import xarray as xr
 from .._progress import Progress, _interactive
 from ..datasets import annotate
 from ..dynamics import kernels as K
+from ..dynamics.device import PAPER, Device
 from ..dynamics.params import Params
 from ..dynamics.simulate import cycle_class
 
@@ -82,15 +83,35 @@ def split_no_period(d, gbar, r, phi, v0, *, impacts: int | None = None, tol: flo
 _EVENT_VARS = ("t", "wall", "v_minus", "phase", "kind")
 
 
-def parameter_grid(vary: str, values, *, beta: float, s: float = 0.85, F: float = 5.0, M: float = 0.1245,
-                   omega: float = 5 * math.pi, g: float = 9.8, r: float = 0.5):
-    """``(d, gbar, s, F)`` arrays for a sweep of the length ``s`` (``vary="s"``, fixed ``F``) or of
-    the force ``F`` (``vary="F"``, fixed ``s``); every value is validated through :class:`Params`."""
+#: the values a plane, sweep or map holds where they are not its axis (a length for a force sweep, ...)
+HELD = ("s", "F", "beta")
+
+
+def held_values(device: Device | None, physical: dict) -> tuple[Device, dict]:
+    """The device and the held values (``s``, ``F``, ``beta``; ``r`` changes the device's restitution) of a
+    sweep, map or plane.  The cylinder's mass, the forcing frequency and gravity belong to the device: passing
+    them alone is refused, naming the way to another device."""
+    device = PAPER if device is None else device
+    extra = sorted(set(physical) - {*HELD, "r"})
+    if extra:
+        raise ValueError(f"{', '.join(extra)} = {[physical[k] for k in extra]!r}: a property of the device; allowed: "
+                         f"device=vi.Device().replace({extra[0]}=...) (held values: {', '.join(HELD)}, and r)")
+    if "r" in physical:
+        device = device.replace(r=float(physical["r"]))
+    return device, {k: physical[k] for k in HELD if k in physical}
+
+
+def parameter_grid(vary: str, values, *, beta: float, device: Device | None = None, s: float = 0.85,
+                   F: float | None = None):
+    """``(d, gbar, s, F)`` arrays for a sweep of the length ``s`` (``vary="s"``, at the forcing ``F``,
+    default the device's) or of the force ``F`` (``vary="F"``, at the length ``s``) of a ``device``
+    (default the paper's, ``Device()``); every value is validated through :class:`Params`."""
     if vary not in ("s", "F"):
         raise ValueError(f"vary = {vary!r}; allowed: 's' (length at fixed force) or 'F' (force at fixed length)")
+    device = PAPER if device is None else device
+    F = device.F if F is None else F
     values = np.atleast_1d(np.asarray(values, dtype=float))
-    ps = [Params.from_physical(s=v if vary == "s" else s, beta=beta, M=M, F=v if vary == "F" else F,
-                               omega=omega, r=r, g=g) for v in values]
+    ps = [device.params(s=v if vary == "s" else s, beta=beta, F=v if vary == "F" else F) for v in values]
     d = np.array([p.d for p in ps])
     gbar = np.array([p.gbar for p in ps])
     s_arr = values if vary == "s" else np.full(values.shape, float(s))
@@ -339,7 +360,8 @@ def _run_one(d, gbar, r, phi, v0, max_periods, max_events, tol, window, pmax):
 
 def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, max_periods: float = 200,
           max_events: int = 200_000, tol: float = 1e-9, window: int = 65, pmax: int = 64,
-          progress: bool | None = None, long_impacts: int | None = None, **physical) -> xr.Dataset:
+          progress: bool | None = None, long_impacts: int | None = None, device: Device | None = None,
+          **held) -> xr.Dataset:
     """Sweep ``s`` (fixed force) or ``F`` (fixed length) up and down, following the attractor.
 
     Parameters
@@ -362,9 +384,11 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
     long_impacts : int, optional
         Impacts of the long run of every point with no period (:func:`settle`; default
         :data:`vibroimpact.analysis.settled.LONG_IMPACTS`, 0: none).
-    **physical
-        The other physical values: the fixed ``s`` or ``F``, and ``M``, ``omega``, ``g``, ``r`` (the
-        paper's defaults otherwise).
+    device : Device, optional
+        The harvester (default the paper's, ``Device()``): its mass, forcing, gravity and restitution.
+    **held
+        The fixed ``s`` (m, of a force sweep; 0.85 by default) or ``F`` (N, of a length sweep; the device's
+        by default), and ``r`` to change the device's restitution.
 
     Returns
     -------
@@ -384,10 +408,12 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
     [['3:1 period-2', '2:1 period-2'], ['3:1 period-2', '2:1 period-2']]
     """
     _check_window(window, pmax)
-    d, gbar, s_arr, F_arr = parameter_grid(vary, values, beta=beta, **physical)
+    device, held = held_values(device, held)
+    held.pop("beta", None)
+    d, gbar, s_arr, F_arr = parameter_grid(vary, values, beta=beta, device=device, **held)
     order = np.argsort(d)
     d, gbar, s_arr, F_arr = d[order], gbar[order], s_arr[order], F_arr[order]
-    r = float(physical.get("r", 0.5))
+    r = device.r
     m = d.shape[0]
     win = [np.full((2, m, window), np.nan), np.zeros((2, m, window), np.int8), np.full((2, m, window), np.nan),
            np.full((2, m, window), np.nan), np.zeros((2, m, window), np.int8)]
@@ -419,7 +445,7 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
     ds["s"].attrs.update(units="m", long_name="cylinder length s")
     ds["F"].attrs.update(units="N", long_name="forcing amplitude ||F||")
     ds.attrs.update(vary=vary, beta=beta, r=r, max_periods=max_periods, tol=tol, first_phi=phi, first_v0=v0,
-                    **{k: v for k, v in physical.items() if k != "r"})
+                    **held, **device.attrs())
     return annotate(ds)
 
 
@@ -780,13 +806,14 @@ def basins(params: Params, phis, v0s, *, max_periods: float = 400, tol: float = 
     return annotate(_attractor_codes(out, ("phi", "v0")))
 
 
-def plane_params(x_name: str, xs, y_name: str, ys, **physical):
+def plane_params(x_name: str, xs, y_name: str, ys, *, device: Device | None = None, **held):
     """The model parameters over a grid of two parameters (the plane of a regime or design map).
 
     ``x_name, y_name``: two different names, both physical (``s``, ``F``, ``beta``, with ``r``) or both
-    non-dimensional (``d``, ``gbar``, with ``r``); ``**physical``: the other physical values (paper
-    defaults otherwise).  Returns ``X, Y, d, gbar, r`` on ``(len(ys), len(xs))`` and the values held
-    fixed (a dict).
+    non-dimensional (``d``, ``gbar``, with ``r``); ``device``: the harvester (default
+    the paper's, ``Device()``); ``**held``: the values held where they are not an axis (``s`` 0.85 m, ``F`` the
+    device's, ``beta`` pi/6 by default; ``r`` changes the device's).  Returns ``X, Y, d, gbar, r`` on
+    ``(len(ys), len(xs))`` and the values held fixed (a dict).
     """
     allowed = ("s", "F", "beta", "d", "gbar", "r")
     for name in (x_name, y_name):
@@ -799,10 +826,10 @@ def plane_params(x_name: str, xs, y_name: str, ys, **physical):
     if nondim and axes & {"s", "F", "beta"}:
         raise ValueError(f"map axes ({x_name!r}, {y_name!r}): {nondim[0]!r} is non-dimensional; allowed: "
                          "two of s, F, beta, r or two of d, gbar, r")
+    device, held = held_values(device, held)
     X, Y = np.meshgrid(np.asarray(xs, float), np.asarray(ys, float), indexing="xy")
-    base = dict(s=0.85, F=5.0, beta=math.pi / 6, M=0.1245, omega=5 * math.pi, g=9.8, r=0.5)
-    base.update(physical)
-    p0 = Params.from_physical(**base)
+    base = dict(s=0.85, F=device.F, beta=math.pi / 6) | held
+    p0 = device.params(**base)
     d, gbar, r = np.empty(X.shape), np.empty(X.shape), np.empty(X.shape)
     for k, (x, y) in enumerate(zip(X.ravel(), Y.ravel(), strict=True)):
         if nondim:
@@ -810,12 +837,13 @@ def plane_params(x_name: str, xs, y_name: str, ys, **physical):
             v[x_name], v[y_name] = x, y
             p = Params(d=v["d"], gbar=v["gbar"], r=v["r"])
         else:
-            kw = dict(base)
+            kw = dict(base, r=device.r)
             kw[x_name], kw[y_name] = x, y
-            p = Params.from_physical(**kw)
+            p = device.replace(r=kw.pop("r")).params(**kw)
         d.flat[k], gbar.flat[k], r.flat[k] = p.d, p.gbar, p.r
     fixed = ({k: float(getattr(p0, k)) for k in ("d", "gbar", "r") if k not in axes} if nondim
-             else {k: v for k, v in base.items() if k not in axes})
+             else {k: v for k, v in (base | {"r": device.r}).items() if k not in axes}
+             | {k: getattr(device, k) for k in ("M", "omega", "g")})
     return X, Y, d, gbar, r, fixed
 
 
@@ -836,7 +864,8 @@ def _split_cells(ds, d, gbar, r, tol):
 
 
 def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float = 0.5, max_periods: float = 200,
-               tol: float = 1e-9, window: int = 65, progress: bool | None = None, **physical) -> xr.Dataset:
+               tol: float = 1e-9, window: int = 65, progress: bool | None = None, device: Device | None = None,
+               **held) -> xr.Dataset:
     """Attractor class over a grid of two parameters, each run from the same bottom impact.
 
     Parameters
@@ -850,10 +879,12 @@ def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float 
         Start of every run: a bottom impact at phase ``phi`` with pre-impact velocity ``v0``.
     max_periods, tol, window, progress
         As in :func:`basins`.
-    **physical
-        Other physical values (``s``, ``F``, ``beta``, ``M``, ``omega``, ``g``, ``r``); paper
-        defaults otherwise.  On non-dimensional axes they fix the parameter that is not an axis
-        (``gbar`` on a (d, r) map, ``r`` on a (d, gbar) map) through the paper's scaling.
+    device : Device, optional
+        The harvester (default the paper's, ``Device()``).
+    **held
+        The values held where they are not an axis (``s``, ``F``, ``beta``; ``r`` changes the device's):
+        :func:`plane_params`.  On non-dimensional axes they fix the parameter that is not an axis
+        (``gbar`` on a (d, r) map, ``r`` on a (d, gbar) map) through the device's scaling.
 
     Returns
     -------
@@ -862,7 +893,7 @@ def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float 
         unsettled by its long run, :func:`no_period_label`), ``lyap1`` with ``lyap1_low``, ``lyap1_high``
         for those cells, ``period``, ``d``, ``gbar`` and ``code``.
     """
-    X, Y, d, gbar, r, fixed = plane_params(x_name, xs, y_name, ys, **physical)
+    X, Y, d, gbar, r, fixed = plane_params(x_name, xs, y_name, ys, device=device, **held)
     axes = {x_name, y_name}
     d, gbar, r = d.ravel(), gbar.ravel(), r.ravel()
     ds = attractor_batch(d, gbar, r, phi, v0, max_periods=max_periods, tol=tol, window=window, progress=progress,

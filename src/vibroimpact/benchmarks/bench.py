@@ -16,6 +16,7 @@ import xarray as xr
 
 from ..analysis.lyapunov import lyapunov
 from ..datasets import annotate
+from ..dynamics.device import PAPER
 from ..dynamics.events import next_impact
 from ..dynamics.params import Params
 from ..dynamics.reference import first_impact
@@ -29,10 +30,10 @@ SCENE = dict(d=0.235, beta=math.pi / 3, phi=0.4, v0=0.6)
 def simulator_benchmark(n_impacts: int, n_impacts_ivp: int, n_flights_accuracy: int,
                         rtol: float = 1e-12, atol: float = 1e-12) -> xr.Dataset:
     """Time both methods and measure their impact-time errors; returns a one-row dataset."""
-    g = 0.1245 * 9.8 * math.sin(SCENE["beta"]) / 5.0
-    p = Params(d=SCENE["d"], gbar=g, r=0.5)
+    g = PAPER.gbar(SCENE["beta"])
+    p = Params(d=SCENE["d"], gbar=g, r=PAPER.r)
     simulate(p, SCENE["phi"], SCENE["v0"], n_impacts=100)  # compile outside the timing
-    simulate_batch([p.d] * 2, g, 0.5, SCENE["phi"], SCENE["v0"], n_impacts=100)
+    simulate_batch([p.d] * 2, g, PAPER.r, SCENE["phi"], SCENE["v0"], n_impacts=100)
     lyapunov(p, SCENE["phi"], SCENE["v0"], 1000)
 
     ds = simulate(p, SCENE["phi"], SCENE["v0"], n_impacts=n_impacts)
@@ -213,7 +214,7 @@ def _count_worker(args: str) -> None:
     flight.math = events.math = fm
     out = {}
     for name, (beta, d, phi, v0) in KERNEL_SCENES.items():
-        p = Params(d=d, gbar=0.1245 * 9.8 * math.sin(beta) / 5.0, r=0.5)
+        p = Params(d=d, gbar=PAPER.gbar(beta), r=PAPER.r)
         ds = simulate(p, phi, v0, n_impacts=a["n"] + 50)
         th, z0, u = (ds[k].values[50:-1] for k in ("phase", "z", "v_plus"))
         for k in counts:
@@ -283,7 +284,7 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: i
     hy_result = {}
     for name in names:
         beta, d, phi, v0 = KERNEL_SCENES[name]
-        p = Params(d=d, gbar=0.1245 * 9.8 * math.sin(beta) / 5.0, r=0.5)
+        p = Params(d=d, gbar=PAPER.gbar(beta), r=PAPER.r)
         if peer_heyoka.available():
             timers[name, "heyoka"], hy_result[name] = peer_heyoka.stepping_timer(p, phi, v0, n_heyoka,
                                                                                 tol=np.finfo(float).eps)

@@ -14,6 +14,7 @@ import xarray as xr
 
 from .._progress import Progress
 from ..datasets import annotate
+from ..dynamics.device import PAPER
 from ..dynamics.events import next_impact
 from ..dynamics.params import Params
 from ..dynamics.reference import bounce_by_bounce, first_impact, grazing_state, trajectory
@@ -28,8 +29,9 @@ SCENES = {
 }
 
 
-def _params(beta, d, r=0.5):
-    return Params(d=d, gbar=0.1245 * 9.8 * math.sin(beta) / 5.0, r=r)
+def _params(beta, d, r=PAPER.r):
+    """The paper's device at incline ``beta`` with the non-dimensional length ``d``."""
+    return Params(d=d, gbar=PAPER.gbar(beta), r=r)
 
 
 def peer_status() -> dict[str, str]:
@@ -404,7 +406,7 @@ def analytics_accuracy(*, steps=(2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4), poin
         grid.append(est)
     located, grid = np.array(located), np.array(grid)
     ref = located[-1]
-    k_s = 0.1245 * (5 * math.pi) ** 2 / (5 * math.pi**2)
+    k_s = PAPER.d(1.0)  # d per metre of s at the paper's force
     sw_grid, sw_loc, cost_b = [], [], []
     sweep("s", np.linspace(0.136, 0.144, 5) / k_s, beta=math.pi / 6)  # compile
     for n in points:

@@ -8,7 +8,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-__all__ = ["Params", "PhysicalScales"]
+__all__ = ["PAPER_PHYSICS", "Params", "PhysicalScales", "length_factor"]
+
+#: the paper's device (section 2): cylinder mass M (kg), forcing amplitude F (N), angular frequency omega
+#: (rad/s; the paper writes "5 pi Hz"), gravity g (m/s^2), restitution r.  The one place these numbers are
+#: written in the package: ``vibroimpact.Device()``, the paper's device, is built from them.
+PAPER_PHYSICS = {"M": 0.1245, "F": 5.0, "omega": 5 * math.pi, "g": 9.8, "r": 0.5}
+
+
+def length_factor(M: float, omega: float) -> float:
+    """``k = M omega^2 / pi^2`` (N/m), the factor of the non-dimensional length: ``d = k s / F`` (paper §2)."""
+    return M * omega**2 / math.pi**2
 
 
 def _check(name: str, value: float, ok: bool, allowed: str) -> float:
@@ -78,15 +88,16 @@ class Params:
         cls,
         s: float,
         beta: float,
-        M: float = 0.1245,
-        F: float = 5.0,
-        omega: float = 5 * math.pi,
-        r: float = 0.5,
-        g: float = 9.8,
+        M: float = PAPER_PHYSICS["M"],
+        F: float = PAPER_PHYSICS["F"],
+        omega: float = PAPER_PHYSICS["omega"],
+        r: float = PAPER_PHYSICS["r"],
+        g: float = PAPER_PHYSICS["g"],
     ) -> Params:
         """Build parameters from the device: length ``s`` (m), incline ``beta`` (rad), cylinder
         mass ``M`` (kg), forcing amplitude ``F`` (N), angular frequency ``omega`` (rad/s),
-        restitution ``r`` and gravity ``g`` (m/s^2).
+        restitution ``r`` and gravity ``g`` (m/s^2); the paper's device (:data:`PAPER_PHYSICS`) by default.
+        :meth:`vibroimpact.Device.params` builds them from a device.
 
         ``d = s M omega^2 / (F pi^2)`` and ``gbar = M g sin(beta) / F`` (paper §2).
         """
@@ -96,7 +107,7 @@ class Params:
         F = _check("F", F, lambda x: x > 0, "F > 0 (N)")
         omega = _check("omega", omega, lambda x: x > 0, "omega > 0 (rad/s)")
         g = _check("g", g, lambda x: x >= 0, "g >= 0 (m/s^2)")
-        d = s * M * omega**2 / (F * math.pi**2)
+        d = length_factor(M, omega) * s / F
         gbar = M * g * math.sin(beta) / F
         scales = PhysicalScales(
             time=math.pi / omega,

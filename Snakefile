@@ -43,6 +43,14 @@ report: "workflow/report/workflow.rst"
 
 
 include: "workflow/rules/common.smk"
+
+
+# another device than the paper's writes everything (results, logs, benchmarks) under its own folder,
+# results/devices/<name>/, never over the paper's results
+if not CFG.paper_device:
+    workflow.workdir(CFG.results_dir)
+
+
 include: "workflow/rules/orbits.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/orbits_branches.smk"
@@ -100,5 +108,7 @@ rule all:
         "results/tables/table1.md",
 
 
-# the documentation site builds on the default target (rule all, above)
-include: "workflow/rules/docs.smk"
+# the documentation site builds on the default target (rule all, above): the paper's device's
+if CFG.paper_device:
+
+    include: "workflow/rules/docs.smk"

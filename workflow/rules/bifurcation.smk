@@ -2,13 +2,6 @@
 # regime maps' parameter planes and in non-dimensional planes (vibroimpact.analysis.bifurcation), drawn over
 # brute-force maps of the same planes.
 
-if not set(config["bifurcation"]["words"]) <= set(WORDS):
-    _fail(
-        "bifurcation.words",
-        config["bifurcation"]["words"],
-        f"words of branches.words ({', '.join(WORDS)})",
-    )
-
 
 rule bifurcation:
     input:

@@ -1,36 +1,20 @@
-# Shared helpers: config checks that a schema cannot express, and parameter lookups.
+# Shared helpers: the checked config (vibroimpact.outputs.workflow_config: every check across keys, before
+# any job) and path and parameter lookups.
 import math
 import os
 
+from vibroimpact.outputs.workflow_config import check as _check_config
 
-def _fail(key, value, allowed):
-    raise ValueError(f"config: {key} = {value!r} is not allowed; allowed: {allowed}")
-
-
-def _check_range(key, value, what="[low, high] with low < high"):
-    """A range of two numbers, increasing (a reversed or empty range is refused)."""
-    if len(value) != 2 or not value[0] < value[1]:
-        _fail(key, list(value), what)
-
-
+#: the config, checked across keys and typed
+CFG = _check_config(config)
 #: the device the config describes, as every job builds it (vibroimpact.Device.from_config)
-DEVICE_SPEC = dict(
-    physics=config["physics"], membrane=config["membrane"], name=config.get("device")
-)
+DEVICE_SPEC = CFG.device_spec()
 
-CAPTIONS = config["captions"]
-SCENES = list(config["scenes"])
-QUALITY = config["quality"]
-RESOLUTION = config["resolution"][QUALITY]
 
-for _scene, _spec in config["scenes"].items():
-    for _name in _spec["captions"]:
-        if _name not in CAPTIONS:
-            _fail(
-                f"scenes.{_scene}.captions",
-                _name,
-                f"a caption defined under 'captions': {sorted(CAPTIONS)}",
-            )
+CAPTIONS = CFG.captions
+SCENES = CFG.scenes
+QUALITY = CFG.quality
+RESOLUTION = CFG.resolution
 
 
 wildcard_constraints:
@@ -52,7 +36,7 @@ def caption_params(name):
     return dict(
         name=name,
         d=c["d"],
-        gbar=ph["M"] * ph["g"] * math.sin(c["beta"]) / c.get("F", ph["F"]),
+        gbar=CFG.device.gbar(c["beta"], c.get("F", ph["F"])),
         F=c.get("F", ph["F"]),
         omega=c.get("omega", ph["omega"]),
         period=c.get("period", 0),
@@ -75,8 +59,8 @@ def caption_params(name):
 
 
 # ---- branches ----------------------------------------------------------------------------------
-BRANCH_SCENES = config["branch_scenes"]
-WORDS = config["branches"]["words"]
+BRANCH_SCENES = CFG.branch_scenes
+WORDS = CFG.words
 
 
 def fmt(x):
@@ -115,119 +99,11 @@ def scene_branch_files(scene, kind="orbit"):
     return files
 
 
-for _scene, _spec in BRANCH_SCENES.items():
-    if len(_spec["betas"]) != len(_spec["s_ranges"]):
-        _fail(
-            f"branch_scenes.{_scene}.s_ranges",
-            _spec["s_ranges"],
-            "one [s_min, s_max] per beta",
-        )
-    for _i, _r in enumerate(_spec["s_ranges"]):
-        _check_range(
-            f"branch_scenes.{_scene}.s_ranges[{_i}]",
-            _r,
-            "[s_min, s_max] with s_min < s_max",
-        )
-    for _w in [_spec["word"]] + (
-        [_spec["grazing"]["word"]] if "grazing" in _spec else []
-    ):
-        if _w not in WORDS:
-            _fail(
-                f"branch_scenes.{_scene}.word",
-                _w,
-                f"a word defined under branches.words: {sorted(WORDS)}",
-            )
-
-
-_lo, _hi = config["branches"]["d_range"]
-_check_range("branches.d_range", [_lo, _hi], "[d_min, d_max] with d_min < d_max")
-_check_range(
-    "branches.force.F_range",
-    config["branches"]["force"]["F_range"],
-    "[F_min, F_max] with F_min < F_max",
-)
-for _name, _b in config["basins"].items():
-    for _k in ("phi_range", "v0_range"):
-        if _k in _b:
-            _check_range(f"basins.{_name}.{_k}", _b[_k])
-for _w, _spec in WORDS.items():
-    if not _lo < _spec["start_d"] < _hi:
-        _fail(
-            f"branches.words.{_w}.start_d",
-            _spec["start_d"],
-            f"inside branches.d_range = {[_lo, _hi]}",
-        )
-
-
 # ---- sweeps ------------------------------------------------------------------------------------
-SWEEPS = config["sweeps"]["scenes"]
+SWEEPS = CFG.sweeps
 
-for _name, _sc in SWEEPS.items():
-    _fixed = "s" if _sc["vary"] == "F" else "F"
-    if _fixed not in _sc:
-        _fail(
-            f"sweeps.scenes.{_name}.{_fixed}",
-            None,
-            f"a value: a sweep of {_sc['vary']} needs the fixed {'length s (m)' if _fixed == 's' else 'force F (N)'}",
-        )
-    if _sc["vary"] in _sc:
-        _fail(
-            f"sweeps.scenes.{_name}.{_sc['vary']}",
-            _sc[_sc["vary"]],
-            f"nothing: {_sc['vary']} is the swept parameter (see range)",
-        )
-    if not _sc["range"][0] < _sc["range"][1]:
-        _fail(
-            f"sweeps.scenes.{_name}.range", _sc["range"], "[low, high] with low < high"
-        )
-# the regime maps (config maps) and the bifurcation set's own non-dimensional planes (bifurcation.maps)
-ALL_MAPS = dict(config["maps"]) | dict(config["bifurcation"].get("maps", {}))
-if set(config["maps"]) & set(config["bifurcation"].get("maps", {})):
-    _fail(
-        "bifurcation.maps",
-        sorted(set(config["maps"]) & set(config["bifurcation"]["maps"])),
-        "names not already used by maps",
-    )
-for _name, _m in ALL_MAPS.items():
-    _key = f"maps.{_name}" if _name in config["maps"] else f"bifurcation.maps.{_name}"
-    _phys = _name in config["maps"]
-    _axes = ("s", "F", "beta") if _phys else ("d", "gbar", "r")
-    if _m["x"] == _m["y"]:
-        _fail(
-            f"{_key}.y",
-            _m["y"],
-            f"an axis different from x = {_m['x']!r} (one of {', '.join(_axes)})",
-        )
-    for _axis in ("x", "y"):
-        if _m[_axis] not in _axes:
-            _fail(
-                f"{_key}.{_axis}",
-                _m[_axis],
-                f"one of {', '.join(_axes)}"
-                + (
-                    ""
-                    if _phys
-                    else " (the regime maps take the physical axes; these planes the non-dimensional ones)"
-                ),
-            )
-        if _m[_axis] in _m:
-            _fail(
-                f"{_key}.{_m[_axis]}",
-                _m[_m[_axis]],
-                f"nothing: {_m[_axis]} is the map's {_axis} axis",
-            )
-        if not _m[f"{_axis}_range"][0] < _m[f"{_axis}_range"][1]:
-            _fail(
-                f"{_key}.{_axis}_range",
-                _m[f"{_axis}_range"],
-                "[low, high] with low < high",
-            )
-    if not _phys and set(_m) & {"s", "F", "beta"}:
-        _fail(
-            f"{_key}.{sorted(set(_m) & {'s', 'F', 'beta'})[0]}",
-            _m[sorted(set(_m) & {"s", "F", "beta"})[0]],
-            "nothing: a non-dimensional plane takes its fixed parameter from the physics at bifurcation.beta",
-        )
+#: the regime maps (config maps) and the bifurcation set's own non-dimensional planes (bifurcation.maps)
+ALL_MAPS = CFG.maps
 
 
 def sweep_path(name, suffix=""):
@@ -241,16 +117,6 @@ def basin_path(name):
 
 def map_path(name):
     return f"results/maps/{name}_r-{fmt(config['physics']['r'])}.nc"
-
-
-if "figBiS" in SWEEPS and "figBiS" not in config["basins"]:
-    _fail(
-        "basins.figBiS",
-        None,
-        "an entry with the bistable point d where Fig BiS draws both motions",
-    )
-if "figBiS" in SWEEPS and not {"BBT", "BBBT"} <= set(WORDS):
-    _fail("branches.words", sorted(WORDS), "BBT and BBBT, which Fig BiS draws")
 
 
 def length_sweeps(betas):
@@ -286,74 +152,8 @@ def energy_panel_inputs(sweep_name):
     ]
 
 
-for _fig, _spec in config["energy"]["figures"].items():
-    for _p in _spec["panels"]:
-        if _p not in SWEEPS:
-            _fail(
-                f"energy.figures.{_fig}.panels",
-                _p,
-                f"a sweep under sweeps.scenes: {sorted(SWEEPS)}",
-            )
-for _p in config["chaos"]["panels"]:
-    if _p not in SWEEPS:
-        _fail("chaos.panels", _p, f"a sweep under sweeps.scenes: {sorted(SWEEPS)}")
-for _v in ("s", "F"):
-    for _p in config["energy"]["design"][_v]:
-        if _p not in SWEEPS or SWEEPS[_p]["vary"] != _v:
-            _fail(
-                f"energy.design.{_v}",
-                _p,
-                f"a sweep under sweeps.scenes with vary: {_v}",
-            )
-
-
 # ---- studies: new beta or r beside the defaults ------------------------------------------------
-STUDIES = config.get("studies", []) or []
-
-_check_range(
-    "study_defaults.s_range",
-    config["study_defaults"]["s_range"],
-    "[s_min, s_max] with s_min < s_max",
-)
-_seen_studies = {}
-for _i, _st in enumerate(STUDIES):
-    if "s_range" in _st:
-        _check_range(
-            f"studies[{_i}].s_range",
-            _st["s_range"],
-            "[s_min, s_max] with s_min < s_max (m)",
-        )
-    _key = f"beta-{_st['beta']:.4f}_r-{_st['r']:.4f}"
-    if _key in _seen_studies:
-        _j = _seen_studies[_key]
-        _fail(
-            f"studies[{_i}]",
-            _st,
-            f"a study of its own (beta, r): it repeats studies[{_j}] = {STUDIES[_j]!r} (both would write "
-            f"results/studies/{_key}; beta and r are told apart to 4 decimals)",
-        )
-    _seen_studies[_key] = _i
-    if not _st["r"] > 0:
-        _fail(
-            f"studies[{_i}].r",
-            _st["r"],
-            "r > 0 (with r = 0 the ball never rebounds: every impact ends at rest on the wall, so no impact "
-            "orbit exists and no branch can start)",
-        )
-    # the ball must be able to leave the bottom membrane, or no orbit (and no branch) can start
-    _gbar = (
-        config["physics"]["M"]
-        * config["physics"]["g"]
-        * math.sin(_st["beta"])
-        / config["physics"]["F"]
-    )
-    if _gbar >= 1:
-        _fail(
-            f"studies[{_i}].beta",
-            _st["beta"],
-            f"an incline with gbar = M g sin(beta) / F < 1 (here {_gbar:.4g}: the forcing can never lift the ball "
-            "off the bottom membrane, so no impact orbit exists and no branch can start)",
-        )
+STUDIES = CFG.studies
 
 
 def r_value(key):
@@ -401,43 +201,10 @@ def sweep_scene(wc):
     return sc
 
 
-# ---- checks: the known discrepancies must name items the check produces -------------------------
-def _check_items():
-    from vibroimpact.outputs.checks import item_names
-
-    betas = sorted({b for sc in BRANCH_SCENES.values() for b in sc["betas"]})
-    return item_names(list(CAPTIONS), betas)
-
-
-for _item in config["checks"]["known"]:
-    if _item not in _check_items():
-        _fail(
-            "checks.known", _item, f"an item of the paper-value check: {_check_items()}"
-        )
-
-
-#: every figure whose plotted data the `check` target compares with its committed reference
-ALL_FIGURES = (
-    list(SCENES)
-    + list(BRANCH_SCENES)
-    + ["figBiS", "basins", "regime_map"]
-    + list(config["energy"]["figures"])
-    + ["lyapunov"]
-    + ["design", "work_precision", "failure_map", "analytics_accuracy"]
-    + [f"bifurcation_set_{m}" for m in ALL_MAPS]
-    + [f"design_map_{m}" for m in config["design"]["maps"]]
-)
-# figure_checks.figures: every figure ("all"), or the ones a list names (e.g. while working on one)
-_chosen = config["figure_checks"].get("figures", "all")
-if _chosen != "all":
-    for _f in _chosen:
-        if _f not in ALL_FIGURES:
-            _fail(
-                "figure_checks.figures",
-                _f,
-                f"'all' or a list of figures of {ALL_FIGURES}",
-            )
-FIGURES = ALL_FIGURES if _chosen == "all" else list(_chosen)
+#: every figure whose plotted data the `check` target compares with its committed reference, and the ones
+#: figure_checks.figures chooses
+ALL_FIGURES = CFG.all_figures
+FIGURES = CFG.figures
 
 
 def figure_reference(fig):
@@ -472,18 +239,8 @@ def figure_formats(stem):
     return {f: f"{stem}.{f}" for f in RESOLUTION["figure_formats"] if f != "png"}
 
 
-# ---- design under multistability: value ranges and cross-key conditions, before any job --------------
-from vibroimpact.analysis.design import check_design
-
+# ---- design under multistability ----------------------------------------------------------------
 DESIGN = config["design"]
-try:
-    check_design(
-        DESIGN,
-        {q: config["resolution"][q]["design"] for q in config["resolution"]},
-        config["maps"],
-    )
-except ValueError as err:
-    raise ValueError(f"config: {err}") from None
 
 
 def design_chunks(name):

@@ -47,7 +47,7 @@ from .sweeps import (
     split_no_period,
 )
 
-__all__ = ["DISTRIBUTIONS", "MIN_STARTS", "AT_REST", "start_states", "check_design", "design_map",
+__all__ = ["DISTRIBUTIONS", "MIN_STARTS", "AT_REST", "start_states", "design_map",
            "merge_chunks", "share_interval", "table_designs", "tolerance_analysis", "curve_margin", "box_minimum", "best_designs"]
 
 #: start-state distributions: at rest on the bottom membrane (uniform phase), or a box of bottom impacts
@@ -106,57 +106,6 @@ def start_states(n, *, distribution: str = "rest", seed: int = 0, phi_range=(0.0
     if not 0 <= v0 < v1:
         _fail("v0_range", [v0, v1], "[lo, hi] with 0 <= lo < hi (a box with some width)")
     return rng.uniform(p0, p1, n), rng.uniform(v0, v1, n)
-
-
-def check_design(design: dict, presets: dict, maps: dict) -> None:
-    """Refuse a design config that makes no sense, naming the key, the value and what is allowed.
-
-    ``design``: the config's ``design`` section; ``presets``: each quality preset's ``design`` entry
-    (``grid``, ``starts``, ``chunks``); ``maps``: the regime maps whose planes the design maps share.
-    """
-    st = design["starts"]
-    if st["distribution"] not in DISTRIBUTIONS:
-        _fail("design.starts.distribution", st["distribution"], " or ".join(DISTRIBUTIONS))
-    if st["distribution"] == "box":
-        start_states(MIN_STARTS, distribution="box", phi_range=st["phi_range"], v0_range=st["v0_range"])
-    for axis, tol in design["tolerance"].items():
-        if axis not in DESIGN_AXES:
-            _fail(f"design.tolerance.{axis}", tol, f"a tolerance of {', '.join(DESIGN_AXES)}")
-        if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol >= 0):
-            kind = "relative, e.g. 0.01 for 1 %" if axis in RELATIVE else "in radians"
-            _fail(f"design.tolerance.{axis}", tol, f"a number >= 0 ({kind})")
-        if axis in RELATIVE and tol >= 1:
-            _fail(f"design.tolerance.{axis}", tol, "a relative tolerance < 1 (e.g. 0.01 for 1 %)")
-    for name in design["maps"]:
-        if name not in maps:
-            _fail("design.maps", name, f"a regime map of `maps` ({', '.join(maps)}), whose plane it shares")
-        axes = (maps[name]["x"], maps[name]["y"])
-        if not set(axes) <= set(DESIGN_AXES):
-            _fail(f"design.maps ({name})", list(axes), f"a plane of two of {', '.join(DESIGN_AXES)} (physical axes)")
-        if "beta" in axes:
-            lo, hi = maps[name]["x_range" if axes[0] == "beta" else "y_range"]
-            for b in design["table_betas"]:
-                if not lo <= b <= hi:
-                    _fail("design.table_betas", b, f"an incline in the beta range [{lo}, {hi}] of map {name}")
-        if not any(design["tolerance"].get(a, 0) > 0 for a in axes):
-            _fail(f"design.tolerance ({name})", {a: design["tolerance"].get(a, 0) for a in axes},
-                  f"a tolerance > 0 on at least one of the map's axes {axes} (else the box is empty)")
-    for key, hi in design["budget"].items():
-        if key not in DESIGN_AXES or not (isinstance(hi, (int, float)) and hi > 0):
-            _fail(f"design.budget.{key}", hi, f"an upper bound > 0 on one of {', '.join(DESIGN_AXES)}")
-    if not 0 < design["confidence"] < 1:
-        _fail("design.confidence", design["confidence"], "a level in (0, 1), e.g. 0.95")
-    if not 0 <= design["min_share"] < 1:
-        _fail("design.min_share", design["min_share"], "a share in [0, 1), e.g. 0.01")
-    for q, pre in presets.items():
-        n = pre["starts"]
-        if isinstance(n, bool) or not isinstance(n, int) or n < MIN_STARTS:
-            _fail(f"resolution.{q}.design.starts", n, f"an integer >= {MIN_STARTS}")
-        nx, ny = pre["grid"]
-        if nx < 2 or ny < 2:
-            _fail(f"resolution.{q}.design.grid", pre["grid"], "[nx, ny], each >= 2")
-        if not 1 <= pre["chunks"] <= ny:
-            _fail(f"resolution.{q}.design.chunks", pre["chunks"], f"an integer in [1, {ny}] (grid rows: {ny})")
 
 
 def grid_axes(spec: dict, grid, table_betas=()):

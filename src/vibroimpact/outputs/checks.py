@@ -381,6 +381,31 @@ def apply_known(df: pd.DataFrame, known: dict[str, str]) -> pd.DataFrame:
     return df
 
 
+#: rows that hold for any device: identities and the simulator against the Newton-solved orbits
+ANY_DEVICE = ("U_I = U_T for 1:1 period-2 motion", "simulated points on the")
+#: the status of a row that compares a number of the paper's device with another device's
+NOT_COMPARED = "not compared"
+
+
+def for_another_device(df: pd.DataFrame, device: str) -> pd.DataFrame:
+    """The check's rows for a device other than the paper's: the rows that hold for any device
+    (:data:`ANY_DEVICE`) keep their status; every other row compares a number the paper published for its own
+    device and is marked :data:`NOT_COMPARED`, its note saying so (its computed value is kept)."""
+    df = df.copy()
+    other = ~df["item"].astype(str).str.startswith(ANY_DEVICE)
+    df.loc[other, "status"] = NOT_COMPARED
+    df.loc[other, "note"] = f"not the paper's device ({device}): the paper's value is its device's"
+    return df
+
+
+def not_compared_figures(figures, device: str) -> pd.DataFrame:
+    """The figure check of a device other than the paper's: one row per figure, not compared (the committed
+    references are the paper's device's)."""
+    return pd.DataFrame({"figure": list(figures), "variable": "", "rule": "", "max_difference": np.nan,
+                         "status": NOT_COMPARED,
+                         "detail": f"not the paper's device ({device}): the committed references are the paper's"})
+
+
 def markdown(df: pd.DataFrame) -> str:
     def fmt(x):
         return f"{x:.6g}" if isinstance(x, float) else str(x).replace("|", "\\|")

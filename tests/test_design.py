@@ -13,7 +13,6 @@ import vibroimpact as vi
 from vibroimpact.analysis.design import (
     best_designs,
     box_minimum,
-    check_design,
     curve_margin,
     design_map,
     merge_chunks,
@@ -26,6 +25,7 @@ from vibroimpact.analysis.energy import Membrane, orbit_energy
 from vibroimpact.analysis.orbits import find_orbit
 from vibroimpact.analysis.sweeps import basins
 from vibroimpact.dynamics.params import Params
+from vibroimpact.outputs.workflow_config import check_design
 
 CFG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 PH = CFG["physics"]

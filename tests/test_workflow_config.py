@@ -1,0 +1,97 @@
+"""The workflow config checked across keys and typed (vibroimpact.outputs.workflow_config), and the device it
+describes: the paper's, or another written under its own folder."""
+
+import copy
+import math
+
+import pytest
+import yaml
+from conftest import ROOT
+
+import vibroimpact as vi
+from vibroimpact.outputs.workflow_config import ConfigError, check
+
+CONFIG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+EXAMPLE = yaml.safe_load((ROOT / "config" / "example_device.yaml").read_text())
+
+
+def merged(over):
+    """The defaults with ``over`` merged in, as Snakemake merges a --configfile over the configfile."""
+    out = copy.deepcopy(CONFIG)
+
+    def deep(a, b):
+        for k, v in b.items():
+            if isinstance(v, dict) and isinstance(a.get(k), dict):
+                deep(a[k], v)
+            else:
+                a[k] = v
+    deep(out, over)
+    return out
+
+
+def test_the_shipped_config_is_the_paper_s_device_written_in_the_repository():
+    cfg = check(CONFIG)
+    assert cfg.paper_device and cfg.device.name == "paper" and cfg.results_dir == "."
+    # the device's numbers, typed once in the package, are the config's (they cannot drift apart)
+    assert cfg.device.physics() == CONFIG["physics"]
+    assert vars(cfg.device.membrane) == CONFIG["membrane"]
+    assert cfg.device == vi.Device()
+
+
+def test_the_example_device_is_another_device_written_under_its_own_folder():
+    cfg = check(merged(EXAMPLE))
+    assert not cfg.paper_device
+    assert cfg.device.name == EXAMPLE["device"] and cfg.results_dir == f"results/devices/{EXAMPLE['device']}"
+    assert (cfg.device.M, cfg.device.F, cfg.device.omega) == tuple(EXAMPLE["physics"][k] for k in ("M", "F", "omega"))
+    assert cfg.device.membrane == vi.Device().membrane  # what the file does not give is the paper's
+    assert vi.Device.from_config(**cfg.device_spec()) == cfg.device  # as a job rebuilds it
+
+
+def test_a_device_without_a_name_is_named_after_its_values_and_never_paper():
+    a = check(merged({"physics": {"F": 6.0}}))
+    b = check(merged({"physics": {"F": 6.5}}))
+    assert a.device.name.startswith("device-") and a.device.name != b.device.name
+    assert a.results_dir == f"results/devices/{a.device.name}"
+    assert check(merged({"physics": {"F": 6.0}})).device.name == a.device.name  # the same values, the same name
+    with pytest.raises(ConfigError, match=r"config: device = 'paper' is not allowed; allowed: another name"):
+        check(merged({"device": "paper", "physics": {"F": 6.0}}))
+
+
+@pytest.mark.parametrize("edit, key, value, allowed", [
+    (lambda c: c["sweeps"]["scenes"]["fig0_F"].pop("s"), "sweeps.scenes.fig0_F.s", None, "fixed length s"),
+    (lambda c: c["maps"]["s_F"].update(y="s"), "maps.s_F.y", "s", "different from x"),
+    (lambda c: c["branches"]["words"]["BBT"].update(start_d=0.6), "branches.words.BBT.start_d", 0.6,
+     "inside branches.d_range"),
+    (lambda c: c["branch_scenes"]["fig2"]["s_ranges"].__setitem__(0, [0.37, 0.27]), "branch_scenes.fig2.s_ranges[0]",
+     [0.37, 0.27], "s_min < s_max"),
+    (lambda c: c["scenes"]["fig4"]["captions"].append("fig9_z"), "scenes.fig4.captions", "fig9_z", "a caption defined"),
+    (lambda c: c["bifurcation"].update(words=["BBT", "BBBBT"]), "bifurcation.words", ["BBT", "BBBBT"],
+     "words of branches.words"),
+    (lambda c: c["design"]["tolerance"].update(s=-0.01), "design.tolerance.s", -0.01, ">= 0"),
+    (lambda c: c["resolution"]["paper"]["design"].update(chunks=500), "resolution.paper.design.chunks", 500,
+     "an integer in [1, 97]"),
+    (lambda c: c["figure_checks"].update(figures=["fig9"]), "figure_checks.figures", "fig9", "'all' or a list"),
+    (lambda c: c["checks"]["known"].update({"G3": "x"}), "checks.known", "G3", "an item of the paper-value check"),
+    (lambda c: c.update(studies=[{"beta": 0.4, "r": 0.6}, {"beta": 0.40001, "r": 0.6}]), "studies[1]",
+     {"beta": 0.40001, "r": 0.6}, "repeats studies[0]"),
+    (lambda c: c.update(studies=[{"beta": math.pi / 2, "r": 0.5}]) or c["physics"].update(F=1.0),
+     "studies[0].beta", math.pi / 2, "gbar = M g sin(beta) / F < 1"),
+])
+def test_each_cross_key_error_names_the_key_the_value_and_what_is_allowed(edit, key, value, allowed):
+    cfg = copy.deepcopy(CONFIG)
+    edit(cfg)
+    with pytest.raises(ConfigError) as err:
+        check(cfg)
+    assert (err.value.key, err.value.value) == (key, value)
+    assert allowed in err.value.allowed
+    assert str(err.value).startswith(f"config: {key} = {value!r} is not allowed; allowed: ")
+
+
+def test_the_typed_config_carries_what_the_rules_read():
+    cfg = check(CONFIG)
+    assert cfg.resolution == CONFIG["resolution"]["draft"] and cfg.quality == "draft"
+    assert set(cfg.maps) == set(CONFIG["maps"]) | set(CONFIG["bifurcation"]["maps"])
+    assert "fig2" in cfg.all_figures and "bifurcation_set_d_r" in cfg.all_figures and cfg.figures == cfg.all_figures
+    one = copy.deepcopy(CONFIG)
+    one["figure_checks"]["figures"] = ["fig4"]
+    assert check(one).figures == ["fig4"]

@@ -209,3 +209,22 @@ def test_d_graz_rows_hold_the_paper_s_statements(exits, folds, bs, status):
     assert [r["status"] for r in rows] == status
     assert rows[0]["tolerance"] == pytest.approx(5e-4)
     assert set(checks.D_GRAZ_ITEMS) <= set(checks.item_names([], BETAS4))
+
+
+def test_for_another_device_only_what_holds_for_any_device_is_compared():
+    """The paper's numbers are its device's: for another device they are not compared (their computed values
+    kept), while the identities and the simulator against the Newton-solved orbits still are."""
+    df = pd.DataFrame([checks._row("Figure 3 (a) (figFN2_a): phi", "Figure 3 caption", 6.211, 6.3, 5e-4, False),
+                       checks._row("U_I = U_T for 1:1 period-2 motion", "section 5", "equal", "1e-12", 1e-9, True),
+                       checks._row("simulated points on the BBT, beta=pi/3 branch", "Figure 5", "on the branch", "x",
+                                   1e-9, False),
+                       checks._row("G1: 2:1 -> 3:1 grazing, d decreasing, beta=pi/6", "section 4.2", 0.1378, 0.15,
+                                   1e-4, True)])
+    out = checks.for_another_device(df, "heavier")
+    assert list(out.status) == [checks.NOT_COMPARED, "pass", "fail", checks.NOT_COMPARED]
+    assert out.computed.iloc[0] == 6.3 and "not the paper's device (heavier)" in out.note.iloc[0]
+    text = checks.markdown(out, "heavier")
+    assert text.startswith("Device heavier, not the paper's: the 2 rows that hold for any device were compared")
+    assert "the other 2 compare numbers the paper published" in text
+    figs = checks.not_compared_figures(["fig0", "fig2"], "heavier")
+    assert list(figs.status) == [checks.NOT_COMPARED] * 2 and "heavier" in figs.detail.iloc[0]

@@ -406,11 +406,19 @@ def not_compared_figures(figures, device: str) -> pd.DataFrame:
                          "detail": f"not the paper's device ({device}): the committed references are the paper's"})
 
 
-def markdown(df: pd.DataFrame) -> str:
+def markdown(df: pd.DataFrame, device: str | None = None) -> str:
+    """The check's rows as Markdown, with a summary of their statuses; with ``device`` (the name of a device
+    other than the paper's) a first line saying which rows were compared and why the others were not."""
     def fmt(x):
         return f"{x:.6g}" if isinstance(x, float) else str(x).replace("|", "\\|")
 
-    lines = ["| item | paper | computed | tolerance | status | note |", "|---|---|---|---|---|---|"]
+    lines = []
+    if device is not None:
+        ran = int((df["status"] != NOT_COMPARED).sum())
+        lines += [f"Device {device}, not the paper's: the {ran} rows that hold for any device were compared (the "
+                  "simulated points against the Newton-solved orbits, U_I = U_T for 1:1 period-2 motion); the other "
+                  f"{len(df) - ran} compare numbers the paper published for its own device and were not compared.", ""]
+    lines += ["| item | paper | computed | tolerance | status | note |", "|---|---|---|---|---|---|"]
     for _, r in df.iterrows():
         lines.append(f"| {r['item']} | {fmt(r['paper'])} | {fmt(r['computed'])} | {fmt(r['tolerance'])} | "
                      f"{'**' + r['status'] + '**' if r['status'] != 'pass' else 'pass'} | {fmt(r['note'])} |")

@@ -9,6 +9,7 @@ import sys
 import textwrap
 
 import pytest
+from conftest import ROOT
 
 from vibroimpact._code_version import PACKAGE, _Tree, code_version, dependencies
 
@@ -126,3 +127,18 @@ def test_every_module_an_import_loads_is_a_dependency_of_it(tmp_path):
             missed[module] = missing
     assert not missed, missed
 
+
+def test_every_rule_with_a_script_carries_the_hash_of_its_script_s_package_code():
+    """Each rule that runs a script has ``code=code("<its script>")`` among its params (the
+    documentation, whose API reference imports every module, the whole package's: ``code()``)."""
+    rules = 0
+    for smk in sorted((ROOT / "workflow" / "rules").glob("*.smk")):
+        for m in re.finditer(r"^rule (\w+):\n(.*?)(?=^rule |\Z)", smk.read_text(), re.S | re.M):
+            script = re.search(r'^    script:\n\s+"\.\./scripts/([\w.]+)"', m.group(2), re.M)
+            if not script:
+                continue
+            rules += 1
+            want = 'code=code()' if m.group(1) == "docs" else f'code=code("{script.group(1)}")'
+            params = re.search(r"^    params:\n((?:        .*\n|\s*\n)+)", m.group(2), re.M)
+            assert params and want in params.group(1), f"{smk.name}: rule {m.group(1)} lacks {want}"
+    assert rules >= 35

@@ -30,6 +30,7 @@ rule bistable_band:
         "../envs/vibroimpact.yaml"
     params:
         betas=config["bifurcation"]["bistable_betas"],
+        code=code("bistable_band.py"),
     script:
         "../scripts/bistable_band.py"
 
@@ -53,6 +54,7 @@ rule bifurcation_set:
         map=lambda wc: ALL_MAPS[wc.map],
         physics=config["physics"],
         bifurcation=config["bifurcation"],
+        code=code("bifurcation_set.py"),
     script:
         "../scripts/bifurcation_set.py"
 
@@ -76,6 +78,7 @@ rule d_graz_curve:
         grid=RESOLUTION["map_grid"],
         lines=config["bifurcation"]["d_graz_lines"],
         xtol=config["sweeps"]["locate"]["xtol"],
+        code=code("d_graz_curve.py"),
     script:
         "../scripts/d_graz_curve.py"
 
@@ -102,5 +105,7 @@ rule fig_bifurcation_set:
         "benchmarks/fig_bifurcation_set/{map}.tsv"
     conda:
         "../envs/vibroimpact.yaml"
+    params:
+        code=code("fig_bifurcation_set.py"),
     script:
         "../scripts/fig_bifurcation_set.py"

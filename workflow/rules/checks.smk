@@ -65,6 +65,7 @@ rule check_paper_values:
         "../envs/vibroimpact.yaml"
     params:
         known=config["checks"]["known"],
+        code=code("check.py"),
     script:
         "../scripts/check.py"
 
@@ -91,6 +92,7 @@ rule check_figure:
         reference=lambda wc: figure_reference(wc.fig),
         # each array's measured conditioning, kept with the references (target figure_conditioning)
         conditioning=f"{config['figure_checks']['reference_dir']}/conditioning.csv",
+        code=code("check_figure.py"),
     script:
         "../scripts/check_figure.py"
 
@@ -113,6 +115,7 @@ rule check_figures:
         rtol=config["figure_checks"]["rtol"],
         atol=config["figure_checks"]["atol"],
         conditioning=f"{config['figure_checks']['reference_dir']}/conditioning.csv",
+        code=code("check_figures.py"),
     script:
         "../scripts/check_figures.py"
 
@@ -140,6 +143,7 @@ rule figure_conditioning:
         exclude=config["figure_checks"]["exclude_axis_labels"],
         optional=config["figure_checks"]["optional_peers"],
         scratch="results/conditioning",
+        code=code("figure_conditioning.py"),
     script:
         "../scripts/figure_conditioning.py"
 
@@ -156,5 +160,6 @@ rule update_figure_references:
         "../envs/vibroimpact.yaml"
     params:
         reference_dir=config["figure_checks"]["reference_dir"],
+        code=code("update_figure_references.py"),
     script:
         "../scripts/update_figure_references.py"

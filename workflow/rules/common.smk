@@ -2,6 +2,16 @@
 import math
 import os
 
+from vibroimpact._code_version import code_version
+
+
+def code(script=None):
+    """A rule's `code` parameter: a hash of the package sources workflow/scripts/<script> depends on
+    (of the whole package without a script), so that its jobs rerun when they change."""
+    return code_version(
+        script and os.path.join(workflow.basedir, "workflow", "scripts", script)
+    )
+
 
 def _fail(key, value, allowed):
     raise ValueError(f"config: {key} = {value!r} is not allowed; allowed: {allowed}")

@@ -24,6 +24,7 @@ rule branch:
         force=config["branches"]["force"],
         step=RESOLUTION["branch_step"],
         membrane=config["membrane"],
+        code=code("branch.py"),
     script:
         "../scripts/branch.py"
 
@@ -42,6 +43,7 @@ rule branch_simulated:
     params:
         n=config["branches"]["simulated_points"],
         tol=config["attractor"]["tol"],
+        code=code("branch_simulated.py"),
     script:
         "../scripts/branch_simulated.py"
 
@@ -65,5 +67,6 @@ rule table1:
         "../envs/vibroimpact.yaml"
     params:
         betas=BRANCH_SCENES["fig3"]["betas"],
+        code=code("table1.py"),
     script:
         "../scripts/table1.py"

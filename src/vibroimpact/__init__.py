@@ -3,7 +3,7 @@
 Serdukova, Kuske, Yurchenko, "Post-grazing dynamics of a vibro-impacting energy generator".
 
 The package is in layers, each importing only the layers below it (and the base modules
-:mod:`~vibroimpact.datasets`, ``_progress``, ``_version``, ``_numba_cache``):
+:mod:`~vibroimpact.datasets`, ``_progress``, ``_version``, ``_numba_cache``, ``_code_version``):
 
 * :mod:`vibroimpact.dynamics`: parameters, the closed-form flight, impact location, the jitted
   event loop and :func:`simulate`;

@@ -8,23 +8,21 @@ user set ``NUMBA_CACHE_DIR``.  Imported first by :mod:`vibroimpact`, before any 
 (which is slow to import) but sets ``NUMBA_CACHE_DIR``, read when numba is first imported.
 """
 
-import hashlib
 import os
 import sys
 from pathlib import Path
+
+from ._code_version import source_digest
 
 
 def cache_dir() -> str:
     """``$XDG_CACHE_HOME/vibroimpact/numba/<hash>`` (``~/.cache`` by default), the hash over the package's
     modules that use numba."""
-    h = hashlib.sha1()
-    for f in sorted(Path(__file__).resolve().parent.rglob("*.py")):
-        src = f.read_bytes()
-        if b"numba" in src and f.name != "_numba_cache.py":  # the modules with compiled code
-            h.update(f.name.encode())
-            h.update(src)
+    package = Path(__file__).resolve().parent
+    compiled = [f for f in package.rglob("*.py")  # the modules with compiled code
+                if b"numba" in f.read_bytes() and f.name not in ("_numba_cache.py", "_code_version.py")]
     base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return str(base / "vibroimpact" / "numba" / h.hexdigest()[:16])
+    return str(base / "vibroimpact" / "numba" / source_digest(compiled, package))
 
 
 if not os.environ.get("NUMBA_CACHE_DIR"):

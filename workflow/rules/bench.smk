@@ -24,6 +24,7 @@ rule bench_simulator:
         **config["bench"],
         n_impacts=RESOLUTION["bench_size"]["n_impacts"],
         n_impacts_ivp=RESOLUTION["bench_size"]["n_impacts_ivp"],
+        code=code("bench_simulator.py"),
     script:
         "../scripts/bench_simulator.py"
 
@@ -44,6 +45,7 @@ rule work_precision:
     params:
         **config["work_precision"],
         n_err=RESOLUTION["bench_size"]["n_err"],
+        code=code("work_precision.py"),
     script:
         "../scripts/work_precision.py"
 
@@ -62,6 +64,7 @@ rule failure_map:
     params:
         **config["failure_map"],
         max_seconds=RESOLUTION["bench_size"]["max_seconds"],
+        code=code("failure_map.py"),
     script:
         "../scripts/failure_map.py"
 
@@ -80,6 +83,8 @@ rule analytics_accuracy:
     conda:
         "../envs/vibroimpact.yaml"
     threads: workflow.cores  # timed: run alone
+    params:
+        code=code("analytics_accuracy.py"),
     script:
         "../scripts/analytics_accuracy.py"
 
@@ -109,6 +114,7 @@ rule workflow_cost:
         "../envs/vibroimpact.yaml"
     params:
         bench_dir="benchmarks",
+        code=code("workflow_cost.py"),
     script:
         "../scripts/workflow_cost.py"
 
@@ -133,5 +139,7 @@ rule bench_figure:
         bench="work_precision|failure_map|analytics_accuracy",
     conda:
         "../envs/vibroimpact.yaml"
+    params:
+        code=code("bench_figure.py"),
     script:
         "../scripts/bench_figure.py"

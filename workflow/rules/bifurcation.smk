@@ -23,6 +23,7 @@ rule bistable_band:
         "../envs/vibroimpact.yaml"
     params:
         betas=config["bifurcation"]["bistable_betas"],
+        code=code("bistable_band.py"),
     script:
         "../scripts/bistable_band.py"
 
@@ -46,6 +47,7 @@ rule bifurcation_set:
         map=lambda wc: ALL_MAPS[wc.map],
         device=DEVICE_SPEC,
         bifurcation=config["bifurcation"],
+        code=code("bifurcation_set.py"),
     script:
         "../scripts/bifurcation_set.py"
 
@@ -69,6 +71,7 @@ rule d_graz_curve:
         grid=RESOLUTION["map_grid"],
         lines=config["bifurcation"]["d_graz_lines"],
         xtol=config["sweeps"]["locate"]["xtol"],
+        code=code("d_graz_curve.py"),
     script:
         "../scripts/d_graz_curve.py"
 
@@ -95,5 +98,7 @@ rule fig_bifurcation_set:
         "benchmarks/fig_bifurcation_set/{map}.tsv"
     conda:
         "../envs/vibroimpact.yaml"
+    params:
+        code=code("fig_bifurcation_set.py"),
     script:
         "../scripts/fig_bifurcation_set.py"

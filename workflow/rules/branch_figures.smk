@@ -24,6 +24,7 @@ rule fig2:
         k_s=config["physics"]["M"]
         * config["physics"]["omega"] ** 2
         / (config["physics"]["F"] * math.pi**2),
+        code=code("branch_figure.py"),
     script:
         "../scripts/branch_figure.py"
 
@@ -51,5 +52,6 @@ rule fig3:
         k_s=config["physics"]["M"]
         * config["physics"]["omega"] ** 2
         / (config["physics"]["F"] * math.pi**2),
+        code=code("branch_figure.py"),
     script:
         "../scripts/branch_figure.py"

@@ -68,6 +68,7 @@ rule check_paper_values:
         # another device: the paper's numbers are its device's, not compared
         device=CFG.device.name,
         paper_device=CFG.paper_device,
+        code=code("check.py"),
     script:
         "../scripts/check.py"
 
@@ -94,6 +95,7 @@ rule check_figure:
         reference=lambda wc: figure_reference(wc.fig),
         # each array's measured conditioning, kept with the references (target figure_conditioning)
         conditioning=f"{config['figure_checks']['reference_dir']}/conditioning.csv",
+        code=code("check_figure.py"),
     script:
         "../scripts/check_figure.py"
 
@@ -101,7 +103,9 @@ rule check_figure:
 rule check_figures:
     input:
         # the committed references are the paper's device's: another device's figures are not compared
-        expand("results/checks/figures/{fig}.csv", fig=FIGURES) if CFG.paper_device else [],
+        expand("results/checks/figures/{fig}.csv", fig=FIGURES)
+        if CFG.paper_device
+        else [],
     output:
         csv=report(
             "results/checks/figures.csv",
@@ -119,6 +123,7 @@ rule check_figures:
         conditioning=f"{config['figure_checks']['reference_dir']}/conditioning.csv",
         device=CFG.device.name,
         figures=FIGURES,
+        code=code("check_figures.py"),
     script:
         "../scripts/check_figures.py"
 
@@ -146,6 +151,7 @@ rule figure_conditioning:
         exclude=config["figure_checks"]["exclude_axis_labels"],
         optional=config["figure_checks"]["optional_peers"],
         scratch="results/conditioning",
+        code=code("figure_conditioning.py"),
     script:
         "../scripts/figure_conditioning.py"
 
@@ -162,5 +168,6 @@ rule update_figure_references:
         "../envs/vibroimpact.yaml"
     params:
         reference_dir=config["figure_checks"]["reference_dir"],
+        code=code("update_figure_references.py"),
     script:
         "../scripts/update_figure_references.py"

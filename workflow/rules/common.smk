@@ -3,7 +3,17 @@
 import math
 import os
 
+from vibroimpact._code_version import code_version
 from vibroimpact.outputs.workflow_config import check as _check_config
+
+
+def code(script=None):
+    """A rule's `code` parameter: a hash of the package sources workflow/scripts/<script> depends on
+    (of the whole package without a script), so that its jobs rerun when they change."""
+    return code_version(
+        script and os.path.join(workflow.basedir, "workflow", "scripts", script)
+    )
+
 
 #: the config, checked across keys and typed
 CFG = _check_config(config)

@@ -36,6 +36,7 @@ rule design_chunk:
         tol=config["sweeps"]["tol"],
         window=config["sweeps"]["window"],
         window_time=config["energy"]["window_time"],
+        code=code("design_chunk.py"),
     script:
         "../scripts/design_chunk.py"
 
@@ -54,6 +55,7 @@ rule design_map:
         "../envs/vibroimpact.yaml"
     params:
         tolerance=DESIGN["tolerance"],
+        code=code("design_map.py"),
     script:
         "../scripts/design_map.py"
 
@@ -79,6 +81,7 @@ rule fig_design_map:
     params:
         budget=DESIGN["budget"],
         table_betas=DESIGN["table_betas"],
+        code=code("fig_design_map.py"),
     script:
         "../scripts/fig_design_map.py"
 
@@ -103,5 +106,6 @@ rule design_robust:
     params:
         budget=DESIGN["budget"],
         table_betas=DESIGN["table_betas"],
+        code=code("design_robust.py"),
     script:
         "../scripts/design_robust.py"

@@ -37,5 +37,6 @@ rule docs:
         doctrees=lambda wc, output: os.path.join(
             os.path.dirname(os.path.dirname(output[0])), "doctrees"
         ),
+        code=code(),  # the API reference imports every module of the package
     script:
         "../scripts/docs.py"

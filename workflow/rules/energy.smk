@@ -46,6 +46,7 @@ rule energy_figure:
             "velocities", False
         ),
         words=[w for w in ("BT", "BBT") if w in WORDS],
+        code=code("energy_figure.py"),
     script:
         "../scripts/energy_figure.py"
 
@@ -76,6 +77,8 @@ rule design:
         "benchmarks/design/design.tsv"
     conda:
         "../envs/vibroimpact.yaml"
+    params:
+        code=code("design.py"),
     script:
         "../scripts/design.py"
 
@@ -112,5 +115,6 @@ rule study_figure:
         panels=["study_s"],
         velocities=True,
         words=[w for w in ("BT", "BBT") if w in WORDS],
+        code=code("energy_figure.py"),
     script:
         "../scripts/energy_figure.py"

@@ -21,5 +21,7 @@ rule scene_figure:
         "benchmarks/scene_figure/{scene}.tsv"
     conda:
         "../envs/vibroimpact.yaml"
+    params:
+        code=code("scene_figure.py"),
     script:
         "../scripts/scene_figure.py"

@@ -13,6 +13,7 @@ rule caption_orbits:
         "../envs/vibroimpact.yaml"
     params:
         p=[caption_params(n) for n in CAPTIONS],
+        code=code("caption_orbit.py"),
     script:
         "../scripts/caption_orbit.py"
 
@@ -35,5 +36,6 @@ rule caption_summary:
             n: c["motion"] + (f" period-{c['period']}" if "period" in c else "")
             for n, c in CAPTIONS.items()
         },
+        code=code("caption_summary.py"),
     script:
         "../scripts/caption_summary.py"

@@ -23,6 +23,7 @@ rule branch:
         d_range=config["branches"]["d_range"],
         force=config["branches"]["force"],
         step=RESOLUTION["branch_step"],
+        code=code("branch.py"),
     script:
         "../scripts/branch.py"
 
@@ -41,6 +42,7 @@ rule branch_simulated:
     params:
         n=config["branches"]["simulated_points"],
         tol=config["attractor"]["tol"],
+        code=code("branch_simulated.py"),
     script:
         "../scripts/branch_simulated.py"
 
@@ -64,5 +66,6 @@ rule table1:
         "../envs/vibroimpact.yaml"
     params:
         betas=BRANCH_SCENES["fig3"]["betas"],
+        code=code("table1.py"),
     script:
         "../scripts/table1.py"

@@ -22,6 +22,7 @@ rule sweep:
         points=RESOLUTION["sweep_points"],
         window_time=config["energy"]["window_time"],
         locate=config["sweeps"]["locate"],
+        code=code("sweep.py"),
     script:
         "../scripts/sweep.py"
 
@@ -41,6 +42,7 @@ rule basins:
         device=DEVICE_SPEC,
         grid=RESOLUTION["basin_grid"],
         tol=config["sweeps"]["tol"],
+        code=code("basins.py"),
     script:
         "../scripts/basins.py"
 
@@ -66,6 +68,7 @@ rule regime_map:
         grid=RESOLUTION["map_grid"],
         max_periods=config["sweeps"]["max_periods"],
         tol=config["sweeps"]["tol"],
+        code=code("regime_map.py"),
     script:
         "../scripts/regime_map.py"
 
@@ -86,6 +89,7 @@ rule bistability_portraits:
     params:
         samples_per_unit=RESOLUTION["samples_per_unit"],
         d_mid=config["basins"]["figBiS"]["d"],  # Fig BiS (e), (f): both motions at the configured bistable point
+        code=code("bistability_portraits.py"),
     script:
         "../scripts/bistability_portraits.py"
 
@@ -111,6 +115,8 @@ rule figBiS:
         "benchmarks/figBiS/figBiS.tsv"
     conda:
         "../envs/vibroimpact.yaml"
+    params:
+        code=code("fig_bis.py"),
     script:
         "../scripts/fig_bis.py"
 
@@ -132,6 +138,8 @@ rule fig_basins:
         "benchmarks/fig_basins/basins.tsv"
     conda:
         "../envs/vibroimpact.yaml"
+    params:
+        code=code("fig_basins.py"),
     script:
         "../scripts/fig_basins.py"
 
@@ -155,6 +163,7 @@ rule fig_regime_map:
         "../envs/vibroimpact.yaml"
     params:
         scans=SWEEPS,  # the paper's sweeps, drawn over the maps whose plane they lie in
+        code=code("fig_regime_map.py"),
     script:
         "../scripts/fig_regime_map.py"
 
@@ -172,6 +181,7 @@ rule transitions_table:
         "../envs/vibroimpact.yaml"
     params:
         names=list(SWEEPS),
+        code=code("transitions_table.py"),
     script:
         "../scripts/transitions_table.py"
 
@@ -215,5 +225,6 @@ rule lyapunov_figure:
         panels=config["chaos"]["panels"],
         table_sweeps=list(SWEEPS),
         words=[w for w in ("BT", "BBT") if w in WORDS],
+        code=code("lyapunov_figure.py"),
     script:
         "../scripts/lyapunov_figure.py"

@@ -14,6 +14,6 @@ for p, out in zip(snakemake.params.p, snakemake.output, strict=True):
         ds = portraits.add_located_grazing(ds, params, samples_per_unit=p["samples_per_unit"])
         logging.info("%s: located grazing %s", p["name"], {k: v for k, v in ds.attrs.items() if k.startswith("grazing")})
     ds.attrs.update(beta=p["beta"], beta_assumed=int(p["beta_assumed"]), F=p["F"], omega=p["omega"],
-                    motion_stated=p["motion"], **provenance(**p))
+                    motion_stated=p["motion"], **provenance(**p, code=snakemake.params.code))
     write_netcdf(ds, out)
     logging.info("%s: %s (stated %s)", p["name"], ds.attrs["motion"], p["motion"])

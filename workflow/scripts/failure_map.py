@@ -7,7 +7,7 @@ from vibroimpact.outputs.tables import failure_markdown
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 p = dict(snakemake.params)
-ds = failure_map(**p)
+ds = failure_map(**{k: v for k, v in p.items() if k != "code"})  # code: the package sources' hash
 ds.attrs.update(provenance(**p))
 write_netcdf(ds, snakemake.output.nc)
 with open(snakemake.output.md, "w") as fh:

@@ -7,7 +7,7 @@ from vibroimpact.outputs.tables import matched_accuracy_markdown, work_precision
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
 p = dict(snakemake.params)
-ds = work_precision(**p)
+ds = work_precision(**{k: v for k, v in p.items() if k != "code"})  # code: the package sources' hash
 ds.attrs.update(provenance(**p))
 write_netcdf(ds, snakemake.output.nc)
 with open(snakemake.output.md, "w") as fh:

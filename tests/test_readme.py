@@ -124,6 +124,28 @@ def test_the_study_command_builds_its_figure(readme_clone):
     assert "Nothing to be done" in again.stdout + again.stderr
 
 
+def test_the_device_command_runs_the_example_device(readme_clone):
+    """README's line for a device of one's own, after the default target: the example device's whole default
+    target runs into its own folder; the paper's results are not written over; its datasets name the device;
+    its paper-value check compares only what holds for any device."""
+    clone, first, _ = readme_clone
+    assert first.returncode == 0
+    paper = sorted((clone / "results" / "figures").glob("*.png")) + [clone / "results" / "checks" / "paper_values.csv"]
+    before = {p: p.read_bytes() for p in paper}
+    device = yaml.safe_load((ROOT / "config" / "example_device.yaml").read_text())
+    res = run_readme(clone, readme_command("tests/test_readme.py::test_the_device_command_runs_the_example_device"))
+    assert res.returncode == 0, (res.stdout + res.stderr)[-3000:]
+    assert all(p.read_bytes() == b for p, b in before.items())  # the paper's results untouched
+    root = clone / "results" / "devices" / device["device"]
+    drawn = {p.name for p in (root / "results" / "figures").glob("*.png")}
+    default = {p.name for p in paper if p.suffix == ".png" and not p.name.startswith(("bifurcation_set", "design_map"))}
+    assert default <= drawn, default - drawn  # every figure of the default target (check's own maps aside)
+    sw = xr.load_dataset(root / "results" / "sweeps" / "beta-1.0472_r-0.5000" / "fig0_s.nc")
+    assert sw.attrs["device"] == device["device"] and sw.attrs["device_M"] == device["physics"]["M"]
+    assert (root / "results" / "checks" / "paper_values.md").read_text().startswith(
+        f"Device {device['device']}, not the paper's")
+
+
 @pytest.mark.slow
 def test_a_changed_impact_law_fails_the_figure_check(tmp_path):
     """The check catches a change of the science that the other machine's libm does not make: the

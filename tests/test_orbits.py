@@ -238,6 +238,22 @@ def test_failed_start_is_recorded_not_raised():
     assert br.sizes["point"] == 0
 
 
+def test_a_start_outside_the_range_is_continued_to_it_or_recorded():
+    """Another device maps the force range to other d, which may leave out the word's start_d: the branch
+    found there is continued to the range and kept inside it, or, where it never reaches it, recorded."""
+    from vibroimpact.analysis.continuation import branch_from_simulation
+
+    p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)  # the 2:1 of Figure 7 (a) at d = 0.16
+    br = branch_from_simulation(p, "BBT", vary="s", d_range=(0.17, 0.21), step=2e-3, phi=1.015, v0=0.1924)
+    assert br.attrs["status"] == "ok" and br.attrs["started_at_d"] == p.d
+    assert 0.17 <= br.d.min() < 0.171 and 0.209 < br.d.max() <= 0.21
+    assert ((br.critical_d >= 0.17) & (br.critical_d <= 0.21)).all() and br.sizes["critical"]
+    # the 2:1 branch folds at d = 0.2158: it never reaches [0.3, 0.4]
+    br = branch_from_simulation(p, "BBT", vary="s", d_range=(0.3, 0.4), step=2e-3, phi=1.015, v0=0.1924)
+    assert br.attrs["status"] == "failed" and br.sizes["point"] == 0
+    assert "outside d_range = [0.3, 0.4], does not reach it" in br.attrs["reason"]
+
+
 def test_force_parameterisation_moves_d_and_gbar_together():
     """vary="F" at fixed s = 0.85 (paper Fig 0 (c, d)): d and gbar both scale with 1/F."""
     p = vi.Params.from_physical(s=0.85, beta=math.pi / 3, F=14.0)

@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+import xarray as xr
 from conftest import CAPTIONS, gbar_of
 
 import vibroimpact as vi
@@ -379,6 +380,31 @@ def test_bistability_portraits_are_closed_orbits_of_the_physical_stretch(pi6_2to
     # the G1 portrait touches the bottom wall d/2 with its interior loop (a grazing contact)
     z = ds.Z.values[0]
     assert float(ds.d[0]) / 2 - z.max() < 1e-9
+
+
+def test_a_portrait_another_device_lacks_is_recorded_with_why(pi6_2to1, pi6_3to1):
+    """No G1 and G2 (a sweep without the 2:1 -> 3:1 scene), a failed branch, a d where the branch's orbit
+    crosses a wall: those portraits are NaN with the reason, the others drawn as before."""
+    from vibroimpact.outputs.portraits import bistability_dataset
+
+    kw = dict(d_mid=0.14, samples_per_unit=50)
+    whole = bistability_dataset(pi6_2to1, pi6_3to1, 0.1376, 0.1419, **kw)
+    ds = bistability_dataset(pi6_2to1, pi6_3to1, np.nan, np.nan, missing="no such interval", **kw)
+    assert list(ds.status.values) == ["not drawn: no G1 (no such interval)", "drawn", "drawn",
+                                      "not drawn: no G2 (no such interval)"]
+    assert np.isnan(ds.Z[[0, 3]]).all() and np.isnan(ds.v0[[0, 3]]).all() and ds.attrs["G_missing"]
+    np.testing.assert_array_equal(ds.Z[1:3], whole.Z[1:3])
+    assert list(whole.status.values) == ["drawn"] * 4
+    failed = xr.Dataset(attrs=dict(status="failed", reason="the attractor at d=0.18 is 1:1 period-2", word="BBT"))
+    ds = bistability_dataset(failed, pi6_3to1, 0.1376, 0.1419, **kw)
+    assert list(ds.status.values[:2]) == ["not drawn: no BBT branch (the attractor at d=0.18 is 1:1 period-2)"] * 2
+    assert list(ds.status.values[2:]) == ["drawn"] * 2 and ds.attrs["gbar"] == float(pi6_3to1.gbar[0])
+    # below G1 the 2:1 orbit crosses the bottom wall (not a motion of the device); at d = 0.2, far from the
+    # 3:1 branch (0.125 to its fold, 0.1420), Newton finds no 3:1 orbit
+    ds = bistability_dataset(pi6_2to1, pi6_3to1, 0.1376, 0.1419, d_mid=0.13, samples_per_unit=50)
+    assert ds.status.values[1].startswith("not drawn: the BBT orbit at d=0.13 is not a motion")
+    ds = bistability_dataset(pi6_2to1, pi6_3to1, 0.1376, 0.1419, d_mid=0.2, samples_per_unit=50)
+    assert ds.status.values[2].startswith("not drawn: Newton did not converge")
 
 
 def test_every_located_critical_point_is_a_zero_of_its_test_function(pi6_2to1, pi6_3to1):

@@ -76,6 +76,12 @@ def test_a_device_without_a_name_is_named_after_its_values_and_never_paper():
      {"beta": 0.40001, "r": 0.6}, "repeats studies[0]"),
     (lambda c: c.update(studies=[{"beta": math.pi / 2, "r": 0.5}]) or c["physics"].update(F=1.0),
      "studies[0].beta", math.pi / 2, "gbar = M g sin(beta) / F < 1"),
+    # a device too weak to lift the ball at a scene's incline (gbar = M g sin(beta) / F >= 1), wherever the scene is
+    (lambda c: c["physics"].update(F=1.0), "captions.fig0b_a.beta", math.pi / 3, "gbar = M g sin(beta) / F < 1"),
+    (lambda c: c["physics"].update(M=0.55), "branch_scenes.fig2.betas[0]", math.pi / 2,
+     "(here 1.078 at F = 5 N, physics.F: the ball rests on the bottom for good"),
+    (lambda c: c["physics"].update(M=0.35) or c["sweeps"]["scenes"]["fig5_pi2_F"].update(range=[3.0, 22.0]),
+     "sweeps.scenes.fig5_pi2_F.beta", math.pi / 2, "the lowest force of sweeps.scenes.fig5_pi2_F.range"),
 ])
 def test_each_cross_key_error_names_the_key_the_value_and_what_is_allowed(edit, key, value, allowed):
     cfg = copy.deepcopy(CONFIG)
@@ -85,6 +91,19 @@ def test_each_cross_key_error_names_the_key_the_value_and_what_is_allowed(edit, 
     assert (err.value.key, err.value.value) == (key, value)
     assert allowed in err.value.allowed
     assert str(err.value).startswith(f"config: {key} = {value!r} is not allowed; allowed: ")
+
+
+def test_a_device_too_weak_for_a_map_s_corner_runs_and_another_device_s_inclines_are_its_own():
+    """A regime map spans a plane where the ball may rest for good in a corner (recorded, not refused); another
+    device's own inclines are not refused for the paper's known discrepancies, which name the paper's inclines
+    (its check does not read them; the paper's device's still must name items of its check)."""
+    weak = merged({"physics": {"M": 0.35}, "maps": {"s_F": {"y_range": [1.0, 22.0]}}})  # stuck below F = 1.7 N
+    assert check(weak).device.gbar(weak["maps"]["s_F"]["beta"], 1.0) > 1
+    tilted = {"branch_scenes": {f: {"betas": [1.2, 1.0471975511965976, 0.7853981633974483, 0.5235987755982988]}
+                                for f in ("fig2", "fig3")}}
+    assert check(merged({"device": "tilted", "physics": {"F": 6.0}} | tilted)).device.name == "tilted"
+    with pytest.raises(ConfigError, match="checks.known = '2:1 stable interval, lower end, beta=pi/2'"):
+        check(merged(tilted))
 
 
 def test_the_typed_config_carries_what_the_rules_read():

@@ -92,7 +92,10 @@ def check(config: dict) -> WorkflowConfig:
     _studies(config)
     check_design(config["design"], {q: config["resolution"][q]["design"] for q in config["resolution"]},
                  config["maps"])
-    _known(config)
+    _lift(config, device)
+    paper = device.same_physics(Device())
+    if paper:  # the known discrepancies are the paper's device's: another device's check does not read them
+        _known(config)
     all_maps = dict(config["maps"]) | dict(config["bifurcation"].get("maps", {}))
     figures = figure_names(config, all_maps)
     chosen = config["figure_checks"].get("figures", "all")
@@ -100,7 +103,6 @@ def check(config: dict) -> WorkflowConfig:
         for f in chosen:
             if f not in figures:
                 raise ConfigError("figure_checks.figures", f, f"'all' or a list of figures of {figures}")
-    paper = device.same_physics(Device())
     return WorkflowConfig(
         device=device, paper_device=paper, results_dir="." if paper else f"results/devices/{device.name}",
         quality=config["quality"], resolution=config["resolution"][config["quality"]], captions=config["captions"],
@@ -230,6 +232,39 @@ def _studies(config):
             raise ConfigError(f"studies[{i}].beta", st["beta"], f"an incline with gbar = M g sin(beta) / F < 1 (here "
                               f"{gbar:.4g}: the forcing can never lift the ball off the bottom membrane, so no impact "
                               "orbit exists and no branch can start)")
+
+
+def _lift(config, device: Device):
+    """Refuse a scene at an incline where the forcing can never lift the ball off the bottom membrane.
+
+    With ``gbar = M g sin(beta) / F >= 1`` the ball rests on the bottom for good: no impact orbit, branch or
+    motion exists there.  Every scene at one incline and force is checked: captions, branch scenes, sweeps (a
+    sweep of F at the lowest force of its range; the force branches at theirs) and basins.  The regime maps span
+    planes in which such a region is a regime of its own: they run and record it (at rest for good).
+    """
+    ph, force = config["physics"], config["branches"]["force"]
+    scenes = [(f"captions.{n}.beta", c["beta"], c.get("F", ph["F"]), f"captions.{n}.F" if "F" in c else "physics.F")
+              for n, c in config["captions"].items()]
+    for name, sc in config["branch_scenes"].items():
+        scenes += [(f"branch_scenes.{name}.betas[{i}]", b, ph["F"], "physics.F") for i, b in enumerate(sc["betas"])]
+        if "grazing" in sc:
+            scenes.append((f"branch_scenes.{name}.grazing.beta", sc["grazing"]["beta"], ph["F"], "physics.F"))
+    for name, sc in config["sweeps"]["scenes"].items():
+        key = f"sweeps.scenes.{name}"
+        if sc["vary"] == "s":
+            scenes.append((f"{key}.beta", sc["beta"], sc["F"], f"{key}.F"))
+        else:  # the lowest force of the sweep and of the force branches drawn with it
+            scenes.append((f"{key}.beta", sc["beta"], min(sc["range"]), f"the lowest force of {key}.range"))
+            scenes.append((f"{key}.beta", sc["beta"], min(force["F_range"]), "the lowest force of branches.force.F_range"))
+    scenes += [(f"basins.{n}.beta", b["beta"], ph["F"], "physics.F") for n, b in config["basins"].items()]
+    for key, beta, F, source in scenes:
+        gbar = device.gbar(beta, F)
+        if gbar >= 1:
+            weight = device.M * device.g
+            raise ConfigError(key, beta, f"an incline where the forcing can lift the ball off the bottom membrane, gbar = "
+                              f"M g sin(beta) / F < 1 (here {gbar:.4g} at F = {F:g} N, {source}: the ball rests on the "
+                              f"bottom for good, no impact motion exists): sin(beta) < {F / weight:.4g}, or a force "
+                              f"F > M g sin(beta) = {weight * math.sin(beta):.4g} N")
 
 
 def _known(config):

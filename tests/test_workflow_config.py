@@ -76,6 +76,9 @@ def test_a_device_without_a_name_is_named_after_its_values_and_never_paper():
      {"beta": 0.40001, "r": 0.6}, "repeats studies[0]"),
     (lambda c: c.update(studies=[{"beta": math.pi / 2, "r": 0.5}]) or c["physics"].update(F=1.0),
      "studies[0].beta", math.pi / 2, "gbar = M g sin(beta) / F < 1"),
+    # a sweep drawn with the analytic branches (continued at physics.F) at another force
+    (lambda c: c["sweeps"]["scenes"]["fig0_s"].update(F=6.0), "sweeps.scenes.fig0_s.F", 6.0,
+     "none (the sweep is then at physics.F = 5 N) or physics.F: a figure draws this sweep with the analytic branches"),
     # a device too weak to lift the ball at a scene's incline (gbar = M g sin(beta) / F >= 1), wherever the scene is
     (lambda c: c["physics"].update(F=1.0), "captions.fig0b_a.beta", math.pi / 3, "gbar = M g sin(beta) / F < 1"),
     (lambda c: c["physics"].update(M=0.55), "branch_scenes.fig2.betas[0]", math.pi / 2,
@@ -104,6 +107,19 @@ def test_a_device_too_weak_for_a_map_s_corner_runs_and_another_device_s_inclines
     assert check(merged({"device": "tilted", "physics": {"F": 6.0}} | tilted)).device.name == "tilted"
     with pytest.raises(ConfigError, match="checks.known = '2:1 stable interval, lower end, beta=pi/2'"):
         check(merged(tilted))
+
+
+def test_a_sweep_of_s_is_at_the_device_s_force_unless_it_gives_its_own():
+    """The paper's sweeps of s give no force: they are at physics.F, the paper's 5 N and another device's own
+    (where they were at 5 N whatever the device, its figures drew them with branches at its force); the typed
+    sweep carries the force in the place the config would give it."""
+    paper, other = check(CONFIG).sweeps, check(merged(EXAMPLE)).sweeps
+    assert list(paper["fig0_s"]) == ["beta", "vary", "range", "F", "phi", "v0"] and paper["fig0_s"]["F"] == 5.0
+    assert {other[n]["F"] for n in other if other[n]["vary"] == "s"} == {EXAMPLE["physics"]["F"]}
+    assert "F" not in other["fig0_F"] and other["fig0_F"] == CONFIG["sweeps"]["scenes"]["fig0_F"]
+    own = merged({"sweeps": {"scenes": {"fig9_s": {"beta": 0.3, "vary": "s", "range": [0.2, 0.3], "F": 7.0,
+                                                   "phi": 0.4, "v0": 0.8}}}})
+    assert check(own).sweeps["fig9_s"]["F"] == 7.0  # drawn with no branch: its own force
 
 
 def test_the_typed_config_carries_what_the_rules_read():

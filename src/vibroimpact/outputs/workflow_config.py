@@ -49,7 +49,8 @@ class WorkflowConfig:
     resolution : dict
         The preset's values.
     captions, scenes, branch_scenes, words, sweeps, maps, studies
-        The config's sections (``maps``: the regime maps and the bifurcation set's own planes).
+        The config's sections (``maps``: the regime maps and the bifurcation set's own planes; ``sweeps``: each
+        sweep of s with its force, the physics' where it gives none).
     figures : list of str
         The figures the figure check compares (``figure_checks.figures``).
     all_figures : list of str
@@ -107,8 +108,17 @@ def check(config: dict) -> WorkflowConfig:
         device=device, paper_device=paper, results_dir="." if paper else f"results/devices/{device.name}",
         quality=config["quality"], resolution=config["resolution"][config["quality"]], captions=config["captions"],
         scenes=list(config["scenes"]), branch_scenes=config["branch_scenes"], words=config["branches"]["words"],
-        sweeps=config["sweeps"]["scenes"], maps=all_maps, studies=list(config.get("studies") or []),
+        sweeps={n: _at_force(sc, config["physics"]["F"]) for n, sc in config["sweeps"]["scenes"].items()}, maps=all_maps, studies=list(config.get("studies") or []),
         figures=figures if chosen == "all" else list(chosen), all_figures=figures)
+
+
+def _at_force(scene: dict, F: float) -> dict:
+    """A sweep with its fixed force: a sweep of s that gives none is at the physics' force ``F``."""
+    if scene["vary"] != "s" or "F" in scene:
+        return scene
+    keys = list(scene)
+    keys.insert(keys.index("range") + 1 if "range" in keys else len(keys), "F")
+    return {k: F if k == "F" else scene[k] for k in keys}
 
 
 def _device(config) -> Device:
@@ -158,12 +168,15 @@ def _branches(config):
 
 def _sweeps_and_maps(config):
     sweeps = config["sweeps"]["scenes"]
+    with_branches = {p for f in config["energy"]["figures"].values() for p in f["panels"]}
+    with_branches |= set(config["chaos"]["panels"]) | {"figBiS"}
     for name, sc in sweeps.items():
-        fixed = "s" if sc["vary"] == "F" else "F"
-        if fixed not in sc:
-            raise ConfigError(f"sweeps.scenes.{name}.{fixed}", None,
-                              f"a value: a sweep of {sc['vary']} needs the fixed "
-                              f"{'length s (m)' if fixed == 's' else 'force F (N)'}")
+        if sc["vary"] == "F" and "s" not in sc:
+            raise ConfigError(f"sweeps.scenes.{name}.s", None, "a value: a sweep of F needs the fixed length s (m)")
+        F = config["physics"]["F"]
+        if sc["vary"] == "s" and sc.get("F", F) != F and name in with_branches:
+            raise ConfigError(f"sweeps.scenes.{name}.F", sc["F"], f"none (the sweep is then at physics.F = {F:g} N) "
+                              f"or physics.F: a figure draws this sweep with the analytic branches, continued at physics.F")
         if sc["vary"] in sc:
             raise ConfigError(f"sweeps.scenes.{name}.{sc['vary']}", sc[sc["vary"]],
                               f"nothing: {sc['vary']} is the swept parameter (see range)")
@@ -252,7 +265,7 @@ def _lift(config, device: Device):
     for name, sc in config["sweeps"]["scenes"].items():
         key = f"sweeps.scenes.{name}"
         if sc["vary"] == "s":
-            scenes.append((f"{key}.beta", sc["beta"], sc["F"], f"{key}.F"))
+            scenes.append((f"{key}.beta", sc["beta"], sc.get("F", ph["F"]), f"{key}.F" if "F" in sc else "physics.F"))
         else:  # the lowest force of the sweep and of the force branches drawn with it
             scenes.append((f"{key}.beta", sc["beta"], min(sc["range"]), f"the lowest force of {key}.range"))
             scenes.append((f"{key}.beta", sc["beta"], min(force["F_range"]), "the lowest force of branches.force.F_range"))

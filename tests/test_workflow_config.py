@@ -76,6 +76,7 @@ def test_a_device_without_a_name_is_named_after_its_values_and_never_paper():
      {"beta": 0.40001, "r": 0.6}, "repeats studies[0]"),
     (lambda c: c.update(studies=[{"beta": math.pi / 2, "r": 0.5}]) or c["physics"].update(F=1.0),
      "studies[0].beta", math.pi / 2, "gbar = M g sin(beta) / F < 1"),
+    (lambda c: c["membrane"].update(R=4e-3), "membrane.R", 4e-3, "a radius > membrane.r_b = 0.005 m"),
     # a sweep drawn with the analytic branches (continued at physics.F) at another force
     (lambda c: c["sweeps"]["scenes"]["fig0_s"].update(F=6.0), "sweeps.scenes.fig0_s.F", 6.0,
      "none (the sweep is then at physics.F = 5 N) or physics.F: a figure draws this sweep with the analytic branches"),

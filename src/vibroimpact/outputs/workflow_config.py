@@ -122,7 +122,10 @@ def _at_force(scene: dict, F: float) -> dict:
 
 
 def _device(config) -> Device:
-    name = config.get("device")
+    name, mem = config.get("device"), config["membrane"]
+    if not mem["R"] > mem["r_b"]:
+        raise ConfigError("membrane.R", mem["R"], f"a radius > membrane.r_b = {mem['r_b']!r} m: the ball presses into "
+                          "the membrane's active area (the energy model's stretched cap has no solution otherwise)")
     try:
         dev = Device.from_config(config["physics"], config["membrane"], name)
     except ValueError as err:

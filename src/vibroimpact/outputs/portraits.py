@@ -128,7 +128,11 @@ def add_located_grazing(ds: xr.Dataset, params: Params, *, window: float = 0.01,
     # Newton from the nearest branch point (not from a simulated guess: at grazing the loop's touch of
     # the wall makes the simulated word ambiguous)
     z0 = np.concatenate([[br.phase.values[near, 0]], np.roll(br.dt.values[near], -1), br.v_minus.values[near]])
-    og = orbit_from_vector(pg, word, k, solve_orbit(z0, parse_word(word), dg, pg.gbar, pg.r, k))
+    try:
+        og = orbit_from_vector(pg, word, k, solve_orbit(z0, parse_word(word), dg, pg.gbar, pg.r, k))
+    except OrbitError as err:
+        ds.attrs["grazing_status"] = f"Newton failed at the located grazing d={dg:.8g}: {err}"
+        return ds
     # drawn from the Newton orbit's own flights: at the grazing d a simulator's run of it registers the
     # loop's touch of the wall as an impact or not as rounding decides, and the two runs part there
     run = orbit_run(og)

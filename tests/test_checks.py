@@ -209,3 +209,19 @@ def test_d_graz_rows_hold_the_paper_s_statements(exits, folds, bs, status):
     assert [r["status"] for r in rows] == status
     assert rows[0]["tolerance"] == pytest.approx(5e-4)
     assert set(checks.D_GRAZ_ITEMS) <= set(checks.item_names([], BETAS4))
+
+
+def test_inclines_without_a_2to1_branch_are_rows_that_do_not_pass():
+    """Another device may have no 2:1 branch at any incline (Table 1 of failed rows only): the check's rows are
+    written, each computed value NaN and failing (not compared for another device), instead of stopping the job."""
+    import xarray as xr
+
+    from vibroimpact.outputs.tables import table1
+
+    failed = [xr.Dataset(attrs={"beta": b, "status": "failed", "reason": "the attractor is 1:1 period-2"}) for b in BETAS4]
+    t1 = table1(failed)
+    rows = checks.stability_rows(t1) + checks.d_graz_rows([], t1, failed)
+    assert [r["item"] for r in rows[-3:]] == checks.D_GRAZ_ITEMS[1:] and len(rows) == 8 + 3
+    assert {r["status"] for r in rows} == {"fail"}
+    assert all(math.isnan(r["computed"]) for r in rows if isinstance(r["computed"], float))
+    assert checks.for_another_device(pd.DataFrame(rows), "weak")["status"].eq(checks.NOT_COMPARED).all()

@@ -226,7 +226,7 @@ def fig_bis(sw, transitions, portraits, branches):
         Patch(facecolor=BOTTOM, alpha=0.25, label="(d)-(g): bottom wall"), Patch(facecolor=TOP, alpha=0.25, label="top wall")],
         loc="upper center" if missing else "center", fontsize=7)
     if missing:
-        key.text(0.5, 0.0, "\n".join(textwrap.fill("not drawn: " + m, 45) for m in missing), transform=key.transAxes,
+        key.text(0.5, 0.0, "\n".join(textwrap.fill("not drawn: " + m, 38) for m in missing), transform=key.transAxes,
                  ha="center", va="bottom", fontsize=6, color="tab:red")
     gbar, r = float(portraits.attrs["gbar"]), float(portraits.attrs["r"])
     heads = {"G1": "grazing point G1", "G2": "G2, fold of 3:1"}

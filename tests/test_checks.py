@@ -64,6 +64,27 @@ def test_simulated_points_row_names_every_point_not_compared():
     assert row["status"] == "fail"  # nothing compared is no evidence
 
 
+def test_another_device_with_nothing_to_compare_is_not_compared_and_a_real_failure_still_fails():
+    """The rows that hold for any device fail for the paper's device where nothing was compared (no branch, no
+    point simulated on it); another device may have none: its row is not compared and says why.  A comparison that
+    was made and failed still fails, for any device."""
+    import xarray as xr
+
+    failed = xr.Dataset(attrs={"status": "failed", "reason": "the attractor at d=0.135 is 2:1 period-2 (BTB), not 'BBBT'"})
+    rows = checks.simulation_rows([failed, _sims(["not compared: the attractor is 3:1 period-2"], [math.nan]),
+                                   _sims(["compared"], [2e-9])])
+    assert [r["status"] for r in rows] == ["fail"] * 3
+    other = checks.for_another_device(pd.DataFrame(rows), "weak")
+    assert list(other.status) == [checks.NOT_COMPARED, checks.NOT_COMPARED, "fail"]
+    assert other.note[0] == ("this device (weak) has nothing to compare: nothing compared: no branch (the attractor at "
+                             "d=0.135 is 2:1 period-2 (BTB), not 'BBBT')")
+    assert other.note[1].startswith("this device (weak) has nothing to compare: nothing compared; not compared: d = 0.14")
+    # no 1:1 period-2 attractor in any sweep: nothing to hold U_I = U_T on
+    row = checks.energy_rows([], [], [])[0]
+    assert row["item"] == "U_I = U_T for 1:1 period-2 motion" and row["status"] == "fail"
+    assert checks.for_another_device(pd.DataFrame([row]), "weak").status[0] == checks.NOT_COMPARED
+
+
 def test_energy_at_the_same_d_compares_the_two_coexisting_motions():
     import numpy as np
     import xarray as xr

@@ -135,6 +135,12 @@ def test_branch_figures_draw_the_rows_that_exist_and_say_why_the_others_do_not()
         assert texts[2 * ncol + ncol // 2].startswith("not drawn: the 2:1 branch has no admissible point in this row's "
                                                       "d range [0.3, 0.4]")
         assert titles[ncol].startswith(f"({'abcdefghi'[ncol]}) ")  # the rows keep their letters
+    # no G1 (the 2:1 branch's stable stretch does not end by grazing): only G2's line, and only G2 named
+    fig = plots.fig2([br], [None], [(0.134, 0.205)], {"beta": math.pi / 6, "G1": np.nan, "G2": 0.1419})
+    named = {t.get_text() for ax in fig.axes for t in ax.texts} & {"G1", "G2"}
+    lines = [ln.get_xdata()[0] for ax in fig.axes for ln in ax.get_lines() if ln.get_linestyle() == "-."]
+    plt.close(fig)
+    assert named == {"G2"} and lines == [0.1419] * 3
 
 
 def test_image_layer_sees_a_change_the_same_figure_does_not(tmp_path):

@@ -125,7 +125,8 @@ def fig2(branches, sims, d_ranges, grazing=None):
         walls = br.wall.values
         lines = {}
         if grazing is not None and abs(br.attrs["beta"] - grazing["beta"]) < 1e-9:
-            lines = {"G1": (grazing["G1"], "k"), "G2": (grazing["G2"], "tab:red")}
+            lines = {k: (g, c) for k, g, c in (("G1", grazing["G1"], "k"), ("G2", grazing["G2"], "tab:red"))
+                     if np.isfinite(g)}  # another device may have neither
         for col, (var, scale, ylabel) in enumerate(
             [("v_minus", 1.0, r"$\dot Z_k$"), ("dt", 0.5, r"$\Delta t_j/2$"), ("phase", 1.0, r"$\varphi_k$")]
         ):

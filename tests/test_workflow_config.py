@@ -65,6 +65,8 @@ def test_a_device_without_a_name_is_named_after_its_values_and_never_paper():
     (lambda c: c["branch_scenes"]["fig2"]["s_ranges"].__setitem__(0, [0.37, 0.27]), "branch_scenes.fig2.s_ranges[0]",
      [0.37, 0.27], "s_min < s_max"),
     (lambda c: c["scenes"]["fig4"]["captions"].append("fig9_z"), "scenes.fig4.captions", "fig9_z", "a caption defined"),
+    (lambda c: c["branch_scenes"]["fig2"]["grazing"].update(beta=0.4), "branch_scenes.fig2.grazing.beta", 0.4,
+     "one of the scene's betas"),
     (lambda c: c["bifurcation"].update(words=["BBT", "BBBBT"]), "bifurcation.words", ["BBT", "BBBBT"],
      "words of branches.words"),
     (lambda c: c["design"]["tolerance"].update(s=-0.01), "design.tolerance.s", -0.01, ">= 0"),

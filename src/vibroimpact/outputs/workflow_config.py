@@ -151,6 +151,9 @@ def _branches(config):
             raise ConfigError(f"branch_scenes.{scene}.s_ranges", spec["s_ranges"], "one [s_min, s_max] per beta")
         for i, r in enumerate(spec["s_ranges"]):
             _range(f"branch_scenes.{scene}.s_ranges[{i}]", r, "[s_min, s_max] with s_min < s_max")
+        if "grazing" in spec and not any(abs(spec["grazing"]["beta"] - b) < 1e-9 for b in spec["betas"]):
+            raise ConfigError(f"branch_scenes.{scene}.grazing.beta", spec["grazing"]["beta"],
+                              f"one of the scene's betas {spec['betas']} (its G1 and G2 lines are drawn in that row)")
         for w in [spec["word"]] + ([spec["grazing"]["word"]] if "grazing" in spec else []):
             if w not in words:
                 raise ConfigError(f"branch_scenes.{scene}.word", w, f"a word defined under branches.words: {sorted(words)}")

@@ -101,7 +101,9 @@ rule check_figure:
 rule check_figures:
     input:
         # the committed references are the paper's device's: another device's figures are not compared
-        expand("results/checks/figures/{fig}.csv", fig=FIGURES) if CFG.paper_device else [],
+        expand("results/checks/figures/{fig}.csv", fig=FIGURES)
+        if CFG.paper_device
+        else [],
     output:
         csv=report(
             "results/checks/figures.csv",

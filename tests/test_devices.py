@@ -96,7 +96,8 @@ def run_device(clone, draw, timeout=900):
 
 def assert_ran_or_refused(clone, spec, res):
     """Exit 0 with every figure and table written, or refused before any job: no results folder, the message
-    naming the key, the value and what is allowed."""
+    naming the key, the value and what is allowed; and refused only for what a device can lack, a scene where
+    the forcing cannot lift the ball (M g sin(beta) / F >= 1 at the incline and force it names)."""
     out = res.stdout + res.stderr
     folder = clone / "results" / "devices" / spec["device"]
     if res.returncode == 0:
@@ -105,8 +106,12 @@ def assert_ran_or_refused(clone, spec, res):
         return "ran"
     failed = sorted(set(re.findall(r"Error in rule (\w+):", out)))
     assert not failed, f"{spec['device']}: jobs failed: {failed}\n{yaml.safe_dump(spec)}\n{out[-4000:]}"
-    assert re.search(r"config: \S+ = .+ is not allowed; allowed: \S", out) or "ValidationError" in out, out[-3000:]
     assert not folder.exists() and "localrule" not in out, (spec, "a refused device ran jobs")
+    refusal = re.search(r"config: (\S+\.beta\S*) = (\S+) is not allowed; allowed: an incline where the forcing can lift "
+                        r"the ball .*? at F = (\S+) N", out)
+    assert refusal, f"refused for something else than lifting the ball:\n{out[-3000:]}"
+    beta, F = float(refusal.group(2)), float(refusal.group(3))
+    assert spec["physics"]["M"] * CONFIG["physics"]["g"] * math.sin(beta) / F >= 1, refusal.group(0)
     return "refused"
 
 

@@ -99,10 +99,7 @@ rule all:
         expand("results/figures/lyapunov.{ext}", ext=RESOLUTION["figure_formats"]),
         "results/tables/chaos.md",
         "results/checks/paper_values.csv",
-        expand(
-            "results/figures/{fig}.png",
-            fig=["work_precision", "failure_map", "analytics_accuracy"],
-        ),
+        expand("results/figures/{fig}.png", fig=BENCH_FIGURES),
         "results/tables/workflow_cost.md",
         [study_figure(st) for st in STUDIES],
         "results/tables/table1.md",

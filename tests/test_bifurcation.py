@@ -130,7 +130,13 @@ def test_the_bistable_band_at_pi_6_is_g1_and_g2_of_the_branches():
     g2 = float(b31.critical_s.values[b31.critical_kind.values == "fold"].min())
     assert abs(float(band.s_G1[1]) - g1) < 1e-9 and abs(float(band.s_G2[1]) - g2) < 1e-9
     assert abs(g1 * ref.d - 0.137600) < 5e-7 and abs(g2 * ref.d - 0.141954) < 5e-7
-    assert np.all(band.width.values > 0)
+    assert np.all(band.width.values > 0) and band.attrs["status"] == "ok"
+    # without the 3:1 branch (another device, or its continuation failed) G2 is NaN and the band says why
+    b31.attrs.update(status="failed", reason="the attractor at d=0.135 is 2:1 period-2, not 'BBBT'")
+    band = bistable_band(curve_set([b21, b31], ("s", "beta"), ((0.19, 0.3), (0.4, 0.65)), kinds=("fold", "grazing"),
+                                   step=1e-2, physics=dict(beta=math.pi / 6)), [math.pi / 6])
+    assert abs(float(band.s_G1[0]) - g1) < 1e-9 and np.isnan(band.s_G2).all() and float(band.width[0]) == 0
+    assert band.attrs["status"].startswith("no BBBT fold curve (")
 
 
 def test_near_g1_the_new_impact_and_the_eigenvalue_follow_nordmarks_normal_form():

@@ -65,7 +65,7 @@ def loop_clearance(flights, d, gbar):
         x = np.linspace(0.0, tau, 201)[1:-1]
         v = flight_state(theta, z0, u, gbar, x)[1]
         for k in np.flatnonzero(np.sign(v[:-1]) * np.sign(v[1:]) < 0):
-            te = brentq(lambda s: flight_state(theta, z0, u, gbar, s)[1], x[k], x[k + 1], xtol=1e-15)
+            te = brentq(lambda s, theta=theta, z0=z0, u=u: flight_state(theta, z0, u, gbar, s)[1], x[k], x[k + 1], xtol=1e-15)
             ze = flight_state(theta, z0, u, gbar, te)[0]
             gaps.append(d / 2 - ze if v[k] > 0 else ze + d / 2)
     return min(gaps)
@@ -90,6 +90,29 @@ def test_near_grazing_captions_have_a_loop_close_to_the_wall(name, word, near):
                    for j in range(n))
     assert abs(simulated - analytic) <= 1e-9  # the attractor's identification tolerance
     assert (simulated < 0.01 * d) == near
+
+
+def test_a_grazing_orbit_newton_cannot_solve_is_recorded_with_why(monkeypatch):
+    """Newton failing at the located grazing d (another device's orbit, ill-conditioned there) leaves the
+    caption's own orbit and says why the grazing one is missing, instead of stopping the job."""
+    from vibroimpact.analysis import orbits
+
+    beta, d, v, phi, *_ = CAPTIONS["fig4_d"]
+    p = vi.Params(d=d, gbar=gbar_of(beta), r=0.5)
+    ds = portraits.orbit_dataset(p, phi, v, t_show=2.0, samples_per_unit=50)
+
+    solve = orbits.solve_orbit
+
+    def fails_elsewhere(z0, walls, d_, *args, **kw):  # solves the caption's orbit, fails at any other d
+        if d_ != d:
+            raise orbits.OrbitError("Newton did not converge in 50 iterations (residual 1e-3)")
+        return solve(z0, walls, d_, *args, **kw)
+
+    monkeypatch.setattr(orbits, "solve_orbit", fails_elsewhere)
+    ds = portraits.add_located_grazing(ds, p, samples_per_unit=50)
+    assert ds.attrs["grazing_status"].startswith("Newton failed at the located grazing d=0.1376")
+    assert ds.attrs["grazing_status"].endswith("Newton did not converge in 50 iterations (residual 1e-3)")
+    assert "grazing_Z" not in ds and ds.attrs["orbit_status"] == "solved"
 
 
 @pytest.mark.parametrize("name", ["fig4_d", "figFN2_b"])

@@ -64,6 +64,27 @@ def test_simulated_points_row_names_every_point_not_compared():
     assert row["status"] == "fail"  # nothing compared is no evidence
 
 
+def test_another_device_with_nothing_to_compare_is_not_compared_and_a_real_failure_still_fails():
+    """The rows that hold for any device fail for the paper's device where nothing was compared (no branch, no
+    point simulated on it); another device may have none: its row is not compared and says why.  A comparison that
+    was made and failed still fails, for any device."""
+    import xarray as xr
+
+    failed = xr.Dataset(attrs={"status": "failed", "reason": "the attractor at d=0.135 is 2:1 period-2 (BTB), not 'BBBT'"})
+    rows = checks.simulation_rows([failed, _sims(["not compared: the attractor is 3:1 period-2"], [math.nan]),
+                                   _sims(["compared"], [2e-9])])
+    assert [r["status"] for r in rows] == ["fail"] * 3
+    other = checks.for_another_device(pd.DataFrame(rows), "weak")
+    assert list(other.status) == [checks.NOT_COMPARED, checks.NOT_COMPARED, "fail"]
+    assert other.note[0] == ("this device (weak) has nothing to compare: nothing compared: no branch (the attractor at "
+                             "d=0.135 is 2:1 period-2 (BTB), not 'BBBT')")
+    assert other.note[1].startswith("this device (weak) has nothing to compare: nothing compared; not compared: d = 0.14")
+    # no 1:1 period-2 attractor in any sweep: nothing to hold U_I = U_T on
+    row = checks.energy_rows([], [], [])[0]
+    assert row["item"] == "U_I = U_T for 1:1 period-2 motion" and row["status"] == "fail"
+    assert checks.for_another_device(pd.DataFrame([row]), "weak").status[0] == checks.NOT_COMPARED
+
+
 def test_energy_at_the_same_d_compares_the_two_coexisting_motions():
     import numpy as np
     import xarray as xr
@@ -228,3 +249,19 @@ def test_for_another_device_only_what_holds_for_any_device_is_compared():
     assert "the other 2 compare numbers the paper published" in text
     figs = checks.not_compared_figures(["fig0", "fig2"], "heavier")
     assert list(figs.status) == [checks.NOT_COMPARED] * 2 and "heavier" in figs.detail.iloc[0]
+
+
+def test_inclines_without_a_2to1_branch_are_rows_that_do_not_pass():
+    """Another device may have no 2:1 branch at any incline (Table 1 of failed rows only): the check's rows are
+    written, each computed value NaN and failing (not compared for another device), instead of stopping the job."""
+    import xarray as xr
+
+    from vibroimpact.outputs.tables import table1
+
+    failed = [xr.Dataset(attrs={"beta": b, "status": "failed", "reason": "the attractor is 1:1 period-2"}) for b in BETAS4]
+    t1 = table1(failed)
+    rows = checks.stability_rows(t1) + checks.d_graz_rows([], t1, failed)
+    assert [r["item"] for r in rows[-3:]] == checks.D_GRAZ_ITEMS[1:] and len(rows) == 8 + 3
+    assert {r["status"] for r in rows} == {"fail"}
+    assert all(math.isnan(r["computed"]) for r in rows if isinstance(r["computed"], float))
+    assert checks.for_another_device(pd.DataFrame(rows), "weak")["status"].eq(checks.NOT_COMPARED).all()

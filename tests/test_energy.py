@@ -299,3 +299,31 @@ def test_window_without_impacts_gives_no_output():
         coords={"direction": ["up"], "point": [0], "d": ("point", [0.2]), "F": ("point", [5.0])})
     e = sweep_energy(sw, DEVICE.replace(membrane=Membrane(**PAPER)))
     assert float(e.U_T[0, 0]) == 0.0 and np.isnan(float(e.U_I[0, 0])) and int(e.window_impacts[0, 0]) == 0
+
+
+def test_the_energy_figure_says_which_analytic_branches_are_missing_and_why():
+    """Another device may have no 2:1 branch at a panel's incline: the figure draws the sweep and the branches
+    that exist, and its note says which branch is not drawn, in which panels, and why (the paper's figure,
+    with every branch, has no such note)."""
+    import matplotlib.pyplot as plt
+    import xarray as xr
+
+    from vibroimpact.outputs.plots import fig_energy
+
+    sw = sweep("s", np.linspace(0.5, 0.6, 3), beta=math.pi / 3, phi=0.42, v0=0.87, device=DEVICE, long_impacts=0)
+    en = sweep_energy(sw, DEVICE)
+    p = vi.Params.from_physical(s=0.55, beta=math.pi / 3)
+    bt = branch_from_simulation(p, "BT", vary="s", d_range=(0.3, 0.38), step=4e-3, phi=0.42, v0=0.87)
+    failed = xr.Dataset(attrs=dict(status="failed", reason="the attractor at d=0.18 is 1:1 period-2 (BT), not 'BBT'",
+                                   word="BBT", k=1, vary="s"))
+
+    def note(orbits):
+        fig = fig_energy(["fig0_s"] * 2, [sw] * 2, [en] * 2, [[branch_energy(b, DEVICE) for b in orbits]] * 2,
+                         orbit_sets=[orbits] * 2)
+        text = fig.legends[0].get_title().get_text()
+        plt.close(fig)
+        return text
+
+    assert "Not drawn" not in note([bt])
+    assert note([bt, failed]).endswith("Not drawn:\n(a), (b): analytic 2:1: the attractor at d=0.18 is 1:1 period-2 "
+                                       "(BT), not 'BBT'")

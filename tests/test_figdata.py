@@ -110,6 +110,39 @@ def test_fig2_marks_and_names_every_admissible_critical_point():
         assert [s for s in texts if s.startswith("P")] == ["P1", "P2", "P3"]
 
 
+def test_branch_figures_draw_the_rows_that_exist_and_say_why_the_others_do_not():
+    """Another device may have no 2:1 branch at an incline, or map a row's s range to d where its branch is not
+    admissible: Figures 5 and 6 draw the other rows and say, in the row, what is missing and why."""
+    import matplotlib.pyplot as plt
+    import xarray as xr
+
+    import vibroimpact as vi
+    from vibroimpact.analysis.continuation import continue_orbit
+
+    p = vi.Params.from_physical(s=0.14 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
+    br = continue_orbit(vi.find_orbit(p, "BBT", 5.855, 0.4185), vary="s", d_range=(0.13, 0.21), step=4e-3)
+    br.attrs.update(beta=math.pi / 6, status="ok")
+    failed = xr.Dataset(attrs=dict(beta=1.2, word="BBT", status="failed", reason="the attractor at d=0.18 is 1:1 period-2"))
+    rows, ranges = [br, failed, br], [(0.134, 0.205), (0.134, 0.205), (0.3, 0.4)]
+    for fig in (plots.fig2(rows, [None] * 3, ranges), plots.fig3(rows, ranges)):
+        ncol = len(fig.axes) // 3
+        texts = [" ".join(t.get_text().replace("\n", " ") for t in ax.texts) for ax in fig.axes[:3 * ncol]]
+        drawn = [bool(ax.get_lines()) for ax in fig.axes[:3 * ncol]]
+        titles = [ax.get_title() for ax in fig.axes[:3 * ncol]]
+        plt.close(fig)
+        assert drawn == [True] * ncol + [False] * 2 * ncol
+        assert "not drawn: no 2:1 branch (the attractor at d=0.18 is 1:1 period-2)" in texts[ncol + ncol // 2]
+        assert texts[2 * ncol + ncol // 2].startswith("not drawn: the 2:1 branch has no admissible point in this row's "
+                                                      "d range [0.3, 0.4]")
+        assert titles[ncol].startswith(f"({'abcdefghi'[ncol]}) ")  # the rows keep their letters
+    # no G1 (the 2:1 branch's stable stretch does not end by grazing): only G2's line, and only G2 named
+    fig = plots.fig2([br], [None], [(0.134, 0.205)], {"beta": math.pi / 6, "G1": np.nan, "G2": 0.1419})
+    named = {t.get_text() for ax in fig.axes for t in ax.texts} & {"G1", "G2"}
+    lines = [ln.get_xdata()[0] for ax in fig.axes for ln in ax.get_lines() if ln.get_linestyle() == "-."]
+    plt.close(fig)
+    assert named == {"G2"} and lines == [0.1419] * 3
+
+
 def test_image_layer_sees_a_change_the_same_figure_does_not(tmp_path):
     """The same figure rendered twice hashes identically (Agg is deterministic); one added line or a
     moved curve changes the hash; a figure with timings is reported as excluded, not passed."""

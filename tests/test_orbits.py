@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+import xarray as xr
 from conftest import CAPTIONS, gbar_of
 
 import vibroimpact as vi
@@ -238,6 +239,22 @@ def test_failed_start_is_recorded_not_raised():
     assert br.sizes["point"] == 0
 
 
+def test_a_start_outside_the_range_is_continued_to_it_or_recorded():
+    """Another device maps the force range to other d, which may leave out the word's start_d: the branch
+    found there is continued to the range and kept inside it, or, where it never reaches it, recorded."""
+    from vibroimpact.analysis.continuation import branch_from_simulation
+
+    p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)  # the 2:1 of Figure 7 (a) at d = 0.16
+    br = branch_from_simulation(p, "BBT", vary="s", d_range=(0.17, 0.21), step=2e-3, phi=1.015, v0=0.1924)
+    assert br.attrs["status"] == "ok" and br.attrs["started_at_d"] == p.d
+    assert 0.17 <= br.d.min() < 0.171 and 0.209 < br.d.max() <= 0.21
+    assert ((br.critical_d >= 0.17) & (br.critical_d <= 0.21)).all() and br.sizes["critical"]
+    # the 2:1 branch folds at d = 0.2158: it never reaches [0.3, 0.4]
+    br = branch_from_simulation(p, "BBT", vary="s", d_range=(0.3, 0.4), step=2e-3, phi=1.015, v0=0.1924)
+    assert br.attrs["status"] == "failed" and br.sizes["point"] == 0
+    assert "outside d_range = [0.3, 0.4], does not reach it" in br.attrs["reason"]
+
+
 def test_force_parameterisation_moves_d_and_gbar_together():
     """vary="F" at fixed s = 0.85 (paper Fig 0 (c, d)): d and gbar both scale with 1/F."""
     p = vi.Params.from_physical(s=0.85, beta=math.pi / 3, F=14.0)
@@ -363,6 +380,31 @@ def test_bistability_portraits_are_closed_orbits_of_the_physical_stretch(pi6_2to
     # the G1 portrait touches the bottom wall d/2 with its interior loop (a grazing contact)
     z = ds.Z.values[0]
     assert float(ds.d[0]) / 2 - z.max() < 1e-9
+
+
+def test_a_portrait_another_device_lacks_is_recorded_with_why(pi6_2to1, pi6_3to1):
+    """No G1 and G2 (a sweep without the 2:1 -> 3:1 scene), a failed branch, a d where the branch's orbit
+    crosses a wall: those portraits are NaN with the reason, the others drawn as before."""
+    from vibroimpact.outputs.portraits import bistability_dataset
+
+    kw = dict(d_mid=0.14, samples_per_unit=50)
+    whole = bistability_dataset(pi6_2to1, pi6_3to1, 0.1376, 0.1419, **kw)
+    ds = bistability_dataset(pi6_2to1, pi6_3to1, np.nan, np.nan, missing="no such interval", **kw)
+    assert list(ds.status.values) == ["not drawn: no G1 (no such interval)", "drawn", "drawn",
+                                      "not drawn: no G2 (no such interval)"]
+    assert np.isnan(ds.Z[[0, 3]]).all() and np.isnan(ds.v0[[0, 3]]).all() and ds.attrs["G_missing"]
+    np.testing.assert_array_equal(ds.Z[1:3], whole.Z[1:3])
+    assert list(whole.status.values) == ["drawn"] * 4
+    failed = xr.Dataset(attrs=dict(status="failed", reason="the attractor at d=0.18 is 1:1 period-2", word="BBT"))
+    ds = bistability_dataset(failed, pi6_3to1, 0.1376, 0.1419, **kw)
+    assert list(ds.status.values[:2]) == ["not drawn: no BBT branch (the attractor at d=0.18 is 1:1 period-2)"] * 2
+    assert list(ds.status.values[2:]) == ["drawn"] * 2 and ds.attrs["gbar"] == float(pi6_3to1.gbar[0])
+    # below G1 the 2:1 orbit crosses the bottom wall (not a motion of the device); at d = 0.2, far from the
+    # 3:1 branch (0.125 to its fold, 0.1420), Newton finds no 3:1 orbit
+    ds = bistability_dataset(pi6_2to1, pi6_3to1, 0.1376, 0.1419, d_mid=0.13, samples_per_unit=50)
+    assert ds.status.values[1].startswith("not drawn: the BBT orbit at d=0.13 is not a motion")
+    ds = bistability_dataset(pi6_2to1, pi6_3to1, 0.1376, 0.1419, d_mid=0.2, samples_per_unit=50)
+    assert ds.status.values[2].startswith("not drawn: Newton did not converge")
 
 
 def test_every_located_critical_point_is_a_zero_of_its_test_function(pi6_2to1, pi6_3to1):

@@ -150,6 +150,26 @@ def test_fig_bis_names_the_motions_as_the_paper_does_and_marks_the_portraits_imp
     assert "slowest impact" in titles[-1] and "=0.030 > 0" in titles[-1]
 
 
+def test_fig_bis_draws_what_another_device_has_and_says_what_is_missing():
+    """No G1, G2 (the sweep finds no 2:1 -> 3:1), a failed 2:1 branch: the sweep, the 3:1 branch and the two
+    portraits that exist are drawn, the figure says on its panels what is not drawn and why."""
+    sw, tr, portraits, (b21, b31) = bis_inputs()
+    why = "the sweep over d in [0.136, 0.144] finds no interval"
+    portraits.attrs.update(G1=np.nan, G2=np.nan, G_missing=why)
+    portraits["status"] = ("panel", [f"not drawn: no G1 ({why})", "drawn", "drawn", f"not drawn: no G2 ({why})"])
+    b21 = xr.Dataset(attrs=dict(status="failed", reason="the attractor at d=0.18 is 1:1 period-2", word="BBT"))
+    fig = fig_bis(sw, tr, portraits, [b21, b31])
+    texts = " ".join(t.get_text().replace("\n", " ") for ax in fig.axes for t in ax.texts)
+    titles = [ax.get_title() for ax in fig.axes]
+    analytic = {to_hex(ln.get_color()) for ln in fig.axes[0].get_lines() if ln.get_linestyle() in ("-", "--")}
+    drawn = [bool(ax.get_lines()) for ax in fig.axes[-4:]]
+    plt.close(fig)
+    assert "not drawn: analytic 2:1: the attractor at d=0.18 is 1:1 period-2" in texts
+    assert f"not drawn: G1, G2: {why}" in texts and f"not drawn: no G2 ({why})" in texts
+    assert drawn == [False, True, True, False] and titles[-1] == "(g) G2, fold of 3:1"
+    assert analytic == {to_hex(motion_color("3:1 period-2"))}
+
+
 def test_a_map_names_the_more_frequent_of_two_motions_with_one_colour():
     """Two motions without a colour of their own can draw the same one: the map names the more frequent,
     the other is "other"; no two named motions share a colour."""

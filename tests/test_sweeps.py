@@ -139,12 +139,16 @@ def test_bistable_interval_with_an_aperiodic_upper_side_ends_on_the_grid():
     assert (row.d_hi, row.hi_source, row.d_hi_width) == (pytest.approx(0.35), "grid", pytest.approx(0.1))
 
 
-def test_bistable_interval_of_non_positive_width_is_an_error():
+def test_bistable_interval_of_non_positive_width_is_recorded_not_raised():
     d = np.array([0.1, 0.2, 0.3, 0.4])
-    # both motions said to end exactly at the grid point where the sweeps differ: no interval is left
+    # both motions said to end exactly at the grid point where the sweeps differ: no interval is left; the sweep's
+    # job goes on, the dataset naming the interval left out and why
     sw, tr = synthetic(["A", "A", "A", "B"], ["A", "A", "B", "B"], d, [("up", 0.3, "A", "B"), ("down", 0.3, "B", "A")])
-    with pytest.raises(ValueError, match="non-positive width"):
-        bistable_intervals(sw, tr)
+    out = bistable_intervals(sw, tr)
+    assert out.sizes["interval"] == 0
+    assert out.attrs["inconsistent_intervals"] == ("intervals of non-positive width, left out (the located transitions "
+                                                   "are inconsistent): d_lo = 0.3 >= d_hi = 0.3 (up sweep 'A', down "
+                                                   "sweep 'B')")
 
 
 def test_bistable_interval_reaching_the_range_end_is_open_there():

@@ -57,6 +57,20 @@ def test_table1_lists_the_types_as_the_paper_writes_its_intervals():
     assert "| 0.5000 | d < d_B: unstable node;" in table1_markdown(df)
 
 
+def test_an_incline_without_a_2to1_branch_is_a_row_saying_why():
+    """Another device may have no 2:1 branch at an incline (its attractor there is another motion): the table has
+    its row, with the reason, beside the inclines that have one; and a table of such rows only is still written,
+    with every column the paper-value check reads (NaN: nothing to compare)."""
+    failed = xr.Dataset(attrs={"beta": 1.2, "status": "failed", "reason": "the attractor at d=0.18 is 1:1 period-2"})
+    for branches in ([failed], [synthetic_branch([0.15, 0.19]).assign_attrs(status="ok"), failed]):
+        df = table1(branches)
+        md = table1_markdown(df)
+        assert np.isnan(df.d_fold.iloc[-1]) and np.isnan(df.stable_from.iloc[-1])  # what the check reads
+        assert "| 1.2000 | no 2:1 branch: the attractor at d=0.18 is 1:1 period-2 | | | | | |" in md
+        assert "| 1.2000 | no 2:1 branch |" in md and "- 1.2000: no 2:1 branch (the attractor at d=0.18" in md
+        assert ("| 0.5000 | d < d_B: unstable node;" in md) == (len(branches) == 2)
+
+
 def check_branch_types(results):
     """On every continued 2:1 branch in ``results``: each interval's type holds at every point of the sheet inside
     it (one sign of Delta, one stability: its ends are all the sign changes), and the types follow the paper's

@@ -74,6 +74,9 @@ def test_workflow_runs_end_to_end_on_a_tiny_config(tmp_path):
 
 @pytest.mark.parametrize("key, value, words", [
     (("physics", "r"), 1.5, ["1.5", "r"]),
+    # no rebound (every impact ends at rest), a membrane force beyond a membrane's cubic stiffening
+    (("physics", "r"), 0.0, ["0.0", "r", "less than or equal to the minimum of 0"]),
+    (("membrane", "h"), 3.5, ["3.5", "h", "greater than the maximum of 3"]),
     (("quality",), "best", ["best", "draft", "paper"]),
     (("captions", "fig4_a", "beta"), 3.0, ["3.0", "beta"]),
     (("resolution", "draft", "figure_formats"), ["pdf"], ["figure_formats", "pdf", "png"]),

@@ -65,6 +65,8 @@ def test_a_device_without_a_name_is_named_after_its_values_and_never_paper():
     (lambda c: c["branch_scenes"]["fig2"]["s_ranges"].__setitem__(0, [0.37, 0.27]), "branch_scenes.fig2.s_ranges[0]",
      [0.37, 0.27], "s_min < s_max"),
     (lambda c: c["scenes"]["fig4"]["captions"].append("fig9_z"), "scenes.fig4.captions", "fig9_z", "a caption defined"),
+    (lambda c: c["branch_scenes"]["fig2"]["grazing"].update(beta=0.4), "branch_scenes.fig2.grazing.beta", 0.4,
+     "one of the scene's betas"),
     (lambda c: c["bifurcation"].update(words=["BBT", "BBBBT"]), "bifurcation.words", ["BBT", "BBBBT"],
      "words of branches.words"),
     (lambda c: c["design"]["tolerance"].update(s=-0.01), "design.tolerance.s", -0.01, ">= 0"),
@@ -76,6 +78,16 @@ def test_a_device_without_a_name_is_named_after_its_values_and_never_paper():
      {"beta": 0.40001, "r": 0.6}, "repeats studies[0]"),
     (lambda c: c.update(studies=[{"beta": math.pi / 2, "r": 0.5}]) or c["physics"].update(F=1.0),
      "studies[0].beta", math.pi / 2, "gbar = M g sin(beta) / F < 1"),
+    (lambda c: c["membrane"].update(R=4e-3), "membrane.R", 4e-3, "a radius > membrane.r_b = 0.005 m"),
+    # a sweep drawn with the analytic branches (continued at physics.F) at another force
+    (lambda c: c["sweeps"]["scenes"]["fig0_s"].update(F=6.0), "sweeps.scenes.fig0_s.F", 6.0,
+     "none (the sweep is then at physics.F = 5 N) or physics.F: a figure draws this sweep with the analytic branches"),
+    # a device too weak to lift the ball at a scene's incline (gbar = M g sin(beta) / F >= 1), wherever the scene is
+    (lambda c: c["physics"].update(F=1.0), "captions.fig0b_a.beta", math.pi / 3, "gbar = M g sin(beta) / F < 1"),
+    (lambda c: c["physics"].update(M=0.55), "branch_scenes.fig2.betas[0]", math.pi / 2,
+     "(here 1.078 at F = 5 N, physics.F: the ball rests on the bottom for good"),
+    (lambda c: c["physics"].update(M=0.35) or c["sweeps"]["scenes"]["fig5_pi2_F"].update(range=[3.0, 22.0]),
+     "sweeps.scenes.fig5_pi2_F.beta", math.pi / 2, "the lowest force of sweeps.scenes.fig5_pi2_F.range"),
 ])
 def test_each_cross_key_error_names_the_key_the_value_and_what_is_allowed(edit, key, value, allowed):
     cfg = copy.deepcopy(CONFIG)
@@ -85,6 +97,32 @@ def test_each_cross_key_error_names_the_key_the_value_and_what_is_allowed(edit, 
     assert (err.value.key, err.value.value) == (key, value)
     assert allowed in err.value.allowed
     assert str(err.value).startswith(f"config: {key} = {value!r} is not allowed; allowed: ")
+
+
+def test_a_device_too_weak_for_a_map_s_corner_runs_and_another_device_s_inclines_are_its_own():
+    """A regime map spans a plane where the ball may rest for good in a corner (recorded, not refused); another
+    device's own inclines are not refused for the paper's known discrepancies, which name the paper's inclines
+    (its check does not read them; the paper's device's still must name items of its check)."""
+    weak = merged({"physics": {"M": 0.35}, "maps": {"s_F": {"y_range": [1.0, 22.0]}}})  # stuck below F = 1.7 N
+    assert check(weak).device.gbar(weak["maps"]["s_F"]["beta"], 1.0) > 1
+    tilted = {"branch_scenes": {f: {"betas": [1.2, 1.0471975511965976, 0.7853981633974483, 0.5235987755982988]}
+                                for f in ("fig2", "fig3")}}
+    assert check(merged({"device": "tilted", "physics": {"F": 6.0}} | tilted)).device.name == "tilted"
+    with pytest.raises(ConfigError, match="checks.known = '2:1 stable interval, lower end, beta=pi/2'"):
+        check(merged(tilted))
+
+
+def test_a_sweep_of_s_is_at_the_device_s_force_unless_it_gives_its_own():
+    """The paper's sweeps of s give no force: they are at physics.F, the paper's 5 N and another device's own
+    (where they were at 5 N whatever the device, its figures drew them with branches at its force); the typed
+    sweep carries the force in the place the config would give it."""
+    paper, other = check(CONFIG).sweeps, check(merged(EXAMPLE)).sweeps
+    assert list(paper["fig0_s"]) == ["beta", "vary", "range", "F", "phi", "v0"] and paper["fig0_s"]["F"] == 5.0
+    assert {other[n]["F"] for n in other if other[n]["vary"] == "s"} == {EXAMPLE["physics"]["F"]}
+    assert "F" not in other["fig0_F"] and other["fig0_F"] == CONFIG["sweeps"]["scenes"]["fig0_F"]
+    own = merged({"sweeps": {"scenes": {"fig9_s": {"beta": 0.3, "vary": "s", "range": [0.2, 0.3], "F": 7.0,
+                                                   "phi": 0.4, "v0": 0.8}}}})
+    assert check(own).sweeps["fig9_s"]["F"] == 7.0  # drawn with no branch: its own force
 
 
 def test_the_typed_config_carries_what_the_rules_read():

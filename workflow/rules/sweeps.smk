@@ -78,6 +78,7 @@ rule bistability_portraits:
         branch21=branch_path("orbit", SWEEPS["figBiS"]["beta"], "BBT"),
         branch31=branch_path("orbit", SWEEPS["figBiS"]["beta"], "BBBT"),
         transitions=sweep_path("figBiS", "-transitions"),
+        sweep=sweep_path("figBiS"),
     output:
         sweep_path("figBiS", "-portraits"),
     log:

@@ -522,18 +522,23 @@ def bistable_band(curves: xr.Dataset, at, *, along: str = "beta") -> xr.Dataset:
     """Where the 2:1 and 3:1 motions coexist, from the curves: G1 (the 2:1 orbit grazes, the 3:1 is born)
     and G2 (the 3:1 orbit's fold), as the length s at each value of ``along`` (the paper's
     [G1, G2] at beta = pi/6, 0.1376 < d < 0.1419, for any incline).  Needs a :func:`curve_set` in
-    ``(s, along)`` holding the 2:1 grazing curve through the smallest s and the 3:1 fold curve."""
+    ``(s, along)`` holding the 2:1 grazing curve through the smallest s and the 3:1 fold curve; where it holds
+    none (another device without G1 or G2, a curve not followed), that end is NaN and the attribute ``status``
+    says why (``"ok"`` where both curves are there)."""
     ok = curves.curve_status.values == "ok"
-
-    def pick(word, kind):
-        idx = np.flatnonzero(ok & (curves.curve_word.values == word) & (curves.curve_kind.values == kind))
-        if not idx.size:
-            raise ValueError(f"no {word} {kind} curve in the set")
-        return int(idx[np.argmin(curves.curve_start_s.values[idx])])
-
     at = np.atleast_1d(np.asarray(at, float))
-    g1 = curve_values(curves, pick("BBT", "grazing"), at, along)
-    g2 = curve_values(curves, pick("BBBT", "fold"), at, along)
+    missing = []
+
+    def end(word, kind):
+        sel = (curves.curve_word.values == word) & (curves.curve_kind.values == kind)
+        idx = np.flatnonzero(ok & sel)
+        if not idx.size:
+            why = "; ".join(sorted(set(curves.curve_reason.values[sel].astype(str)))) or "none was followed"
+            missing.append(f"no {word} {kind} curve ({why})")
+            return np.full(at.size, np.nan)
+        return curve_values(curves, int(idx[np.argmin(curves.curve_start_s.values[idx])]), at, along)
+
+    g1, g2 = end("BBT", "grazing"), end("BBBT", "fold")
     width = np.where(g2 > g1, g2 - g1, 0.0)
     ds = xr.Dataset(
         {
@@ -542,6 +547,7 @@ def bistable_band(curves: xr.Dataset, at, *, along: str = "beta") -> xr.Dataset:
             "width": (along, width, {"units": "m", "long_name": "length of the bistable interval [G1, G2] (0: none)"}),
         },
         coords={along: at},
+        attrs={"status": "; ".join(missing) or "ok"},
     )
     return annotate(ds)
 

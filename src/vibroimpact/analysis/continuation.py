@@ -448,8 +448,10 @@ def branch_from_simulation(params: Params, word: str, *, k: int = 1, vary: str, 
                            phi: float = 1.0, v0: float = 0.2, n_impacts: int = 100_000) -> xr.Dataset:
     """Find the orbit ``word`` as the simulated attractor at ``params`` and continue it over ``d_range``.
 
-    A failure (the attractor there is another motion, or Newton fails) gives an empty branch whose
-    ``status`` attribute is ``"failed"`` and ``reason`` says why: recorded, not dropped.
+    A failure (the attractor there is another motion, Newton or the continuation fails, or the branch
+    found does not reach ``d_range``) gives an empty branch whose ``status`` attribute is ``"failed"`` and
+    ``reason`` says why: recorded, not dropped.  A start outside ``d_range`` (a force range that another
+    device maps to other d) is continued from where it is found to the range, and the branch kept inside it.
 
     Parameters
     ----------
@@ -487,12 +489,27 @@ def branch_from_simulation(params: Params, word: str, *, k: int = 1, vary: str, 
             raise OrbitError(f"the attractor at d={params.d:.6g} is {att.label} ({seen}), not {word!r}")
         bottom = att.cycle.where(att.cycle.wall == 1, drop=True)
         orbit = find_orbit(params, word, float(bottom.phase[0]), float(bottom.v_minus[0]), k=k)
-        ds = continue_orbit(orbit, vary=vary, d_range=d_range, step=step)
+        lo, hi = sorted(float(x) for x in d_range)
+        reach = (min(lo, params.d - step), max(hi, params.d + step))  # from the start to the range
+        ds = continue_orbit(orbit, vary=vary, d_range=reach, step=step)
+        if reach != (lo, hi):
+            ds = _within(ds, lo, hi)
+            if not ds.sizes["point"]:
+                raise OrbitError(f"the branch found at d={params.d:.6g}, outside d_range = [{lo:.6g}, {hi:.6g}], "
+                                 f"does not reach it ({ds.attrs['stop_increasing']}; {ds.attrs['stop_decreasing']})")
+            ds.attrs["started_at_d"] = params.d
         ds.attrs.update(status="ok", reason="")
-    except OrbitError as err:
+    except (OrbitError, np.linalg.LinAlgError) as err:
         ds = xr.Dataset(coords={"point": np.arange(0)})
         ds.attrs.update(status="failed", reason=str(err), word=word, k=k, vary=vary)
     return ds
+
+
+def _within(ds: xr.Dataset, lo: float, hi: float) -> xr.Dataset:
+    """The points and critical points of a branch with ``lo <= d <= hi``."""
+    keep = lambda d: np.flatnonzero((d >= lo) & (d <= hi))
+    ds = ds.isel(point=keep(ds.d.values), critical=keep(ds.critical_d.values))
+    return ds.assign_coords(point=np.arange(ds.sizes["point"]), critical=np.arange(ds.sizes["critical"]))
 
 
 def simulate_along(branch: xr.Dataset, n: int, *, tol: float = 1e-11, n_impacts: int = 200_000) -> xr.Dataset:

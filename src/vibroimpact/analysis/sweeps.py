@@ -643,10 +643,8 @@ def bistable_intervals(sw: xr.Dataset, transitions: xr.Dataset) -> xr.Dataset:
         ``d_hi_width``, ``lo_source``/``hi_source`` (``"located"``, ``"grid"`` or ``"range end"``), ``label_up``
         (``A``), ``label_down`` (``B``) and ``found_by``.
 
-    Raises
-    ------
-    ValueError
-        If an interval would have zero or negative width (located ends in the wrong order).
+        An interval that would have zero or negative width (located ends in the wrong order) is left out and
+        named in the attribute ``inconsistent_intervals``.
     """
     up, down = sw["label"].values
     d = sw["d"].values
@@ -707,12 +705,11 @@ def bistable_intervals(sw: xr.Dataset, transitions: xr.Dataset) -> xr.Dataset:
                 rows.append((lo_d, hi_d, float(t_w[m]), float(t_w[k]), "located", "located",
                              str(t_before[k]), str(t_before[m]), "transitions only"))
     rows.sort(key=lambda r_: r_[0])
-    for r_ in rows:
-        if not r_[1] > r_[0]:
-            raise ValueError(f"bistable interval of non-positive width: d_lo = {r_[0]!r} >= d_hi = {r_[1]!r} "
-                             f"(up sweep {r_[6]!r}, down sweep {r_[7]!r}); the located transitions are inconsistent")
+    bad = [f"d_lo = {r_[0]!r} >= d_hi = {r_[1]!r} (up sweep {r_[6]!r}, down sweep {r_[7]!r})"
+           for r_ in rows if not r_[1] > r_[0]]
+    rows = [r_ for r_ in rows if r_[1] > r_[0]]
     col = list(zip(*rows, strict=True)) if rows else [()] * 9
-    return xr.Dataset(
+    ds = xr.Dataset(
         {
             "d_lo": ("interval", np.array(col[0], dtype=float),
                      {"units": "1", "long_name": "lower end: the down sweep loses label_down"}),
@@ -735,6 +732,10 @@ def bistable_intervals(sw: xr.Dataset, transitions: xr.Dataset) -> xr.Dataset:
         },
         coords={"interval": np.arange(len(rows))},
     )
+    if bad:
+        ds.attrs["inconsistent_intervals"] = ("intervals of non-positive width, left out (the located transitions "
+                                              "are inconsistent): " + "; ".join(bad))
+    return ds
 
 
 # ---------------------------------------------------------------------------------------------

@@ -215,7 +215,8 @@ def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], swee
     dev = max((float(d.max()) for d in devs if d.size), default=math.nan)
     rows.append(_row("U_I = U_T for 1:1 period-2 motion", "section 5", "equal",
                      f"max relative difference {dev:.1e} over {n11} simulated 1:1 period-2 attractors", ORBIT_AGREEMENT,
-                     n11 > 0 and dev <= ORBIT_AGREEMENT, "tolerance: the attractors' identification tolerance"))
+                     n11 > 0 and dev <= ORBIT_AGREEMENT, ("" if n11 else f"{NOTHING_COMPARED}: no 1:1 period-2 attractor "
+                                                          "in the sweeps; ") + "tolerance: the attractors' identification tolerance"))
     # 1:1 -> 2:1 and 2:1 -> 3:1 jumps along every sweep's down direction
     n11, ok11_i, ok11_t, n23, ok23_i, ok23_t = 0, 0, 0, 0, 0, 0
     for e in sweeps:
@@ -287,7 +288,7 @@ def simulation_rows(sims: list[xr.Dataset]) -> list[dict]:
     for sim in sims:
         if sim.attrs.get("status") == "failed":
             rows.append(_row("simulated points on the branch", _printed("fig2"), "on the branch", "no branch", ORBIT_AGREEMENT,
-                             False, str(sim.attrs.get("reason", ""))))
+                             False, f"{NOTHING_COMPARED}: no branch ({sim.attrs.get('reason', '')})"))
             continue
         where = f"{sim.attrs['word']}, beta={_beta_name(float(sim.attrs['beta']))}"
         status = sim.status.values.astype(str) if sim.sizes.get("sim") else np.array([], str)
@@ -297,7 +298,8 @@ def simulation_rows(sims: list[xr.Dataset]) -> list[dict]:
         rows.append(_row(f"simulated points on the {where} branch", _printed("fig2"), "on the branch",
                          f"{int(done.sum())} of {status.size} compared, max |difference| {dev:.1e}",
                          ORBIT_AGREEMENT, bool(done.any()) and dev <= ORBIT_AGREEMENT,
-                         f"not compared: {skipped}" if skipped else "all compared"))
+                         ("" if done.any() else f"{NOTHING_COMPARED}; ") + (f"not compared: {skipped}" if skipped
+                                                                           else "all compared")))
     return rows
 
 
@@ -383,18 +385,25 @@ def apply_known(df: pd.DataFrame, known: dict[str, str]) -> pd.DataFrame:
 
 #: rows that hold for any device: identities and the simulator against the Newton-solved orbits
 ANY_DEVICE = ("U_I = U_T for 1:1 period-2 motion", "simulated points on the")
+#: how the note of a row that found nothing to compare begins (no branch, no simulated point, no such motion): a
+#: failure for the paper's device, which has them; another device may have none, and its row is not compared
+NOTHING_COMPARED = "nothing compared"
 #: the status of a row that compares a number of the paper's device with another device's
 NOT_COMPARED = "not compared"
 
 
 def for_another_device(df: pd.DataFrame, device: str) -> pd.DataFrame:
     """The check's rows for a device other than the paper's: the rows that hold for any device
-    (:data:`ANY_DEVICE`) keep their status; every other row compares a number the paper published for its own
-    device and is marked :data:`NOT_COMPARED`, its note saying so (its computed value is kept)."""
+    (:data:`ANY_DEVICE`) keep their status, unless the device has nothing for them to compare (no branch, no such
+    motion: :data:`NOTHING_COMPARED`); every other row compares a number the paper published for its own device and
+    is marked :data:`NOT_COMPARED`, its note saying so (its computed value is kept)."""
     df = df.copy()
     other = ~df["item"].astype(str).str.startswith(ANY_DEVICE)
     df.loc[other, "status"] = NOT_COMPARED
     df.loc[other, "note"] = f"not the paper's device ({device}): the paper's value is its device's"
+    none = ~other & df["note"].astype(str).str.startswith(NOTHING_COMPARED)
+    df.loc[none, "status"] = NOT_COMPARED
+    df.loc[none, "note"] = f"this device ({device}) has nothing to compare: " + df.loc[none, "note"].astype(str)
     return df
 
 

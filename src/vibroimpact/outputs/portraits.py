@@ -128,7 +128,11 @@ def add_located_grazing(ds: xr.Dataset, params: Params, *, window: float = 0.01,
     # Newton from the nearest branch point (not from a simulated guess: at grazing the loop's touch of
     # the wall makes the simulated word ambiguous)
     z0 = np.concatenate([[br.phase.values[near, 0]], np.roll(br.dt.values[near], -1), br.v_minus.values[near]])
-    og = orbit_from_vector(pg, word, k, solve_orbit(z0, parse_word(word), dg, pg.gbar, pg.r, k))
+    try:
+        og = orbit_from_vector(pg, word, k, solve_orbit(z0, parse_word(word), dg, pg.gbar, pg.r, k))
+    except OrbitError as err:
+        ds.attrs["grazing_status"] = f"Newton failed at the located grazing d={dg:.8g}: {err}"
+        return ds
     # drawn from the Newton orbit's own flights: at the grazing d a simulator's run of it registers the
     # loop's touch of the wall as an impact or not as rounding decides, and the two runs part there
     run = orbit_run(og)
@@ -195,32 +199,35 @@ def summary_markdown(table: xr.Dataset) -> str:
 
 
 def bistability_dataset(branch21: xr.Dataset, branch31: xr.Dataset, g1: float, g2: float, *, d_mid: float,
-                        samples_per_unit: int = 400, offset: float = 1e-6) -> xr.Dataset:
+                        samples_per_unit: int = 400, offset: float = 1e-6, missing: str = "") -> xr.Dataset:
     """Phase portraits of the bistable 2:1 and 3:1 motions (paper Figure 8 (d)-(g)): the 2:1 orbit just
-    above G1, both orbits at ``d_mid``, and the 3:1 orbit just below G2, each over one period."""
-    from ..analysis.orbits import find_orbit
+    above G1, both orbits at ``d_mid``, and the 3:1 orbit just below G2, each over one period.
 
-    gbar = float(branch21.gbar.values[0])
-    slope = float(branch21.attrs.get("gbar_slope", 0.0))
-    r = float(branch21.attrs["r"])
+    A panel that cannot be drawn is NaN and its ``status`` says why: G1 or G2 not found (NaN ``g1``, ``g2``;
+    ``missing`` says why; attribute ``G_missing``), a failed branch, no admissible orbit of its branch, Newton failing, or an orbit
+    that crosses a wall (not a motion of the device).  The others are drawn (``status`` ``"drawn"``).
+    """
+    from ..analysis.orbits import OrbitError
+
+    ref = next((b for b in (branch21, branch31) if b.sizes.get("point", 0)), None)
+    gbar = float(ref.gbar.values[0]) if ref is not None else np.nan
+    slope = float(ref.attrs.get("gbar_slope", 0.0)) if ref is not None else 0.0
+    r = float(ref.attrs["r"]) if ref is not None else np.nan
+    d_ref = float(ref.d.values[0]) if ref is not None else np.nan
     panels = [("G1", branch21, g1 + offset), (f"d={d_mid:g} (2:1)", branch21, d_mid),
               (f"d={d_mid:g} (3:1)", branch31, d_mid), ("G2", branch31, g2 - offset)]
     n_t = int(round(2.0 * samples_per_unit)) + 1
     Z = np.full((len(panels), n_t), np.nan)
     V = np.full((len(panels), n_t), np.nan)
-    ds_attrs = {}
-    words, ds_d, v0s, phis = [], [], [], []
-    closure = np.full(len(panels), np.nan)
-    for k, (_name, br, d) in enumerate(panels):
-        # start from the physical (admissible, preferably stable) stretch of the branch: the branch also
-        # passes these d on its unstable and wall-crossing stretches
-        good = (br.admissible & br.stable).values
-        good = good if good.any() else br.admissible.values
-        cand = np.flatnonzero(good)
-        i = int(cand[np.argmin(np.abs(br.d.values[cand] - d))])
-        p = Params(d=float(d), gbar=gbar + slope * (float(d) - float(branch21.d.values[0])), r=r)
-        o = find_orbit(p, str(br.attrs["word"]), float(br.phase[i, 0]), float(br.v_minus[i, 0]))
-        run = simulate(p, o.phi, float(o.v_minus[0]), t_end=2.0 * o.k + 1.0)
+    v0s, phis, closure = (np.full(len(panels), np.nan) for _ in range(3))
+    status, ds_attrs = [], {}
+    for k, (name, br, d) in enumerate(panels):
+        try:
+            o = _panel_orbit(br, name, d, gbar + slope * (d - d_ref), r, missing)
+        except OrbitError as err:
+            status.append(f"not drawn: {err}")
+            continue
+        run = simulate(o.params, o.phi, float(o.v_minus[0]), t_end=2.0 * o.k + 1.0)
         tr = trajectory(run, np.linspace(0.0, 2.0 * o.k, n_t))
         Z[k], V[k] = tr.Z.values, tr.Zdot.values
         # closes: the state one period later is the same, compared between impacts (at an impact
@@ -229,18 +236,42 @@ def bistability_dataset(branch21: xr.Dataset, branch31: xr.Dataset, g1: float, g
         both = trajectory(run, np.concatenate([probe, probe + 2.0 * o.k]))
         z, v = (both[x].values.reshape(2, -1) for x in ("Z", "Zdot"))
         closure[k] = max(float(np.max(np.abs(z[1] - z[0]))), float(np.max(np.abs(v[1] - v[0]))))
-        words.append(o.word)
-        ds_d.append(float(d))
-        v0s.append(float(o.v_minus[0]))
-        phis.append(float(o.phi))
+        v0s[k], phis[k] = float(o.v_minus[0]), float(o.phi)
         ds_attrs[f"panel{k}_stable"] = int(o.stable)
+        status.append("drawn")
     ds = xr.Dataset(
         {"Z": (("panel", "sample"), Z), "Zdot": (("panel", "sample"), V),
-         "word": ("panel", np.array(words, dtype=object).astype(str)), "d": ("panel", np.array(ds_d)),
-         "v0": ("panel", np.array(v0s), {"units": "1", "long_name": "pre-impact velocity of the bottom impact at t0"}),
-         "phi": ("panel", np.array(phis), {"units": "rad", "long_name": "forcing phase of the bottom impact at t0"}),
-         "closure": ("panel", closure, {"units": "1", "long_name": "largest change of Z or Zdot over one period, between impacts (0: the portrait closes)"})},
+         "word": ("panel", np.array([str(p_[1].attrs.get("word", "")) for p_ in panels], dtype=object).astype(str)),
+         "d": ("panel", np.array([p_[2] for p_ in panels], dtype=float)),
+         "v0": ("panel", v0s, {"units": "1", "long_name": "pre-impact velocity of the bottom impact at t0"}),
+         "phi": ("panel", phis, {"units": "rad", "long_name": "forcing phase of the bottom impact at t0"}),
+         "closure": ("panel", closure, {"units": "1", "long_name": "largest change of Z or Zdot over one period, between impacts (0: the portrait closes)"}),
+         "status": ("panel", np.array(status, dtype=object).astype(str),
+                    {"long_name": "drawn, or not drawn and why"})},
         coords={"panel": [p_[0] for p_ in panels]},
     )
-    ds.attrs.update(G1=g1, G2=g2, gbar=gbar, r=r, **ds_attrs)
+    ds.attrs.update(G1=g1, G2=g2, gbar=gbar, r=r, G_missing=missing, **ds_attrs)
     return annotate(ds)
+
+
+def _panel_orbit(br: xr.Dataset, name: str, d: float, gbar: float, r: float, missing: str):
+    """The admissible orbit of branch ``br`` at ``d`` for the portrait ``name``; ``OrbitError`` says why none."""
+    from ..analysis.orbits import OrbitError, find_orbit
+
+    word = str(br.attrs.get("word", "?"))
+    if br.attrs.get("status") == "failed":
+        raise OrbitError(f"no {word} branch ({br.attrs.get('reason', '')})")
+    if not np.isfinite(d):
+        raise OrbitError(f"no {name} ({missing or 'not located'})")
+    # start from the physical (admissible, preferably stable) stretch of the branch: the branch also
+    # passes these d on its unstable and wall-crossing stretches
+    good = (br.admissible & br.stable).values if br.sizes.get("point", 0) else np.zeros(0, bool)
+    good = good if good.any() else br.admissible.values if good.size else good
+    cand = np.flatnonzero(good)
+    if not cand.size:
+        raise OrbitError(f"the {word} branch has no admissible orbit")
+    i = int(cand[np.argmin(np.abs(br.d.values[cand] - d))])
+    o = find_orbit(Params(d=float(d), gbar=gbar, r=r), word, float(br.phase[i, 0]), float(br.v_minus[i, 0]))
+    if not o.admissible:
+        raise OrbitError(f"the {word} orbit at d={d:.6g} is not a motion ({o.reason})")
+    return o

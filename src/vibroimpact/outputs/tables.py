@@ -145,7 +145,16 @@ def table1(branches: list[xr.Dataset], transitions: list[xr.Dataset] = ()) -> pd
         else:
             row["unrefined"] = "none"
         rows.append(row)
-    return pd.DataFrame(rows)
+    df = pd.DataFrame(rows)
+    for col in TABLE1_COLUMNS:  # an incline without a branch has NaN there, and a table of such inclines these columns
+        if col not in df:
+            df[col] = np.nan
+    return df
+
+
+#: the columns :func:`table1` always has (NaN in the row of an incline without a branch, its ``note`` saying why)
+TABLE1_COLUMNS = ("beta", "beta_deg", "stable_from", "stable_to", "lower_cause", "upper_cause", "d_B", "d_A", "d_fold",
+                  "paper_from", "paper_to", "types", "branch_stops", "unrefined")
 
 
 def table1_markdown(df: pd.DataFrame) -> str:
@@ -154,6 +163,9 @@ def table1_markdown(df: pd.DataFrame) -> str:
     names = {90.0: "π/2", 60.0: "π/3", 45.0: "π/4", 30.0: "π/6"}
     for _, r in df.iterrows():
         name = names.get(round(r.beta_deg, 6), f"{r.beta:.4f}")
+        if _failed(r):  # no branch at this incline: why, in the row
+            lines.append(f"| {name} | no 2:1 branch: {r.note} | | | | | |")
+            continue
         lines.append(
             f"| {name} | ({r.stable_from:.6f}, {r.stable_to:.6f}) | {r.lower_cause} / {r.upper_cause} | "
             f"({r.paper_from:g}, {r.paper_to:g}) | {r.d_B:.6f} | {r.d_A} | {r.d_fold:.6f} |"
@@ -164,7 +176,7 @@ def table1_markdown(df: pd.DataFrame) -> str:
               "| β | interval: type |", "|---|---|"]
     for _, r in df.iterrows():
         name = names.get(round(r.beta_deg, 6), f"{r.beta:.4f}")
-        lines.append(f"| {name} | {r.get('types', '')} |")
+        lines.append(f"| {name} | {'no 2:1 branch' if _failed(r) else r.get('types', '')} |")
     if "d_graz" in df:
         lines += ["", "The paper's d_graz read both ways it states it: where the 1:1 motion, followed with d "
                   "decreasing (the length sweep at the physics' force), leaves the 1:1 family, grazing (its clearance "
@@ -176,7 +188,7 @@ def table1_markdown(df: pd.DataFrame) -> str:
             name = names.get(round(r.beta_deg, 6), f"{r.beta:.4f}")
             if not np.isfinite(r.get("d_graz", np.nan)):
                 lines.append(f"| {name} | — ({r.get('d_graz_status', 'no length sweep at this incline')}) | | "
-                             f"{r.d_fold:.6f} | |")
+                             f"{r.get('d_fold', np.nan):.6f} | |")
                 continue
             lines.append(f"| {name} | {r.d_graz:.6f} | {r.d_graz_kind} (clearance {r.d_graz_clearance:.1e}) | "
                          f"{r.d_fold:.6f} | {r.d_graz_minus_fold:+.6f} |")
@@ -184,8 +196,14 @@ def table1_markdown(df: pd.DataFrame) -> str:
               "could not be refined:", ""]
     for _, r in df.iterrows():
         name = names.get(round(r.beta_deg, 6), f"{r.beta:.4f}")
-        lines.append(f"- {name}: {r.get('branch_stops', '?')}. Unrefined critical points: {r.get('unrefined', '?')}.")
+        lines.append(f"- {name}: no 2:1 branch ({r.note})." if _failed(r) else
+                     f"- {name}: {r.get('branch_stops', '?')}. Unrefined critical points: {r.get('unrefined', '?')}.")
     return "\n".join(lines) + "\n"
+
+
+def _failed(row) -> bool:
+    """Whether a row of :func:`table1` is an incline without a branch (its ``note`` says why)."""
+    return isinstance(row.get("note"), str) and bool(row.get("note"))
 
 
 def grazing_lines(branches: list[xr.Dataset], scene: dict) -> dict:
@@ -624,7 +642,7 @@ def chaos_markdown(windows: pd.DataFrame, outputs: pd.DataFrame, between: str = 
         big = {q: pts.loc[pts[f"{q}_diff_se"].abs().idxmax()] if pts[f"{q}_diff_se"].notna().any() else None
                for q in ("U_T", "U_I")}
 
-        def largest(q):
+        def largest(q, big=big):
             r = big[q]
             if r is None:
                 return "—"

@@ -49,7 +49,8 @@ class WorkflowConfig:
     resolution : dict
         The preset's values.
     captions, scenes, branch_scenes, words, sweeps, maps, studies
-        The config's sections (``maps``: the regime maps and the bifurcation set's own planes).
+        The config's sections (``maps``: the regime maps and the bifurcation set's own planes; ``sweeps``: each
+        sweep of s with its force, the physics' where it gives none).
     figures : list of str
         The figures the figure check compares (``figure_checks.figures``).
     all_figures : list of str
@@ -92,7 +93,10 @@ def check(config: dict) -> WorkflowConfig:
     _studies(config)
     check_design(config["design"], {q: config["resolution"][q]["design"] for q in config["resolution"]},
                  config["maps"])
-    _known(config)
+    _lift(config, device)
+    paper = device.same_physics(Device())
+    if paper:  # the known discrepancies are the paper's device's: another device's check does not read them
+        _known(config)
     all_maps = dict(config["maps"]) | dict(config["bifurcation"].get("maps", {}))
     figures = figure_names(config, all_maps)
     chosen = config["figure_checks"].get("figures", "all")
@@ -100,17 +104,28 @@ def check(config: dict) -> WorkflowConfig:
         for f in chosen:
             if f not in figures:
                 raise ConfigError("figure_checks.figures", f, f"'all' or a list of figures of {figures}")
-    paper = device.same_physics(Device())
     return WorkflowConfig(
         device=device, paper_device=paper, results_dir="." if paper else f"results/devices/{device.name}",
         quality=config["quality"], resolution=config["resolution"][config["quality"]], captions=config["captions"],
         scenes=list(config["scenes"]), branch_scenes=config["branch_scenes"], words=config["branches"]["words"],
-        sweeps=config["sweeps"]["scenes"], maps=all_maps, studies=list(config.get("studies") or []),
+        sweeps={n: _at_force(sc, config["physics"]["F"]) for n, sc in config["sweeps"]["scenes"].items()}, maps=all_maps, studies=list(config.get("studies") or []),
         figures=figures if chosen == "all" else list(chosen), all_figures=figures)
 
 
+def _at_force(scene: dict, F: float) -> dict:
+    """A sweep with its fixed force: a sweep of s that gives none is at the physics' force ``F``."""
+    if scene["vary"] != "s" or "F" in scene:
+        return scene
+    keys = list(scene)
+    keys.insert(keys.index("range") + 1 if "range" in keys else len(keys), "F")
+    return {k: F if k == "F" else scene[k] for k in keys}
+
+
 def _device(config) -> Device:
-    name = config.get("device")
+    name, mem = config.get("device"), config["membrane"]
+    if not mem["R"] > mem["r_b"]:
+        raise ConfigError("membrane.R", mem["R"], f"a radius > membrane.r_b = {mem['r_b']!r} m: the ball presses into "
+                          "the membrane's active area (the energy model's stretched cap has no solution otherwise)")
     try:
         dev = Device.from_config(config["physics"], config["membrane"], name)
     except ValueError as err:
@@ -136,6 +151,9 @@ def _branches(config):
             raise ConfigError(f"branch_scenes.{scene}.s_ranges", spec["s_ranges"], "one [s_min, s_max] per beta")
         for i, r in enumerate(spec["s_ranges"]):
             _range(f"branch_scenes.{scene}.s_ranges[{i}]", r, "[s_min, s_max] with s_min < s_max")
+        if "grazing" in spec and not any(abs(spec["grazing"]["beta"] - b) < 1e-9 for b in spec["betas"]):
+            raise ConfigError(f"branch_scenes.{scene}.grazing.beta", spec["grazing"]["beta"],
+                              f"one of the scene's betas {spec['betas']} (its G1 and G2 lines are drawn in that row)")
         for w in [spec["word"]] + ([spec["grazing"]["word"]] if "grazing" in spec else []):
             if w not in words:
                 raise ConfigError(f"branch_scenes.{scene}.word", w, f"a word defined under branches.words: {sorted(words)}")
@@ -156,12 +174,15 @@ def _branches(config):
 
 def _sweeps_and_maps(config):
     sweeps = config["sweeps"]["scenes"]
+    with_branches = {p for f in config["energy"]["figures"].values() for p in f["panels"]}
+    with_branches |= set(config["chaos"]["panels"]) | {"figBiS"}
     for name, sc in sweeps.items():
-        fixed = "s" if sc["vary"] == "F" else "F"
-        if fixed not in sc:
-            raise ConfigError(f"sweeps.scenes.{name}.{fixed}", None,
-                              f"a value: a sweep of {sc['vary']} needs the fixed "
-                              f"{'length s (m)' if fixed == 's' else 'force F (N)'}")
+        if sc["vary"] == "F" and "s" not in sc:
+            raise ConfigError(f"sweeps.scenes.{name}.s", None, "a value: a sweep of F needs the fixed length s (m)")
+        F = config["physics"]["F"]
+        if sc["vary"] == "s" and sc.get("F", F) != F and name in with_branches:
+            raise ConfigError(f"sweeps.scenes.{name}.F", sc["F"], f"none (the sweep is then at physics.F = {F:g} N) "
+                              f"or physics.F: a figure draws this sweep with the analytic branches, continued at physics.F")
         if sc["vary"] in sc:
             raise ConfigError(f"sweeps.scenes.{name}.{sc['vary']}", sc[sc["vary"]],
                               f"nothing: {sc['vary']} is the swept parameter (see range)")
@@ -230,6 +251,39 @@ def _studies(config):
             raise ConfigError(f"studies[{i}].beta", st["beta"], f"an incline with gbar = M g sin(beta) / F < 1 (here "
                               f"{gbar:.4g}: the forcing can never lift the ball off the bottom membrane, so no impact "
                               "orbit exists and no branch can start)")
+
+
+def _lift(config, device: Device):
+    """Refuse a scene at an incline where the forcing can never lift the ball off the bottom membrane.
+
+    With ``gbar = M g sin(beta) / F >= 1`` the ball rests on the bottom for good: no impact orbit, branch or
+    motion exists there.  Every scene at one incline and force is checked: captions, branch scenes, sweeps (a
+    sweep of F at the lowest force of its range; the force branches at theirs) and basins.  The regime maps span
+    planes in which such a region is a regime of its own: they run and record it (at rest for good).
+    """
+    ph, force = config["physics"], config["branches"]["force"]
+    scenes = [(f"captions.{n}.beta", c["beta"], c.get("F", ph["F"]), f"captions.{n}.F" if "F" in c else "physics.F")
+              for n, c in config["captions"].items()]
+    for name, sc in config["branch_scenes"].items():
+        scenes += [(f"branch_scenes.{name}.betas[{i}]", b, ph["F"], "physics.F") for i, b in enumerate(sc["betas"])]
+        if "grazing" in sc:
+            scenes.append((f"branch_scenes.{name}.grazing.beta", sc["grazing"]["beta"], ph["F"], "physics.F"))
+    for name, sc in config["sweeps"]["scenes"].items():
+        key = f"sweeps.scenes.{name}"
+        if sc["vary"] == "s":
+            scenes.append((f"{key}.beta", sc["beta"], sc.get("F", ph["F"]), f"{key}.F" if "F" in sc else "physics.F"))
+        else:  # the lowest force of the sweep and of the force branches drawn with it
+            scenes.append((f"{key}.beta", sc["beta"], min(sc["range"]), f"the lowest force of {key}.range"))
+            scenes.append((f"{key}.beta", sc["beta"], min(force["F_range"]), "the lowest force of branches.force.F_range"))
+    scenes += [(f"basins.{n}.beta", b["beta"], ph["F"], "physics.F") for n, b in config["basins"].items()]
+    for key, beta, F, source in scenes:
+        gbar = device.gbar(beta, F)
+        if gbar >= 1:
+            weight = device.M * device.g
+            raise ConfigError(key, beta, f"an incline where the forcing can lift the ball off the bottom membrane, gbar = "
+                              f"M g sin(beta) / F < 1 (here {gbar:.4g} at F = {F:g} N, {source}: the ball rests on the "
+                              f"bottom for good, no impact motion exists): sin(beta) < {F / weight:.4g}, or a force "
+                              f"F > M g sin(beta) = {weight * math.sin(beta):.4g} N")
 
 
 def _known(config):

@@ -13,6 +13,34 @@ def _scene_mask(br, d_lo, d_hi):
     return (br.admissible & (br.d >= d_lo) & (br.d <= d_hi)).values
 
 
+def _missing(br, d_lo, d_hi) -> str:
+    """Why a row of a branch figure has nothing to draw ("" where it has): a failed branch, or none of its
+    admissible points in the row's d range (another device maps the row's s range to other d)."""
+    from .sweeps import word_ratio
+
+    name = f"{word_ratio(str(br.attrs.get('word', '')))} branch"
+    if br.attrs.get("status") == "failed" or not br.sizes.get("point", 0):
+        return f"not drawn: no {name} ({br.attrs.get('reason', 'no point')})"
+    if not _scene_mask(br, d_lo, d_hi).any():
+        adm = br.d.values[br.admissible.values]
+        span = f"d in [{adm.min():.4g}, {adm.max():.4g}]" if adm.size else "no d"
+        return (f"not drawn: the {name} has no admissible point in this row's d range [{d_lo:.4g}, {d_hi:.4g}] "
+                f"(its s range for this device); it is admissible for {span}")
+    return ""
+
+
+def _not_drawn(row, labels, br, why):
+    """A row of panels with nothing to draw: titled as the others, its axes off, why across the middle one."""
+    import textwrap
+
+    for ax in row:
+        ax.set_title(f"({next(labels)}) {beta_label(br.attrs['beta'])}")
+        ax.axis("off")
+    mid = row[len(row) // 2]
+    mid.text(0.5, 0.5, textwrap.fill(why, 60), transform=mid.transAxes, ha="center", va="center", fontsize=7,
+             color="tab:red")
+
+
 CRITICAL_TEST = {  # quantity that changes sign at each kind of critical point (picks the branch stretch)
     "A": lambda br: br.discriminant.values,
     "B": lambda br: br.eig_real.values.min(axis=1) + 1.0,
@@ -88,8 +116,8 @@ def fig2(branches, sims, d_ranges, grazing=None):
     labels = iter("abcdefghijklmnopqrstuvwxyz")
     names = []  # (ax, text, candidates, style), placed once the layout is fixed
     for row, br, sim, (lo, hi) in zip(axes, branches, sims, d_ranges, strict=True):
-        if br.attrs.get("status") == "failed":
-            row[0].set_title(f"failed: {br.attrs['reason']}")
+        if why := _missing(br, lo, hi):
+            _not_drawn(row, labels, br, why)
             continue
         m = _scene_mask(br, lo, hi)
         d = br.d.values[m]
@@ -97,7 +125,8 @@ def fig2(branches, sims, d_ranges, grazing=None):
         walls = br.wall.values
         lines = {}
         if grazing is not None and abs(br.attrs["beta"] - grazing["beta"]) < 1e-9:
-            lines = {"G1": (grazing["G1"], "k"), "G2": (grazing["G2"], "tab:red")}
+            lines = {k: (g, c) for k, g, c in (("G1", grazing["G1"], "k"), ("G2", grazing["G2"], "tab:red"))
+                     if np.isfinite(g)}  # another device may have neither
         for col, (var, scale, ylabel) in enumerate(
             [("v_minus", 1.0, r"$\dot Z_k$"), ("dt", 0.5, r"$\Delta t_j/2$"), ("phase", 1.0, r"$\varphi_k$")]
         ):
@@ -163,8 +192,8 @@ def fig3(branches, d_ranges):
     labels = iter("abcdefghijklmnop")
     names = []
     for row, br, (lo, hi) in zip(axes, branches, d_ranges, strict=True):
-        if br.attrs.get("status") == "failed":
-            row[0].set_title(f"failed: {br.attrs['reason']}")
+        if why := _missing(br, lo, hi):
+            _not_drawn(row, labels, br, why)
             continue
         d = br.d.values
         inside = (d >= lo) & (d <= hi)

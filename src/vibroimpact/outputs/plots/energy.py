@@ -267,7 +267,10 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
     the analytic orbits' averages as lines, against d (the swept s or force on the top axis); with
     ``velocities`` also |Zdot_k| (paper Fig 0 (a), (c)).  The motion found along each sweep is written
     over each panel; d_graz from each sweep's located ``transitions`` and G1 of the continued 2:1 branch
-    (``orbit_sets``) are marked."""
+    (``orbit_sets``) are marked.  An analytic branch that failed (another device may not have it) is not drawn,
+    and the note under the figure says which, in which panels, and why."""
+    from .sweeps import word_ratio
+
     use_style()
     n = len(panels)
     if velocities:
@@ -283,9 +286,14 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
     letters = iter("abcdefghijklmnop")
     orbit_sets = orbit_sets or [[] for _ in panels]
     transitions = transitions or [None for _ in panels]
-    drawn = set()
-    for (vax, uax), sw, en, brs, obs, tr in zip(pairs, sweeps, energies, branch_sets, orbit_sets, transitions,
-                                                strict=True):
+    drawn, missing = set(), {}
+    for k, ((vax, uax), sw, en, brs, obs, tr) in enumerate(zip(pairs, sweeps, energies, branch_sets, orbit_sets,
+                                                              transitions, strict=True)):
+        for br in obs:
+            if br.attrs.get("status") == "failed":
+                why = f"analytic {word_ratio(str(br.attrs.get('word', '')))}: {br.attrs.get('reason', '')}"
+                here = "abcdefghijklmnop"[2 * k:2 * k + 2] if velocities else "abcdefghijklmnop"[k]
+                missing.setdefault(why, []).extend(f"({c})" for c in here)
         marks = grazing_marks(obs, tr)
         drawn |= {name for name, _ in marks}
         if vax is not None:
@@ -317,6 +325,12 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
                 "them, the shapes and jumps do not.  Over each panel: the down sweep's motion "
                 "(T = its period in t).").format(h=a["membrane_h"], K=a["membrane_K"], R=a["membrane_R"],
                                                 rb=a["membrane_r_b"], U=a["membrane_U_in"], m=a["membrane_m"])
+    if missing:
+        import textwrap
+
+        width = 150 if velocities or n > 1 else 90
+        note = (note + "\n" if note else "") + "Not drawn:\n" + "\n".join(
+            textwrap.fill(f"{', '.join(panels_)}: {why}", width) for why, panels_ in missing.items())
     _energy_legend(fig, velocities, note, drawn)
     _rows_of_names(fig)
     return fig

@@ -153,8 +153,11 @@ def fig_bis(sw, transitions, portraits, branches):
     which shows the direction; (d)-(g) the closed orbits at G1, d_mid (both) and G2 over one period, their
     impacts marked as in (a)-(c), the walls shaded in their colours.  Panel (g) gives the evidence that G2
     is a fold (:func:`fold_evidence`): the multiplier crossing +1 where d turns back, the slowest impact
-    speed there.
+    speed there.  What another device lacks (a failed branch, no G1 or G2, a portrait not drawn: the
+    portraits' ``status``) is left out and said under the legend and in the portrait's panel.
     """
+    import textwrap
+
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
@@ -162,13 +165,27 @@ def fig_bis(sw, transitions, portraits, branches):
     fig = plt.figure(figsize=(12, 7.4))
     gs = fig.add_gridspec(2, 4)
     g1, g2 = portraits.attrs["G1"], portraits.attrs["G2"]
-    fold = fold_evidence(branches[1], g2)
+    failed = [br.attrs.get("status") == "failed" for br in branches]
+    missing = [f"analytic {word_ratio(str(br.attrs.get('word', '')))}: {br.attrs.get('reason', '')}"
+               for br, no in zip(branches, failed, strict=True) if no]
+    fold = None
+    if np.isfinite(g2) and not failed[1]:
+        try:
+            fold = fold_evidence(branches[1], g2)
+        except ValueError as err:  # no located fold, or no multiplier crossing +1, near G2
+            missing.append(f"the fold at G2: {err}")
+    status = portraits["status"].values.astype(str) if "status" in portraits else ["drawn"] * portraits.sizes["panel"]
+    if not (np.isfinite(g1) and np.isfinite(g2)):
+        missing.append(f"G1, G2: {portraits.attrs.get('G_missing') or 'not located'}")
+    branches = [br for br, no in zip(branches, failed, strict=True) if not no]
     lo, hi = float(sw.d.min()), float(sw.d.max())
     stride = max(1, int(np.ceil(sw.sizes["point"] / BIS_POINTS)))
     names = [f"{word_ratio(str(br.attrs['word']))} period-2" for br in branches]
 
     def jumps(ax, label=True):
         for g, name in ((g1, "G1"), (g2, "G2")):
+            if not np.isfinite(g):
+                continue
             ax.axvline(g, color="k", ls="-.", lw=0.8, zorder=1)
             if label:
                 ax.annotate(name, (g, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 2), ha="center",
@@ -207,7 +224,10 @@ def fig_bis(sw, transitions, portraits, branches):
         Line2D([], [], color="0.4", ls="--", label="dashed: unstable"),
         Line2D([], [], color="k", ls="-.", label="G1: 2:1 grazes, 3:1 born\nG2: 3:1 fold (not grazing, (g))"),
         Patch(facecolor=BOTTOM, alpha=0.25, label="(d)-(g): bottom wall"), Patch(facecolor=TOP, alpha=0.25, label="top wall")],
-        loc="center", fontsize=7)
+        loc="upper center" if missing else "center", fontsize=7)
+    if missing:
+        key.text(0.5, 0.0, "\n".join(textwrap.fill("not drawn: " + m, 38) for m in missing), transform=key.transAxes,
+                 ha="center", va="bottom", fontsize=6, color="tab:red")
     gbar, r = float(portraits.attrs["gbar"]), float(portraits.attrs["r"])
     heads = {"G1": "grazing point G1", "G2": "G2, fold of 3:1"}
     for k in range(portraits.sizes["panel"]):
@@ -215,6 +235,13 @@ def fig_bis(sw, transitions, portraits, branches):
         p = portraits.isel(panel=k)
         d = float(p.d)
         motion = f"{word_ratio(str(p.word.values))} period-2"
+        name = str(p.panel.values)
+        if status[k] != "drawn":
+            ax.axis("off")
+            ax.set_title(f"({'defg'[k]}) {heads.get(name, motion.split()[0] + ' motion')}", fontsize=8)
+            ax.text(0.5, 0.5, textwrap.fill(str(status[k]), 40), transform=ax.transAxes, ha="center", va="center",
+                    fontsize=7, color="tab:red")
+            continue
         ax.plot(p.Z, p.Zdot, color="k", lw=0.8)
         ax.axvspan(d / 2, d / 2 * 1.08, color=BOTTOM, alpha=0.25, lw=0)
         ax.axvspan(-d / 2 * 1.08, -d / 2, color=TOP, alpha=0.25, lw=0)
@@ -222,10 +249,9 @@ def fig_bis(sw, transitions, portraits, branches):
         ax.plot(wall * d / 2, v, BIS_MARKERS.get(motion, "x"), mfc="none", color=motion_color(motion), ms=6, mew=1.2,
                 ls="none", label=f"_impacts of {motion}", zorder=4)
         ax.set_xlim(-d / 2 * 1.08, d / 2 * 1.08)
-        name = str(p.panel.values)
         head = f"({'defg'[k]}) {heads.get(name, motion.split()[0] + ' motion')}, d={d:.6f}"
         head += "\n" + r"$\dot Z(t_0)$" + f"={float(p.v0):.4f}, " + r"$\varphi$" + f"={float(p.phi):.4f}"
-        if name == "G2":
+        if name == "G2" and fold is not None:
             head += (f"\nfold at d={fold['d']:.6f}: multiplier\n{fold['lam_before']:.3f} to {fold['lam_after']:.3f}"
                      + (", d turns back;" if fold["d_turns"] else ";") + "\nslowest impact " + r"$|\dot Z|$"
                      + f"={fold['v_min']:.3f} > 0:\nno grazing")

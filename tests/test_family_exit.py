@@ -60,6 +60,7 @@ def test_2to1_family_exit_is_the_analytic_grazing_G1():
     assert ex["status"] == "located"
     assert ex["kind"] == "grazing"
     assert ex["after"] == "3:1 period-2"
+    assert not ex["sampled"]  # the last 2:1 motion is periodic: its clearance is its cycle's
     assert abs(ex["d"] - g1) <= 0.5 * ex["d_width"] + max(1e-3 * (d[0] - d[1]), 4 * xtol)
     assert xtol / 100 < ex["d_width"] <= xtol  # refined to xtol, and no further
     assert ex["clearance"] < 1e-6  # the orbit's loop nearly touches the wall at the bracket's upper end
@@ -101,7 +102,7 @@ def test_pi3_1to1_family_ends_without_grazing():
     ex = family_exit(d, g, 0.5, 0.42, 0.87, xtol=1e-6)
     # the start: the 1:1 motion at the line's top, reached from Fig 0's sweep start at d = 0.245
     assert ex["status"] == "located", ex["status"]
-    assert ex["kind"] == "no grazing"
+    assert ex["kind"] == "no grazing" and ex["sampled"]  # chaotic: its clearance is a sample's least
     assert ex["clearance"] > 3 * GRAZING_CLEARANCE * ex["d"]
     assert ex["slowest_after"] > 0.03
     assert 0.230 < ex["d"] < 0.240

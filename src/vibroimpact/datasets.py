@@ -132,6 +132,7 @@ VARIABLES: dict[str, tuple[str, str, str]] = {
     "d_graz_kind": ("", "grazing (clearance below GRAZING_CLEARANCE d) or no grazing", ""),
     "d_graz_after": ("", "motion beyond d_graz (bracket's lower end)", ""),
     "d_graz_status": ("", "located, or why not", ""),
+    "d_graz_sampled": ("1", "d_graz's clearance is a sample's least (the last 1:1 motion has no period)", ""),
     "d_graz_s": ("m", "cylinder length s at d_graz", ""),
     "d_graz_F": ("N", "forcing amplitude ||F|| at d_graz", ""),
 }

@@ -179,3 +179,8 @@ def test_d_graz_curve_follows_d_along_the_axis_that_changes_it():
     assert float(d_line["at"][0]) == pytest.approx(float(d_line.d_graz[0]))
     none = d_graz_curve("beta", [0.3, 0.5], "r", [0.5, 0.6], phi=0.42, v0=0.87)
     assert none.sizes["line"] == 0 and none.attrs["status"].startswith("no d_graz curve")
+    # CF style, as every dataset the workflow writes: the line's value carries its axis' units
+    assert (s_line["at"].attrs["units"], F_line["at"].attrs["units"], d_line["at"].attrs["units"]) == ("m", "N", "1")
+    for name in [*s_line.data_vars, *s_line.coords]:
+        assert "long_name" in s_line[name].attrs, name
+        assert s_line[name].dtype.kind not in "fiu" or "units" in s_line[name].attrs, name

@@ -143,6 +143,7 @@ INDEX = {
     "event": "event", "critical": "critical or grazing point", "curve": "curve of the set",
     "crossing": "crossing of two curves", "boundary": "simulated boundary of the map", "transition": "located transition",
     "interval": "bistable interval", "eig": "eigenvalue of DP", "sim": "simulated point", "run": "run",
+    "line": "line of the plane followed with d decreasing",
 }
 #: prefixes whose variable is another variable at a located place: prefix -> where
 AT = {"critical_": "at the critical point", "event_": "where the curve meets another set",

@@ -24,7 +24,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from ..datasets import annotate
+from ..datasets import VARIABLES, annotate
 from ..dynamics import kernels as K
 from ..dynamics.params import Params
 from ..dynamics.simulate import identify_attractor, simulate
@@ -287,7 +287,7 @@ def d_graz_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, **k
                     {names.get(key, f"d_graz_{key}"): ("line", np.array([ex[key] for *_, ex in rows]))
                      for key in (rows[0][2] if rows else {})},
                     coords={"line": np.arange(len(rows))})
-    ds["at"].attrs.update(long_name=f"{along} at d_graz")
+    ds["at"].attrs.update(units=VARIABLES[along][0], long_name=f"{VARIABLES[along][1]} at d_graz")
     ds.attrs.update(status="ok", along=along, other=other, d_graz_grazing_clearance=GRAZING_CLEARANCE,
                     grid_step=float(np.max(np.abs(np.diff(grid)))) if grid.size > 1 else 0.0)
     return annotate(ds)

@@ -60,6 +60,7 @@ def test_2to1_family_exit_is_the_analytic_grazing_G1():
     assert ex["status"] == "located"
     assert ex["kind"] == "grazing"
     assert ex["after"] == "3:1 period-2"
+    assert not ex["sampled"]  # the last 2:1 motion is periodic: its clearance is its cycle's
     assert abs(ex["d"] - g1) <= 0.5 * ex["d_width"] + max(1e-3 * (d[0] - d[1]), 4 * xtol)
     assert xtol / 100 < ex["d_width"] <= xtol  # refined to xtol, and no further
     assert ex["clearance"] < 1e-6  # the orbit's loop nearly touches the wall at the bracket's upper end
@@ -101,7 +102,7 @@ def test_pi3_1to1_family_ends_without_grazing():
     ex = family_exit(d, g, 0.5, 0.42, 0.87, xtol=1e-6)
     # the start: the 1:1 motion at the line's top, reached from Fig 0's sweep start at d = 0.245
     assert ex["status"] == "located", ex["status"]
-    assert ex["kind"] == "no grazing"
+    assert ex["kind"] == "no grazing" and ex["sampled"]  # chaotic: its clearance is a sample's least
     assert ex["clearance"] > 3 * GRAZING_CLEARANCE * ex["d"]
     assert ex["slowest_after"] > 0.03
     assert 0.230 < ex["d"] < 0.240
@@ -178,3 +179,8 @@ def test_d_graz_curve_follows_d_along_the_axis_that_changes_it():
     assert float(d_line["at"][0]) == pytest.approx(float(d_line.d_graz[0]))
     none = d_graz_curve("beta", [0.3, 0.5], "r", [0.5, 0.6], phi=0.42, v0=0.87)
     assert none.sizes["line"] == 0 and none.attrs["status"].startswith("no d_graz curve")
+    # CF style, as every dataset the workflow writes: the line's value carries its axis' units
+    assert (s_line["at"].attrs["units"], F_line["at"].attrs["units"], d_line["at"].attrs["units"]) == ("m", "N", "1")
+    for name in [*s_line.data_vars, *s_line.coords]:
+        assert "long_name" in s_line[name].attrs, name
+        assert s_line[name].dtype.kind not in "fiu" or "units" in s_line[name].attrs, name

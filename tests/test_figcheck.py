@@ -545,3 +545,48 @@ def test_an_exact_value_from_a_matrix_is_held_to_the_strict_tolerance_times_its_
     new = _exact_exponents([-1.0 + move, -0.5, -0.2], [sensitivity] * 3)
     df = _check(new, ref)
     assert (set(df.status) == {"pass"}) == ok, df.detail.iloc[0]
+
+
+def _located(x, y, step_x, sampled=None):
+    """Points located along lines of a grid (d_graz over a plane), with their text at the first one."""
+    fig, ax = plt.subplots()
+    fields = {"step_x": step_x} | ({} if sampled is None else {"sampled": np.asarray(sampled, bool)})
+    wellposed(ax.plot(x, y, "o")[0], "located", **fields)
+    wellposed(ax.annotate("d_graz", (x[0], 0.02), xycoords=("data", "axes fraction")), "located", step_x=step_x)
+    ds = figure_data(fig)
+    plt.close(fig)
+    return ds
+
+
+def _located_rows(new, ref):
+    names = [v for v in ref.data_vars if ref[v].attrs.get("role") != "wellposed"]
+    df = compare(new, ref, rtol=RTOL, atol=ATOL, ill=names).set_index("variable")
+    assert set(df.rule) == {"located"}
+    return df
+
+
+def test_located_values_pass_within_their_grid_step_and_only_there():
+    """x within one grid step (the located value moved inside the bracket it was refined from), y pointwise."""
+    ref = _located([0.20, 0.21, np.nan], [0.1, 0.2, 0.3], step_x=0.01)
+    same = _located_rows(_located([0.205, 0.2101, np.nan], [0.1, 0.2, 0.3], step_x=0.01), ref)
+    assert (same.status == "pass").all(), same
+    far = _located_rows(_located([0.2201, 0.21, np.nan], [0.1, 0.2, 0.3], step_x=0.01), ref)
+    assert far.status["a0_line0_x"] == "fail" and far.status["a0_text0_xy"] == "fail"
+    y_moved = _located_rows(_located([0.20, 0.21, np.nan], [0.1, 0.2 + 1e-6, 0.3], step_x=0.01), ref)
+    assert y_moved.status["a0_line0_y"] == "fail"  # no step along y: pointwise
+    nan_moved = _located_rows(_located([0.20, np.nan, 0.21], [0.1, 0.2, 0.3], step_x=0.01), ref)
+    assert nan_moved.status["a0_line0_x"] == "fail" and "NaN at 2 other places" in nan_moved.detail["a0_line0_x"]
+
+
+def test_a_classification_from_a_sample_may_change_its_artist():
+    """A point drawn among the grazing exits in one run and among the others in another (its kind decided
+    from a finite sample of a chaotic motion) is allowed to be missing, where it is marked sampled; a point not
+    marked is not."""
+    ref = _located([0.20, 0.21, 0.22], [0.1, 0.2, 0.3], step_x=0.01, sampled=[False, True, False])
+    flipped = _located_rows(_located([0.20, np.nan, 0.22], [0.1, np.nan, 0.3], step_x=0.01,
+                                     sampled=[False, True, False]), ref)
+    assert (flipped.status == "pass").all(), flipped
+    assert "1 sampled classifications differ" in flipped.detail["a0_line0_x"]
+    not_sampled = _located_rows(_located([np.nan, 0.21, 0.22], [np.nan, 0.2, 0.3], step_x=0.01,
+                                         sampled=[False, True, False]), ref)
+    assert not_sampled.status["a0_line0_x"] == "fail"

@@ -132,6 +132,7 @@ VARIABLES: dict[str, tuple[str, str, str]] = {
     "d_graz_kind": ("", "grazing (clearance below GRAZING_CLEARANCE d) or no grazing", ""),
     "d_graz_after": ("", "motion beyond d_graz (bracket's lower end)", ""),
     "d_graz_status": ("", "located, or why not", ""),
+    "d_graz_sampled": ("1", "d_graz's clearance is a sample's least (the last 1:1 motion has no period)", ""),
     "d_graz_s": ("m", "cylinder length s at d_graz", ""),
     "d_graz_F": ("N", "forcing amplitude ||F|| at d_graz", ""),
 }
@@ -142,6 +143,7 @@ INDEX = {
     "event": "event", "critical": "critical or grazing point", "curve": "curve of the set",
     "crossing": "crossing of two curves", "boundary": "simulated boundary of the map", "transition": "located transition",
     "interval": "bistable interval", "eig": "eigenvalue of DP", "sim": "simulated point", "run": "run",
+    "line": "line of the plane followed with d decreasing",
 }
 #: prefixes whose variable is another variable at a located place: prefix -> where
 AT = {"critical_": "at the critical point", "event_": "where the curve meets another set",

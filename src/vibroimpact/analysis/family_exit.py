@@ -24,7 +24,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from ..datasets import annotate
+from ..datasets import VARIABLES, annotate
 from ..dynamics import kernels as K
 from ..dynamics.params import Params
 from ..dynamics.simulate import identify_attractor, simulate
@@ -93,8 +93,10 @@ def family_exit(d, gbar, r: float, phi: float, v0: float, *, n: int = 1, impacts
         ``clearance`` (smallest interior clearance of the last attractor in the family, at the bracket's
         upper end), ``slowest_after`` (slowest impact speed of the motion at the bracket's lower end),
         ``kind`` (``"grazing"`` where ``clearance < GRAZING_CLEARANCE * d``, else
-        ``"no grazing"``) and ``after`` (the motion at the bracket's lower end: its label, or its bottom
-        impacts per top impact where no period is found).
+        ``"no grazing"``), ``after`` (the motion at the bracket's lower end: its label, or its bottom
+        impacts per top impact where no period is found) and ``sampled`` (the last attractor in the family
+        has no period: its clearance is the least over the judged events, a statistic of the motion, and the
+        kind near :data:`GRAZING_CLEARANCE` may be decided otherwise by another run).
 
     Examples
     --------
@@ -109,7 +111,7 @@ def family_exit(d, gbar, r: float, phi: float, v0: float, *, n: int = 1, impacts
     order = np.argsort(-d)
     d, gbar = d[order], gbar[order]
     out = {"status": "", "d": math.nan, "d_width": math.nan, "clearance": math.nan, "slowest_after": math.nan,
-           "kind": "", "after": ""}
+           "kind": "", "after": "", "sampled": False}
     if d.size < 2:
         return out | {"status": "not located: the line needs at least two points"}
 
@@ -171,6 +173,8 @@ def family_exit(d, gbar, r: float, phi: float, v0: float, *, n: int = 1, impacts
         "slowest_after": float(np.min(np.abs(beyond.v_minus.values[beyond.kind.values <= K.GRAZING]), initial=math.inf)),
         "kind": "grazing" if clearance < GRAZING_CLEARANCE * x else "no grazing",
         "after": after,
+        # the clearance of a motion with no period is the least over its judged events: a statistic
+        "sampled": not identify_attractor(last).periodic,
     }
 
 
@@ -285,7 +289,7 @@ def d_graz_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, dev
                     {names.get(key, f"d_graz_{key}"): ("line", np.array([ex[key] for *_, ex in rows]))
                      for key in (rows[0][2] if rows else {})},
                     coords={"line": np.arange(len(rows))})
-    ds["at"].attrs.update(long_name=f"{along} at d_graz")
+    ds["at"].attrs.update(units=VARIABLES[along][0], long_name=f"{VARIABLES[along][1]} at d_graz")
     ds.attrs.update(status="ok", along=along, other=other, d_graz_grazing_clearance=GRAZING_CLEARANCE,
                     grid_step=float(np.max(np.abs(np.diff(grid)))) if grid.size > 1 else 0.0)
     return annotate(ds)

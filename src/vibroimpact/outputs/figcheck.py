@@ -23,7 +23,9 @@ by what is well-posed about it, which its figure recorded when drawing it
     a text naming a run of one motion, at its middle: the same text, within one sweep step.
 ``located``
     values located between neighbouring points of a grid (a transition along a sweep, d_graz): each
-    coordinate within the artist's recorded grid step along it (``step_x``, ``step_y``; none: pointwise).
+    coordinate within the artist's recorded grid step along it (``step_x``, ``step_y``; none: pointwise); an
+    element the artist marks ``sampled`` (a classification from a finite sample of a motion with no period:
+    another run may draw it in the artist beside) may be present in one and missing in the other.
 ``curve``
     a curve sampled by continuation (where its points fall along it depends on the step control):
     every point of each lies on the other, within the other's chord error (``L theta / 4`` for a
@@ -221,14 +223,21 @@ def located(new, ref, name, *, rtol, atol):
             else float(attrs.get(f"wp_step_{part}", 0.0)))
     if a.shape != b.shape:
         return False, math.nan, f"shape {b.shape}, reference {a.shape}"
-    if np.any(np.isnan(a) != np.isnan(b)):
-        return False, math.nan, f"NaN at {int(np.sum(np.isnan(a) != np.isnan(b)))} other places"
-    ok = ~np.isnan(a)
+    base = artist_base(name)
+    sampled = np.zeros(a.shape, bool)
+    for ds in (ref, new):  # a classification either run made from a sample
+        if f"{base}_wp_sampled" in ds and ds[f"{base}_wp_sampled"].shape == a.shape:
+            sampled |= ds[f"{base}_wp_sampled"].values.astype(bool)
+    flips = np.isnan(a) != np.isnan(b)
+    if np.any(flips & ~sampled):
+        return False, math.nan, f"NaN at {int(np.sum(flips & ~sampled))} other places"
+    ok = ~np.isnan(a) & ~np.isnan(b)
     step = np.broadcast_to(step, a.shape)[ok]
     diff = np.abs(a[ok] - b[ok])
     worst = float(diff.max(initial=0.0))
     good = bool(np.all(diff <= step + atol + rtol * np.abs(a[ok])))
-    return good, worst, f"moved at most {worst:.3g} (one grid step: {float(step.max(initial=0.0)):.3g})"
+    moved = f"moved at most {worst:.3g} (one grid step: {float(step.max(initial=0.0)):.3g})"
+    return good, worst, moved + (f"; {int(flips.sum())} sampled classifications differ" if flips.any() else "")
 
 
 def _pieces(x, y):

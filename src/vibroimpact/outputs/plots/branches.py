@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..checks import transition_name
-from ._common import BOTTOM, TOP, beta_label, branch_line, use_style
+from ._common import BOTTOM, TOP, beta_label, branch_line, use_style, wellposed
 
 
 def _scene_mask(br, d_lo, d_hi):
@@ -202,9 +202,10 @@ def fig3(branches, d_ranges):
         real = disc >= 0
 
         def draw(ax, y, color, lw=1.0, d=d, adm=adm, st=st, inside=inside):
-            # NaN outside each stretch, so no line joins separate stretches
+            # NaN outside each stretch, so no line joins separate stretches; sampled by continuation (a small
+            # eigenvalue is known to rounding of the largest, not of itself: compared as a curve)
             for sel, style, c in ((adm & st, "-", color), (adm & ~st, "--", color), (inside & ~adm, "-", "0.75")):
-                ax.plot(d, np.where(sel, y, np.nan), style, color=c, lw=lw)
+                wellposed(ax.plot(d, np.where(sel, y, np.nan), style, color=c, lw=lw)[0], "curve")
 
         draw(row[0], disc, "tab:blue")
         row[0].axhline(0, color="tab:red", ls="-.", lw=0.8)

@@ -467,9 +467,11 @@ def _d_graz_curve(ax, c, xname, handles):
     steps = {"step_x": grid} if along == xname else {"step_y": grid}
     wellposed(ax.plot(xs, ys, "-", color="w", lw=2.6, zorder=6)[0], "located", **steps)
     wellposed(ax.plot(xs, ys, "-", color=D_GRAZ_COLOR, lw=1.4, zorder=6.1)[0], "located", **steps)
+    # where the kind comes from a sample of a motion with no period, another run may decide it otherwise
+    sampled = c.d_graz_sampled.values.astype(bool) if "d_graz_sampled" in c else np.zeros(xs.size, bool)
     for sel, fill in ((grazes, D_GRAZ_COLOR), (~grazes, "w")):
         wellposed(ax.plot(np.where(sel, xs, np.nan), np.where(sel, ys, np.nan), "o", color=D_GRAZ_COLOR, mfc=fill,
-                          ms=4, mew=1.0, zorder=6.2)[0], "located", **steps)
+                          ms=4, mew=1.0, zorder=6.2)[0], "located", sampled=sampled, **steps)
     handles.append(Line2D([], [], color=D_GRAZ_COLOR, marker="o", mfc=D_GRAZ_COLOR, lw=1.4,
                           label=r"$d_{\rm graz}$: the 1:1 motion followed to" + "\nsmaller d leaves its family"
                           + "\n(filled: grazing; open: a jump)"))

@@ -46,9 +46,16 @@ class Membrane:
 
     Examples
     --------
+    The paper's membrane is the default device's; the ball must fit inside the active radius:
+
     >>> import vibroimpact as vi
-    >>> vi.Membrane(h=2.6, K=4.0847e5, R=6.3e-3, r_b=5.0e-3, U_in=2000.0, m=4.11e-3).R
-    0.0063
+    >>> mb = vi.Membrane(h=2.6, K=4.0847e5, R=6.3e-3, r_b=5.0e-3, U_in=2000.0, m=4.11e-3)
+    >>> mb == vi.Device().membrane
+    True
+    >>> vi.Membrane(h=2.6, K=4.0847e5, R=5.0e-3, r_b=5.0e-3, U_in=2000.0, m=4.11e-3)
+    Traceback (most recent call last):
+    ...
+    ValueError: membrane R = 0.005 must exceed the ball radius r_b = 0.005 (the stretched-cap geometry has no real solution otherwise)
     """
 
     h: float  #: exponent of the membrane force K delta^h
@@ -105,8 +112,10 @@ def speed_si(v_nondim, F, M, omega):
     Examples
     --------
     >>> import math, vibroimpact as vi
-    >>> float(vi.speed_si(0.4185, 5.0, 0.1245, 5 * math.pi))   # m/s
-    3.3614457831325297
+    >>> round(float(vi.speed_si(-0.4185, 5.0, 0.1245, 5 * math.pi)), 6)   # m/s: |v| F / (M omega / pi)
+    3.361446
+    >>> round(0.4185 * 5.0 / (0.1245 * 5.0), 6)
+    3.361446
     """
     return np.abs(np.asarray(v_nondim, dtype=float)) * np.asarray(F, dtype=float) * math.pi / (M * omega)
 
@@ -170,70 +179,323 @@ class Device:
 
     @classmethod
     def from_config(cls, physics: dict, membrane: dict, name: str | None = None) -> Device:
-        """The device of a workflow config's ``physics`` (M, F, omega, g, r) and ``membrane`` blocks; named
-        ``name``, else ``"paper"`` where it is the paper's device and a name made of its values otherwise."""
+        """The device of a workflow config's ``physics`` and ``membrane`` blocks.
+
+        Parameters
+        ----------
+        physics : dict
+            ``M``, ``F``, ``omega``, ``g`` and ``r`` (other keys are ignored).
+        membrane : dict
+            The fields of a :class:`Membrane`.
+        name : str, optional
+            The device's name; by default ``"paper"`` where it is the paper's device and
+            :meth:`default_name` otherwise.
+
+        Returns
+        -------
+        Device
+            The device.
+
+        Examples
+        --------
+        >>> import vibroimpact as vi
+        >>> paper = vi.Device()
+        >>> membrane = {"h": 2.6, "K": 4.0847e5, "R": 6.3e-3, "r_b": 5.0e-3, "U_in": 2000.0, "m": 4.11e-3}
+        >>> vi.Device.from_config(paper.physics(), membrane).name
+        'paper'
+        >>> heavy = vi.Device.from_config({**paper.physics(), "M": 0.2}, membrane)
+        >>> heavy.name == heavy.default_name() != "paper"
+        True
+        """
         dev = cls(**{k: physics[k] for k in ("M", "F", "omega", "g", "r")}, membrane=Membrane(**membrane))
         if name:
             return dev.replace(name=name)
         return dev if dev.same_physics(PAPER) else dev.replace(name=dev.default_name())
 
     def replace(self, **changes) -> Device:
-        """A copy with ``changes`` (any field, ``membrane`` included)."""
+        """A copy with some fields changed.
+
+        Parameters
+        ----------
+        **changes
+            New values of any fields (``membrane`` included), checked as in the constructor.
+
+        Returns
+        -------
+        Device
+            The copy.
+
+        Examples
+        --------
+        >>> import vibroimpact as vi
+        >>> dev = vi.Device().replace(F=10.0, name="stronger")
+        >>> dev.F, dev.M, dev.name
+        (10.0, 0.1245, 'stronger')
+        """
         return replace(self, **changes)
 
     def same_physics(self, other: Device) -> bool:
-        """Whether two devices are the same harvester (their names aside)."""
+        """Whether two devices are the same harvester (their names aside).
+
+        Parameters
+        ----------
+        other : Device
+            The device compared.
+
+        Returns
+        -------
+        bool
+            True where the physics and the membranes are equal.
+
+        Examples
+        --------
+        >>> import vibroimpact as vi
+        >>> vi.Device().same_physics(vi.Device(name="copy")), vi.Device().same_physics(vi.Device(r=0.6))
+        (True, False)
+        """
         return self.physics() == other.physics() and self.membrane == other.membrane
 
     def physics(self) -> dict:
-        """``M, F, omega, g, r`` as a dict (the workflow config's ``physics`` block)."""
+        """``M, F, omega, g, r`` as a dict (the workflow config's ``physics`` block).
+
+        Returns
+        -------
+        dict
+            The five values by name.
+
+        Examples
+        --------
+        >>> import vibroimpact as vi
+        >>> {k: round(v, 4) for k, v in vi.Device().physics().items()}   # the paper's device (omega = 5 pi)
+        {'M': 0.1245, 'F': 5.0, 'omega': 15.708, 'g': 9.8, 'r': 0.5}
+        """
         return {k: getattr(self, k) for k in ("M", "F", "omega", "g", "r")}
 
     def attrs(self) -> dict:
-        """A dataset's attributes naming the device that made it: its name, physics and membrane constants."""
+        """A dataset's attributes naming the device that made it: its name, physics and membrane constants.
+
+        Returns
+        -------
+        dict
+            ``device`` (the name), ``device_M``, ... ``device_r`` and ``membrane_h``, ... ``membrane_m``.
+
+        Examples
+        --------
+        >>> import vibroimpact as vi
+        >>> a = vi.Device().attrs()
+        >>> len(a), a["device"], a["device_F"], a["membrane_U_in"]
+        (12, 'paper', 5.0, 2000.0)
+        """
         return {"device": self.name, **{f"device_{k}": v for k, v in self.physics().items()},
                 **{f"membrane_{k}": v for k, v in asdict(self.membrane).items()}}
 
     def default_name(self) -> str:
-        """A name for the device from its values: ``device-`` and 8 hex digits of their hash."""
+        """A name for the device from its values: ``device-`` and 8 hex digits of their hash.
+
+        Returns
+        -------
+        str
+            The name: the same for the same values, whatever the device is called.
+
+        Examples
+        --------
+        >>> import vibroimpact as vi
+        >>> a, b = vi.Device(M=0.2).default_name(), vi.Device(M=0.2, name="x").default_name()
+        >>> a == b, a.startswith("device-"), len(a), a == vi.Device().default_name()
+        (True, True, 15, False)
+        """
         text = json.dumps({**self.physics(), "membrane": asdict(self.membrane)}, sort_keys=True)
         return "device-" + hashlib.sha1(text.encode()).hexdigest()[:8]
 
     @property
     def k(self) -> float:
-        """``M omega^2 / pi^2`` (N/m): ``d = k s / F``."""
+        """``M omega^2 / pi^2`` (N/m): ``d = k s / F``.
+
+        Returns
+        -------
+        float
+            The factor (N/m).
+
+        Examples
+        --------
+        >>> import vibroimpact as vi
+        >>> round(vi.Device().k, 6)          # 0.1245 kg * 25: d = 0.6225 s at F = 5 N
+        3.1125
+        """
         return length_factor(self.M, self.omega)
 
     def d(self, s, F=None):
-        """Non-dimensional length of a cylinder of length ``s`` (m) at forcing ``F`` (N; default the device's)."""
+        """Non-dimensional length of a cylinder of length ``s`` (m) at forcing ``F`` (N).
+
+        Parameters
+        ----------
+        s : float or array_like
+            Cylinder lengths (m).
+        F : float or array_like, optional
+            Forcing amplitudes (N); the device's by default.
+
+        Returns
+        -------
+        float or numpy.ndarray
+            ``d = k s / F``.
+
+        Examples
+        --------
+        >>> import vibroimpact as vi
+        >>> dev = vi.Device()
+        >>> round(dev.d(1.0), 6), dev.d([0.2, 0.4], F=10.0).round(6).tolist()
+        (0.6225, [0.06225, 0.1245])
+        """
         return _out(self.k * np.asarray(s, dtype=float) / (self.F if F is None else np.asarray(F, dtype=float)))
 
     def s(self, d, F=None):
-        """Cylinder length (m) whose non-dimensional length is ``d`` at forcing ``F``."""
+        """Cylinder length (m) whose non-dimensional length is ``d`` at forcing ``F`` (N).
+
+        Parameters
+        ----------
+        d : float or array_like
+            Non-dimensional lengths.
+        F : float or array_like, optional
+            Forcing amplitudes (N); the device's by default.
+
+        Returns
+        -------
+        float or numpy.ndarray
+            ``s = d F / k`` (m), the inverse of :meth:`d`.
+
+        Examples
+        --------
+        >>> import vibroimpact as vi
+        >>> dev = vi.Device()
+        >>> round(dev.s(0.6225), 6), round(dev.s(dev.d(0.3, F=7.0), F=7.0), 12)
+        (1.0, 0.3)
+        """
         return _out(np.asarray(d, dtype=float) * (self.F if F is None else np.asarray(F, dtype=float)) / self.k)
 
     def F_for(self, d, s):
-        """The forcing (N) at which a cylinder of length ``s`` (m) has non-dimensional length ``d``."""
+        """The forcing (N) at which a cylinder of length ``s`` (m) has non-dimensional length ``d``.
+
+        Parameters
+        ----------
+        d : float or array_like
+            Non-dimensional lengths.
+        s : float or array_like
+            Cylinder lengths (m).
+
+        Returns
+        -------
+        float or numpy.ndarray
+            ``F = k s / d`` (N).
+
+        Examples
+        --------
+        >>> import vibroimpact as vi
+        >>> dev = vi.Device()          # d = 0.14 at s = 0.2249 m and the paper's F = 5 N; F doubles as d halves
+        >>> round(dev.F_for(0.14, 0.2249), 4), round(dev.F_for(0.07, 0.2249), 4)
+        (5.0, 10.0)
+        """
         return _out(self.k * np.asarray(s, dtype=float) / np.asarray(d, dtype=float))
 
     def gbar(self, beta, F=None):
-        """Non-dimensional gravity ``M g sin(beta) / F`` at incline ``beta`` (rad)."""
+        """Non-dimensional gravity ``M g sin(beta) / F`` at incline ``beta`` (rad).
+
+        Parameters
+        ----------
+        beta : float or array_like
+            Inclines (rad).
+        F : float or array_like, optional
+            Forcing amplitudes (N); the device's by default.
+
+        Returns
+        -------
+        float or numpy.ndarray
+            ``gbar``.
+
+        Examples
+        --------
+        >>> import math, vibroimpact as vi
+        >>> dev = vi.Device()
+        >>> round(dev.gbar(math.pi / 6), 6), round(dev.gbar(math.pi / 2, F=1.2), 6)   # 0.1245 * 9.8 / 1.2
+        (0.12201, 1.01675)
+        """
         return _out(self.M * self.g * np.sin(np.asarray(beta, dtype=float))
                     / (self.F if F is None else np.asarray(F, dtype=float)))
 
     def params(self, s: float, beta: float, F: float | None = None) -> Params:
-        """The model parameters of a cylinder of length ``s`` (m) at incline ``beta`` (rad) and forcing ``F``."""
+        """The model parameters of a cylinder of length ``s`` (m) at incline ``beta`` (rad) and forcing ``F``.
+
+        Parameters
+        ----------
+        s : float
+            Cylinder length (m).
+        beta : float
+            Incline (rad).
+        F : float, optional
+            Forcing amplitude (N); the device's by default.
+
+        Returns
+        -------
+        Params
+            From :meth:`Params.from_physical` with the device's mass, frequency, restitution and gravity.
+
+        Examples
+        --------
+        >>> import math, vibroimpact as vi
+        >>> p = vi.Device(r=0.6).params(s=0.2249, beta=math.pi / 6, F=10.0)
+        >>> round(p.d, 6), round(p.gbar, 6), p.r
+        (0.07, 0.061005, 0.6)
+        """
         return Params.from_physical(s=s, beta=beta, M=self.M, F=self.F if F is None else F, omega=self.omega,
                                     r=self.r, g=self.g)
 
     def scales(self, F: float | None = None) -> PhysicalScales:
-        """Seconds, m/s and metres per non-dimensional unit of time, velocity and length."""
+        """Seconds, m/s and metres per non-dimensional unit of time, velocity and length.
+
+        Parameters
+        ----------
+        F : float, optional
+            Forcing amplitude (N); the device's by default.
+
+        Returns
+        -------
+        PhysicalScales
+            The three factors.
+
+        Examples
+        --------
+        >>> import vibroimpact as vi
+        >>> sc = vi.Device().scales()
+        >>> round(sc.time, 6), round(sc.velocity, 5), round(sc.length, 5)   # pi / omega, F pi / (M omega), ...
+        (0.2, 8.03213, 1.60643)
+        >>> round(vi.Device().scales(F=10.0).length / sc.length, 12)        # proportional to F
+        2.0
+        """
         F = self.F if F is None else float(F)
         return PhysicalScales(time=math.pi / self.omega, velocity=F * math.pi / (self.M * self.omega),
                               length=F * math.pi**2 / (self.M * self.omega**2))
 
     def speed_si(self, v, F=None):
-        """Dimensional speed (m/s) of non-dimensional velocities ``v`` at forcing ``F`` (:func:`speed_si`)."""
+        """Dimensional speed (m/s) of non-dimensional velocities ``v`` at forcing ``F`` (:func:`speed_si`).
+
+        Parameters
+        ----------
+        v : float or array_like
+            Non-dimensional velocities (any sign).
+        F : float or array_like, optional
+            Forcing amplitudes (N); the device's by default.
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Speeds (m/s), the velocity unit of :meth:`scales` times ``|v|``.
+
+        Examples
+        --------
+        >>> import vibroimpact as vi
+        >>> dev = vi.Device()
+        >>> round(dev.speed_si(-0.4185), 5), round(0.4185 * dev.scales().velocity, 5)
+        (3.36145, 3.36145)
+        """
         return _out(speed_si(v, self.F if F is None else F, self.M, self.omega))
 
 

@@ -33,7 +33,7 @@ def _check(name: str, value: float, ok: bool, allowed: str) -> float:
 
 
 @dataclass(frozen=True)
-class PhysicalScales:
+class PhysicalScales:  # numpydoc ignore=PR01 (a record: its fields are Attributes)
     """Factors converting non-dimensional quantities to SI units (paper eq. ``nondXYt``).
 
     ``tau = time * t``, ``dX/dtau = velocity * Xdot``, ``X = length * X*``.
@@ -46,6 +46,19 @@ class PhysicalScales:
         m/s per unit of Zdot (F pi / (M omega)).
     length : float
         Metres per unit of Z (F pi^2 / (M omega^2)).
+
+    Examples
+    --------
+    At the paper's device (omega = 5 pi rad/s, F = 5 N, M = 0.1245 kg) a unit of time is pi / omega = 0.2 s,
+    a unit of length is a unit of velocity times a unit of time, and ``s = d * length``:
+
+    >>> import math, vibroimpact as vi
+    >>> p = vi.Params.from_physical(s=0.2, beta=math.pi / 6)
+    >>> sc = p.scales
+    >>> round(sc.time, 6), round(sc.velocity, 5), round(sc.length, 5)
+    (0.2, 8.03213, 1.60643)
+    >>> round(sc.velocity * sc.time / sc.length, 12), round(p.d * sc.length, 12)
+    (1.0, 0.2)
     """
 
     time: float  #: seconds per unit of t (pi / omega)
@@ -70,6 +83,22 @@ class Params:
         Set by :meth:`from_physical`; ``None`` for purely non-dimensional parameters.
     physical : dict
         The physical inputs (s, beta, M, F, omega, g) when built by :meth:`from_physical`.
+
+    Raises
+    ------
+    ValueError
+        A parameter out of its range, naming it and the range allowed.
+
+    Examples
+    --------
+    >>> import vibroimpact as vi
+    >>> p = vi.Params(d=0.14, gbar=0.0949)         # r = 0.5 by default
+    >>> p.r, p.never_leaves_bottom
+    (0.5, False)
+    >>> vi.Params(d=0.14, gbar=0.0949, r=1.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: r = 1.0 is out of range; allowed: 0 <= r < 1
     """
 
     d: float
@@ -94,12 +123,49 @@ class Params:
         r: float = PAPER_PHYSICS["r"],
         g: float = PAPER_PHYSICS["g"],
     ) -> Params:
-        """Build parameters from the device: length ``s`` (m), incline ``beta`` (rad), cylinder
-        mass ``M`` (kg), forcing amplitude ``F`` (N), angular frequency ``omega`` (rad/s),
-        restitution ``r`` and gravity ``g`` (m/s^2); the paper's device (:data:`PAPER_PHYSICS`) by default.
-        :meth:`vibroimpact.Device.params` builds them from a device.
+        """Build the non-dimensional parameters of a physical device (paper §2).
 
-        ``d = s M omega^2 / (F pi^2)`` and ``gbar = M g sin(beta) / F`` (paper §2).
+        ``d = s M omega^2 / (F pi^2)`` and ``gbar = M g sin(beta) / F``; the device's values are the
+        paper's (:data:`PAPER_PHYSICS`) by default.  :meth:`vibroimpact.Device.params` builds them from
+        a :class:`~vibroimpact.Device`.
+
+        Parameters
+        ----------
+        s : float
+            Cylinder length (m), ``s > 0``.
+        beta : float
+            Incline (rad), ``0 <= beta <= pi/2``.
+        M : float
+            Cylinder mass (kg).
+        F : float
+            Forcing amplitude (N).
+        omega : float
+            Forcing angular frequency (rad/s).
+        r : float
+            Coefficient of restitution, ``0 <= r < 1``.
+        g : float
+            Gravity (m/s^2).
+
+        Returns
+        -------
+        Params
+            ``d``, ``gbar`` and ``r``, with the SI ``scales`` and the ``physical`` inputs.
+
+        Raises
+        ------
+        ValueError
+            A value out of its range, naming it and the range allowed.
+
+        Examples
+        --------
+        At the paper's device ``d = 0.6225 s`` (s in m) and ``gbar = M g sin(beta) / F``:
+
+        >>> import math, vibroimpact as vi
+        >>> p = vi.Params.from_physical(s=0.2249, beta=math.pi / 6)
+        >>> round(p.d, 6), round(p.gbar, 6), round(0.1245 * 9.8 * 0.5 / 5.0, 6)
+        (0.14, 0.12201, 0.12201)
+        >>> round(vi.Params.from_physical(s=0.2249, beta=math.pi / 6, F=10.0).d, 6)   # d falls as 1 / F
+        0.07
         """
         s = _check("s", s, lambda x: x > 0, "s > 0 (metres)")
         beta = _check("beta", beta, lambda x: 0 <= x <= math.pi / 2, "0 <= beta <= pi/2 (radians)")
@@ -119,5 +185,22 @@ class Params:
 
     @property
     def never_leaves_bottom(self) -> bool:
-        """True when ``gbar >= 1``: resting on the bottom wall, ``Z'' = cos + gbar >= 0`` forever."""
+        """True when ``gbar >= 1``: resting on the bottom wall, ``Z'' = cos + gbar >= 0`` forever.
+
+        Returns
+        -------
+        bool
+            Whether the forcing can never lift the ball off the bottom wall.
+
+        Examples
+        --------
+        ``gbar = M g sin(beta) / F`` reaches 1 at the paper's device (M g / F = 0.244) only for a forcing of
+        at most ``M g sin(beta)``:
+
+        >>> import math, vibroimpact as vi
+        >>> vi.Params.from_physical(s=0.2, beta=math.pi / 2).never_leaves_bottom
+        False
+        >>> vi.Params.from_physical(s=0.2, beta=math.pi / 2, F=1.2).never_leaves_bottom   # gbar = 1.0168
+        True
+        """
         return self.gbar >= 1.0

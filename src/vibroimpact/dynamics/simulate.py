@@ -234,7 +234,23 @@ def simulate_batch(d, gbar, r, phi, v0, *, n_impacts, t_end=None, stop_when_peri
     xarray.Dataset
         Events on ``(run, impact)`` (``t``, ``wall``, ``v_minus``, ``v_plus``, ``phase``, ``z``, ``dt``,
         ``kind``); a run that stops early is NaN-padded (``n_events`` says how many events are real); per run
-        ``status`` and ``period_events``.
+        ``status`` (flags: 0 ``n_events``, 1 ``t_end``, 2 ``periodic``, 3 ``stuck_forever``, 4 ``no_impact``),
+        ``period_events``, and the inputs ``d``, ``gbar``, ``r``, ``phi``, ``v0``.
+
+    Examples
+    --------
+    Two starts at the point of Figure 7 (a) both settle on the 2:1 motion (3 events a period), and a run of
+    the batch is the run :func:`~vibroimpact.simulate` makes from the same start:
+
+    >>> import vibroimpact as vi
+    >>> ds = vi.simulate_batch(0.16, 0.122, 0.5, phi=[1.015, 3.0], v0=[0.1924, 0.3], n_impacts=200,
+    ...                        stop_when_periodic=True)
+    >>> ds.status.values.tolist(), ds.period_events.values.tolist()     # 2: periodic
+    ([2, 2], [3, 3])
+    >>> one = vi.simulate(vi.Params(d=0.16, gbar=0.122), 1.015, 0.1924, n_impacts=200, stop_when_periodic=True)
+    >>> n = int(ds.n_events[0])
+    >>> n == one.sizes["impact"] and bool((ds.t[0, :n].values == one.t.values).all())
+    True
     """
     arrs = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=np.float64)) for a in (d, gbar, r, phi, v0)))
     d, gbar, r, phi, v0 = (np.ascontiguousarray(a.ravel()) for a in arrs)
@@ -316,6 +332,22 @@ def trajectory(ds: xr.Dataset, times) -> xr.Dataset:
     -------
     xarray.Dataset
         Along ``time``: ``Z``, ``Zdot``, ``X`` and ``x``.
+
+    Examples
+    --------
+    At its impact times the closed-form flight is at the walls (``Z = +d/2`` bottom, ``-d/2`` top) with the
+    rebound velocity; the cylinder's position is ``X* = -cos(pi t + phi) / pi^2``:
+
+    >>> import math, vibroimpact as vi
+    >>> p = vi.Params.from_physical(s=0.2, beta=math.pi / 6)
+    >>> run = vi.simulate(p, phi=1.015, v0=0.1924, n_impacts=5)
+    >>> tr = vi.trajectory(run, run.t.values[:4])
+    >>> (tr.Z / (p.d / 2)).round(9).values.tolist(), run.wall.values[:4].tolist()
+    ([1.0, -1.0, 1.0, 1.0], [1, -1, 1, 1])
+    >>> bool(abs(tr.Zdot - run.v_plus[:4].values).max() < 1e-12)
+    True
+    >>> round(float(vi.trajectory(run, [0.0]).X[0]), 6), round(-math.cos(1.015) / math.pi**2, 6)
+    (-0.053459, -0.053459)
     """
     times = np.asarray(times, dtype=np.float64)
     t = ds["t"].values
@@ -405,7 +437,7 @@ def cycle_class(wall, kind, t_span):
 
 
 @dataclass(frozen=True)
-class Attractor:
+class Attractor:  # numpydoc ignore=PR01 (a record: its fields are Attributes)
     """What a run settled on (:func:`identify_attractor`).
 
     Attributes
@@ -428,6 +460,18 @@ class Attractor:
         Time at which the period was identified.
     cycle : xarray.Dataset or None
         The events of one period.
+
+    Examples
+    --------
+    The 2:1 motion of Figure 7 (a): two bottom impacts and one top impact per forcing period (2 time units):
+
+    >>> import math, vibroimpact as vi
+    >>> p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)
+    >>> a = vi.identify_attractor(vi.simulate(p, phi=1.015, v0=0.1924, n_impacts=200))
+    >>> a.periodic, a.label, a.period, a.events, a.n_bottom, a.n_top, a.sticking
+    (True, '2:1 period-2', 1, 3, 2, 1, False)
+    >>> sorted(a.cycle.wall.values.tolist()), a.t_settled < a.t_identified     # walls: 1 bottom, -1 top
+    ([-1, 1, 1], True)
     """
 
     periodic: bool

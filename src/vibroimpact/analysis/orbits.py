@@ -30,7 +30,24 @@ WALLS = {"B": 1, "T": -1}
 
 
 class OrbitError(RuntimeError):
-    """Newton's method did not converge, or the guess does not follow the word."""
+    """Newton's method did not converge, or the guess does not follow the word.
+
+    Parameters
+    ----------
+    *args
+        The message, saying which of the two happened and at which guess.
+
+    Examples
+    --------
+    At d = 0.14 the start (5.855, 0.4185) lies on the 2:1 orbit ``"BBT"``, not on a 1:1 ``"BT"``:
+
+    >>> import vibroimpact as vi
+    >>> try:
+    ...     vi.find_orbit(vi.Params(d=0.14, gbar=0.0949), "BT", 5.855, 0.4185)
+    ... except vi.OrbitError as e:
+    ...     print(e)
+    the guess (phi=5.855, v0=0.4185) follows 'BB', not a rotation of 'BT'
+    """
 
 
 def parse_word(word: str) -> np.ndarray:
@@ -182,7 +199,7 @@ def step_jacobians(z, walls, gbar, r):
 
 
 @dataclass
-class Orbit:
+class Orbit:  # numpydoc ignore=PR01 (a record: its fields are Attributes)
     """A periodic impact orbit (:func:`find_orbit`).
 
     Impact ``j`` (``j = 0 .. N-1``) is at wall ``wall[j]`` at time ``t[j]`` (``t[0] = 0``) with phase
@@ -210,6 +227,18 @@ class Orbit:
         Why it is not admissible ("" where it is).
     clearance : float
         Least distance of an interior extremum of a flight from the walls.
+
+    Examples
+    --------
+    The 2:1 orbit: its flights add up to one forcing period (2 time units), and the determinant of its map
+    is ``r^(2N)`` for ``N`` impacts (each impact contracts areas by ``r^2``):
+
+    >>> import vibroimpact as vi
+    >>> o = vi.find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+    >>> o.walls.tolist(), o.k, round(float(o.dt.sum()), 12)
+    ([1, 1, -1], 1, 2.0)
+    >>> round(o.det, 12), 0.5**6, o.stable, o.stability, o.admissible
+    (0.015625, 0.015625, True, 'stable focus', True)
     """
 
     params: Params
@@ -307,10 +336,9 @@ def orbit_from_vector(params: Params, word: str, k: int, z) -> Orbit:
 
 
 def orbit_run(orbit: Orbit, periods: int = 1):
-    """The orbit's impacts over ``periods`` periods as a run, in the form :func:`~vibroimpact.simulate`
-    returns, for :func:`~vibroimpact.trajectory`.
+    """The orbit's impacts over ``periods`` periods as a run, in the form :func:`~vibroimpact.simulate` returns.
 
-    The exact state along the orbit, with no simulation: at a grazing point the loop touches a wall, and
+    The run is for :func:`~vibroimpact.trajectory`: the exact state along the orbit, with no simulation: at a grazing point the loop touches a wall, and
     whether a simulator registers that touch as an impact is decided by rounding; the Newton orbit's
     flights (paper eqs. ``zdotj_p1``, ``zj_p1``) are the orbit itself.
 
@@ -326,6 +354,18 @@ def orbit_run(orbit: Orbit, periods: int = 1):
     xarray.Dataset
         Events ``t``, ``wall``, ``v_minus``, ``v_plus``, ``phase``, ``z``, ``kind`` along ``impact``,
         ``t = 0`` at impact 0 and the last event the return to it.
+
+    Examples
+    --------
+    Two periods of the 2:1 orbit: its impacts recur after 2 time units, on the walls ``Z = +-d/2``:
+
+    >>> import vibroimpact as vi
+    >>> o = vi.find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+    >>> run = vi.orbit_run(o, periods=2)
+    >>> run.wall.values.tolist(), run.t.values[[0, 3, 6]].round(9).tolist()
+    ([1, 1, -1, 1, 1, -1, 1], [0.0, 2.0, 4.0])
+    >>> run.z.values.round(9).tolist()[:3], bool(abs(run.v_minus[3] - run.v_minus[0]) < 1e-9)
+    ([0.07, 0.07, -0.07], True)
     """
     from ..dynamics import kernels as K
     from ..dynamics.simulate import _events_dataset

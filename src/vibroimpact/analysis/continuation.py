@@ -258,12 +258,20 @@ def continue_orbit(
     Returns
     -------
     xarray.Dataset
-        Along ``point`` (ordered by arclength): ``d``, ``gbar``, ``r``, ``value`` (the varied
-        parameter; and ``s``, ``F``, ``beta`` or ``omega`` where physical), per impact ``v_minus``,
-        ``phase``, ``dt``, ``t``; ``eig_real``, ``eig_imag``, ``eig_abs``, ``trace``, ``det``,
-        ``discriminant``, ``stable``, ``stability``, ``admissible``, ``reason``, ``clearance``.  Along
-        ``critical``: ``critical_kind``, ``critical_d``, ``critical_value`` (and the physical values)
-        and ``critical_admissible``.
+        Along ``point`` (ordered by arclength): ``d``, ``gbar``; ``r`` where ``vary="r"``; ``value`` (the
+        varied parameter) where it is not ``d``, ``s`` or ``F``; the physical values (``s`` and ``F``,
+        or ``beta`` or ``omega``, with the others held) where ``vary`` is physical; per impact (``impact``,
+        whose walls are ``wall``) ``v_minus``, ``phase``, ``dt``, ``t``; per eigenvalue ``eig_real``,
+        ``eig_imag``, ``eig_abs``; ``trace``, ``det``, ``discriminant``, ``stable``, ``stability``,
+        ``admissible``, ``reason``, ``clearance``.  Along ``critical`` (the points where a test function
+        changes sign: ``"B"`` for an eigenvalue -1, ``"fold"`` for +1, ``"A"`` for a double eigenvalue,
+        ``"NS"`` for a pair on the unit circle, ``"grazing"`` for zero clearance): ``critical_kind``,
+        ``critical_d``, ``critical_value``, the physical values ``critical_s``, ``critical_F``, ...,
+        ``critical_admissible``, ``critical_refined`` (located to ``xtol``; else a linear estimate between
+        two branch points) and ``critical_note`` (why a point could not be refined, empty where it was).
+        Attributes: ``word``, ``k``, ``r``, ``vary``, ``step``, ``stop_increasing`` and
+        ``stop_decreasing`` (why each direction stopped), and for ``d``, ``s`` or ``F`` the line
+        ``gbar = gbar_intercept + gbar_slope * d`` the branch lies on.
 
     Examples
     --------
@@ -272,6 +280,8 @@ def continue_orbit(
     >>> br = vi.continue_orbit(o, vary="d", d_range=(0.13, 0.15), step=1e-3)
     >>> [(str(k), round(float(d), 6)) for k, d in zip(br.critical_kind.values, br.critical_d.values)]
     [('grazing', 0.13672), ('A', 0.138944), ('A', 0.148631)]
+    >>> br.critical_refined.values.tolist(), br.attrs["stop_increasing"].startswith("left d_range")
+    ([True, True, True], True)
     """
     pm = ParameterMap(orbit, vary)
     lo, hi = _lam_range(pm, orbit, d_range, value_range)
@@ -477,6 +487,22 @@ def branch_from_simulation(params: Params, word: str, *, k: int = 1, vary: str, 
     xarray.Dataset
         The branch (:func:`~vibroimpact.continue_orbit`), with attributes ``status`` (``"ok"`` or
         ``"failed"``) and ``reason``.
+
+    Examples
+    --------
+    At the point of Figure 7 (a) the attractor is the 2:1 orbit: its branch is found and continued over
+    ``d_range``; the 1:1 orbit ``"BT"`` is not the attractor there, a failure recorded with its reason:
+
+    >>> import math, vibroimpact as vi
+    >>> p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)
+    >>> br = vi.branch_from_simulation(p, "BBT", vary="d", d_range=(0.155, 0.165), step=2e-3, phi=1.015,
+    ...                                v0=0.1924, n_impacts=2000)
+    >>> br.attrs["status"], round(float(br.d.min()), 3), round(float(br.d.max()), 3), bool(br.stable.all())
+    ('ok', 0.155, 0.165, True)
+    >>> bt = vi.branch_from_simulation(p, "BT", vary="d", d_range=(0.155, 0.165), step=2e-3, phi=1.015,
+    ...                                v0=0.1924, n_impacts=2000)
+    >>> bt.attrs["status"], bt.attrs["reason"], bt.sizes["point"]
+    ('failed', "the attractor at d=0.16 is 2:1 period-2 (BTB), not 'BT'", 0)
     """
     from ..dynamics.simulate import identify_attractor, simulate
 
@@ -533,8 +559,19 @@ def simulate_along(branch: xr.Dataset, n: int, *, tol: float = 1e-11, n_impacts:
     Returns
     -------
     xarray.Dataset
-        Along ``sim``: ``d``, the attractor's ``label``, ``v_minus``, ``phase`` and ``dt`` per impact, and
-        ``max_dev`` from the analytic orbit.
+        Along ``sim``: ``d``, the attractor's ``motion`` (its label), ``v_minus``, ``phase`` and ``dt`` per
+        impact, ``max_dev`` from the analytic orbit and ``status`` (``"compared"``, or why not: the run
+        settled on another motion, or no analytic orbit was found to start from).
+
+    Examples
+    --------
+    Along the stable part of the 2:1 branch the simulated attractor is the analytic orbit:
+
+    >>> import vibroimpact as vi
+    >>> o = vi.find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+    >>> sims = vi.simulate_along(vi.continue_orbit(o, vary="d", d_range=(0.13, 0.15), step=1e-3), 2)
+    >>> sims.motion.values.tolist(), sims.status.values.tolist(), bool(sims.max_dev.max() < 1e-9)
+    (['2:1 period-2', '2:1 period-2'], ['compared', 'compared'], True)
     """
     from ..dynamics.simulate import identify_attractor, simulate
 

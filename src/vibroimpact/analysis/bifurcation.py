@@ -192,9 +192,23 @@ def follow_point(orbit: Orbit, kind: str, *, params, ranges, step: float = 2e-3,
     xarray.Dataset
         Along ``point`` (by arclength): the two parameters (named by ``params``), ``d``, ``gbar``,
         ``r``, ``admissible``, ``clearance``, ``trace``, ``det``, ``phase`` and ``v_minus`` of the
-        first impact, and ``z``, the orbit's unknowns.  Along ``event``: ``event_kind`` (another test function changing sign: the
-        curve meets that set) and the two parameters there (linear between points).  Attributes:
-        ``kind``, ``word``, ``stop_increasing``, ``stop_decreasing`` (why each end stopped).
+        first impact, and ``z``, the orbit's unknowns.  Along ``event``: ``event_kind`` (another test
+        function changing sign: the curve meets that set) and the two parameters there (linear between
+        points).  Attributes: ``kind``, ``word``, ``k``, ``params``, ``stop_increasing``,
+        ``stop_decreasing`` (why each end stopped).
+
+    Examples
+    --------
+    The 2:1 orbit's grazing point followed in ``(d, gbar)`` from ``gbar = 0.0949``: the clearance stays
+    zero along the curve, which passes through the grazing point G1 at the paper's incline pi/6
+    (``gbar = 0.12201``), d = 0.1376:
+
+    >>> import numpy as np, vibroimpact as vi
+    >>> o = vi.find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+    >>> c = vi.follow_point(o, "grazing", params=("d", "gbar"), ranges=((0.13, 0.15), (0.09, 0.125)),
+    ...                     step=4e-3)
+    >>> bool(abs(c.clearance).max() < 1e-9), round(float(np.interp(0.12201, c.gbar, c.d)), 4)
+    (True, 0.1376)
     """
     if kind not in KINDS:
         raise ValueError(f"kind = {kind!r}; allowed: {', '.join(KINDS)}")
@@ -430,11 +444,30 @@ def curve_set(branches, params, ranges, *, kinds=("B", "fold", "grazing"), step=
     Returns
     -------
     xarray.Dataset
-        The curves end to end: along ``point`` the two parameters and ``curve`` (index into the ``curve``
-        dimension: ``curve_kind``, ``curve_word``, ``curve_start_s``, ``curve_start_stable``, ``curve_status``,
-        ``curve_reason``,
-        ``curve_stop``); along ``event`` where a curve meets another set of its orbit or its projection turns
-        back (``cusp``); along ``crossing`` where two curves cross in the plane.
+        The curves end to end: along ``point`` the two parameters, ``admissible`` and ``curve_index``
+        (index into the ``curve`` dimension: ``curve_kind``, ``curve_word``, ``curve_start_s``,
+        ``curve_start_stable``, ``curve_status``, ``curve_reason``, ``curve_stop``); along ``event``
+        (``event_curve``, ``event_kind`` and the two parameters) where a curve meets another set of its
+        orbit or its projection turns back (``cusp``); along ``crossing`` (``curve_a``, ``curve_b``,
+        ``name_a``, ``name_b`` and the two parameters) where two curves cross in the plane.  Attributes:
+        ``params``, ``ranges``, ``kinds``, ``step`` and ``coincide`` (pairs of curves that run together).
+
+    Examples
+    --------
+    The 2:1 branch at the paper's incline pi/6 grazes at G1, s = 0.22104 m (d = 0.1376); followed in
+    ``(s, beta)`` the grazing point moves to longer cylinders on steeper inclines:
+
+    >>> import math, vibroimpact as vi
+    >>> p = vi.Params.from_physical(s=0.2249, beta=math.pi / 6)
+    >>> br = vi.continue_orbit(vi.find_orbit(p, "BBT", 5.855, 0.4185), vary="s", d_range=(0.136, 0.141),
+    ...                        step=2e-3)
+    >>> br.attrs["status"] = "ok"          # as vi.branch_from_simulation marks a branch it found
+    >>> cs = vi.curve_set([br], ("s", "beta"), ((0.2, 0.25), (0.5, 0.55)), kinds=("grazing",), step=1e-2,
+    ...                   physics={"beta": math.pi / 6})
+    >>> cs.curve_kind.values.tolist(), cs.curve_status.values.tolist(), round(float(cs.curve_start_s[0]), 5)
+    (['grazing'], ['ok'], 0.22104)
+    >>> bool((cs.s.diff("point") * cs.beta.diff("point") > 0).all())
+    True
     """
     physics = dict(physics or {})
     pts, events, rows = [], [], []

@@ -76,6 +76,22 @@ def polish_cycle(d, gbar, r, t, wall, v_minus, phase, kind, span) -> dict:
         its canonical first event (:func:`canonical_start`): ``t`` (from 0), ``wall``, ``v_minus``,
         ``phase``, ``kind``; where settled, the orbit's ``jacobian`` (its map's over one period, eq.
         ``Lin2``), its factors ``step_jacobians`` (one per flight) and ``multipliers`` (its eigenvalues).
+
+    Examples
+    --------
+    The 2:1 cycle of a run at the point of Figure 7 (a), solved exactly: its multipliers are a complex pair
+    of modulus ``r^N = 0.125`` for ``N = 3`` impacts (the map's determinant is ``r^(2N)``):
+
+    >>> import math, vibroimpact as vi
+    >>> p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)
+    >>> a = vi.identify_attractor(vi.simulate(p, phi=1.015, v0=0.1924, n_impacts=200))
+    >>> c = a.cycle
+    >>> orbit = vi.polish_cycle(p.d, p.gbar, p.r, c.t.values, c.wall.values, c.v_minus.values, c.phase.values,
+    ...                         c.kind.values, span=2.0 * a.period)
+    >>> orbit["status"], orbit["settled"], orbit["wall"].tolist()
+    ('newton', True, [1, -1, 1])
+    >>> [round(float(abs(m)), 9) for m in orbit["multipliers"]]
+    [0.125, 0.125]
     """
     from ..dynamics.params import Params
     from .orbits import OrbitError, orbit_from_vector, parse_word, solve_orbit, step_jacobians
@@ -126,8 +142,9 @@ def batch_means(values, batches: int = LONG_BATCHES):
 
 
 def long_run(d, gbar, r, phi, v0, *, impacts: int = LONG_IMPACTS, tol: float = 1e-9) -> dict:
-    """An aperiodic motion continued for ``impacts`` events from a bottom impact ``(phi, v0)`` (e.g. the
-    last of a run that found no period).
+    """An aperiodic motion continued for ``impacts`` events from a bottom impact ``(phi, v0)``.
+
+    The start is typically the last bottom impact of a run that found no period.
 
     Parameters
     ----------
@@ -150,6 +167,19 @@ def long_run(d, gbar, r, phi, v0, *, impacts: int = LONG_IMPACTS, tol: float = 1
         (:class:`~vibroimpact.analysis.lyapunov.Lyapunov`, the first tenth of it discarded) where it is
         aperiodic; where it settles, those of the same run continued to ``impacts`` impacts (the orbit it
         settles on); else None.
+
+    Examples
+    --------
+    At d = 0.235 on the incline pi/3 the motion is chaotic: the largest exponent is positive, and the two add
+    up to ``2 ln r`` per impact (each impact contracts areas by ``r^2``), up to a boundary term of order
+    ``1 / impacts``:
+
+    >>> import math, vibroimpact as vi
+    >>> gbar = vi.Device().gbar(math.pi / 3)
+    >>> run = vi.long_run(0.235, gbar, 0.5, 0.42, 0.87, impacts=2000)
+    >>> lam = run["exponents"]
+    >>> run["status"], lam.per_impact[0] > 0.1, round(sum(lam.per_impact), 3), round(2 * math.log(0.5), 3)
+    ('aperiodic', True, -1.386, -1.386)
     """
     from ..dynamics.params import Params
     from ..dynamics.simulate import simulate

@@ -168,6 +168,18 @@ def attractor_batch(d, gbar, r, phi, v0, *, max_periods: float = 200, max_events
         ``t, wall, v_minus, phase, kind`` on ``(run, event)`` (NaN-padded), and per run ``label``,
         ``period`` (forcing periods, 0 when aperiodic), ``period_events``, ``n_bottom``, ``n_top``,
         ``n_events`` (simulated) and ``status``.
+
+    Examples
+    --------
+    At d = 0.13975 on the paper's incline pi/6 (between G1 and G2) two starts reach the two coexisting
+    motions, the 2:1 (two bottom impacts, one top) and the 3:1 (three bottom, one top):
+
+    >>> import vibroimpact as vi
+    >>> ab = vi.attractor_batch(0.13975, 0.12201, 0.5, phi=[5.855, 1.645], v0=[0.4185, 0.05067])
+    >>> ab.label.values.tolist(), ab.n_bottom.values.tolist(), ab.n_top.values.tolist()
+    (['2:1 period-2', '3:1 period-2'], [2, 3], [1, 1])
+    >>> ab.period.values.tolist(), ab.period_events.values.tolist()    # one forcing period each
+    ([1, 1], [3, 4])
     """
     _check_window(window, pmax)
     arrs = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=float)) for a in (d, gbar, r, phi, v0)))
@@ -402,10 +414,17 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
 
     Examples
     --------
+    At the paper's incline pi/6 the 3:1 and 2:1 motions coexist between G1 (d = 0.1376, the 2:1 orbit
+    grazes) and G2 (d = 0.1420, the 3:1 orbit folds) (Fig BiS).  Below G1 both sweeps end on the 3:1 motion
+    and above G2 on the 2:1; at d = 0.13975, between them, the up sweep keeps the 3:1 motion and the down
+    sweep the 2:1:
+
     >>> import math, vibroimpact as vi
-    >>> sw = vi.sweep("s", [0.22, 0.23], beta=math.pi / 6, phi=5.855, v0=0.4185, long_impacts=0)
-    >>> sw.label.values.tolist()   # up and down: the 3:1 and 2:1 motions coexist (Fig BiS)
-    [['3:1 period-2', '2:1 period-2'], ['3:1 period-2', '2:1 period-2']]
+    >>> sw = vi.sweep("s", [0.219, 0.2245, 0.23], beta=math.pi / 6, phi=5.855, v0=0.4185, long_impacts=0)
+    >>> sw.d.values.round(5).tolist()
+    [0.13633, 0.13975, 0.14318]
+    >>> sw.label.values.tolist()     # up, then down
+    [['3:1 period-2', '3:1 period-2', '2:1 period-2'], ['3:1 period-2', '2:1 period-2', '2:1 period-2']]
     """
     _check_window(window, pmax)
     device, held = held_values(device, held)
@@ -524,7 +543,21 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
     xarray.Dataset
         Along ``transition``: ``direction``, ``d`` (middle of the final bracket), ``d_width`` (its
         width), ``before``/``after`` labels, ``kind`` and ``status`` (``"refined"``, or why the
-        bracket could not be narrowed to ``xtol``: such a point is kept, with its width).
+        bracket could not be narrowed to ``xtol``: such a point is kept, with its width).  Attributes:
+        ``beta``, ``xtol`` and ``max_periods``.
+
+    Examples
+    --------
+    The sweep of :func:`sweep`'s example loses the 3:1 motion going up at G2 (d = 0.14195, its fold) and
+    the 2:1 motion going down at G1 (d = 0.1376, where it grazes the bottom wall):
+
+    >>> import math, vibroimpact as vi
+    >>> sw = vi.sweep("s", [0.219, 0.2245, 0.23], beta=math.pi / 6, phi=5.855, v0=0.4185, long_impacts=0)
+    >>> tr = vi.locate_transitions(sw, xtol=1e-6)
+    >>> [(str(a), round(float(d), 5)) for a, d in zip(tr.direction.values, tr.d.values)]
+    [('up', 0.14195), ('down', 0.1376)]
+    >>> tr.before.values.tolist(), tr.status.values.tolist(), bool((tr.d_width < 1e-5).all())
+    (['3:1 period-2', '2:1 period-2'], ['refined', 'refined'], True)
     """
     beta = float(sw.attrs["beta"])
     g0 = sw["gbar"].values
@@ -645,6 +678,18 @@ def bistable_intervals(sw: xr.Dataset, transitions: xr.Dataset) -> xr.Dataset:
 
         An interval that would have zero or negative width (located ends in the wrong order) is left out and
         named in the attribute ``inconsistent_intervals``.
+
+    Examples
+    --------
+    The bistable interval [G1, G2] of the paper's incline pi/6, bounded by the located transitions:
+
+    >>> import math, vibroimpact as vi
+    >>> sw = vi.sweep("s", [0.219, 0.2245, 0.23], beta=math.pi / 6, phi=5.855, v0=0.4185, long_impacts=0)
+    >>> iv = vi.bistable_intervals(sw, vi.locate_transitions(sw, xtol=1e-6))
+    >>> iv.d_lo.values.round(5).tolist(), iv.d_hi.values.round(5).tolist(), iv.lo_source.values.tolist()
+    ([0.1376], [0.14195], ['located'])
+    >>> iv.label_up.values.tolist(), iv.label_down.values.tolist(), iv.found_by.values.tolist()
+    (['3:1 period-2'], ['2:1 period-2'], ['sweeps differ'])
     """
     up, down = sw["label"].values
     d = sw["d"].values
@@ -787,8 +832,21 @@ def basins(params: Params, phis, v0s, *, max_periods: float = 400, tol: float = 
     Returns
     -------
     xarray.Dataset
-        On ``(phi, v0)``: ``label`` (e.g. ``"2:1 period-2"``), ``period``, ``n_events`` and integer
-        ``code`` with the list of labels in the ``codes`` attribute.
+        On ``(phi, v0)``: ``label`` (e.g. ``"2:1 period-2"``), ``period``, ``n_events`` and the integer
+        ``attractor``, an index into the labels listed (as JSON) in the ``legend`` attribute.
+
+    Examples
+    --------
+    Between G1 and G2 (d = 0.13975, pi/6) the starts of a small grid split between the two coexisting motions:
+
+    >>> import json, numpy as np, vibroimpact as vi
+    >>> b = vi.basins(vi.Params(d=0.13975, gbar=0.12201), np.linspace(0, 2 * np.pi, 4, endpoint=False),
+    ...               [0.1, 0.4])
+    >>> legend = json.loads(b.attrs["legend"])
+    >>> sorted(legend)
+    ['2:1 period-2', '3:1 period-2']
+    >>> bool((np.array(legend)[b.attractor.values] == b.label.values).all())
+    True
     """
     P, V = np.meshgrid(np.asarray(phis, float), np.asarray(v0s, float), indexing="ij")
     ds = attractor_batch(params.d, params.gbar, params.r, P.ravel(), V.ravel(), max_periods=max_periods,
@@ -892,7 +950,20 @@ def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float 
     xarray.Dataset
         On ``(y_name, x_name)``: ``label`` (a cell with no period split into chaotic, quasi-periodic or
         unsettled by its long run, :func:`no_period_label`), ``lyap1`` with ``lyap1_low``, ``lyap1_high``
-        for those cells, ``period``, ``d``, ``gbar`` and ``code``.
+        for those cells, ``period``, ``d``, ``gbar`` and ``attractor`` (an index into the labels of the
+        ``legend`` attribute, JSON); attributes: the start, the settings and the values held.
+
+    Examples
+    --------
+    From the same start, the shorter cylinder settles on the 3:1 motion on both inclines, the longer one on
+    the 2:1 at pi/6 only; ``gbar = M g sin(beta) / F`` along beta:
+
+    >>> import math, vibroimpact as vi
+    >>> rm = vi.regime_map("s", [0.219, 0.23], "beta", [math.pi / 6, math.pi / 3], phi=5.855, v0=0.4185)
+    >>> rm.label.values.tolist()
+    [['3:1 period-2', '2:1 period-2'], ['3:1 period-2', '3:1 period-2']]
+    >>> rm.d.values[0].round(5).tolist(), rm.gbar.values[:, 0].round(5).tolist()
+    ([0.13633, 0.14318], [0.12201, 0.21133])
     """
     X, Y, d, gbar, r, fixed = plane_params(x_name, xs, y_name, ys, device=device, **held)
     axes = {x_name, y_name}

@@ -56,6 +56,16 @@ def voltage_gain(speed, membrane: Membrane) -> np.ndarray:
         Gains (V), shaped like ``speed``.  Where the stretched geometry has no real solution
         (``cos(alpha)`` outside ``(0, 1]``, a deflection too large for the model) the result is
         NaN: flagged, never a silent number.
+
+    Examples
+    --------
+    At rest the membrane is flat (``A = pi R^2``, ``U = U_in``: no gain); the gain depends on the speed's
+    magnitude only and grows with it (3.36 m/s is the 2:1 orbit's fastest bottom impact at the paper's
+    device):
+
+    >>> import vibroimpact as vi
+    >>> vi.voltage_gain([0.0, -1.0, 1.0, 3.36], vi.Device().membrane).round(0).tolist()   # V
+    [0.0, 5740.0, 5740.0, 27198.0]
     """
     mb = membrane
     delta = deflection(speed, mb)
@@ -84,6 +94,14 @@ def averages(gain, duration):
     -------
     U_I, U_T : numpy.ndarray
         ``sum(gain) / N`` (V per impact) and ``sum(gain) / duration`` (V per unit time).
+
+    Examples
+    --------
+    Three impacts of 1, 2 and 6 V over 4 time units (two forcing periods):
+
+    >>> import vibroimpact as vi
+    >>> [float(u) for u in vi.averages([1.0, 2.0, 6.0], 4.0)]
+    [3.0, 2.25]
     """
     gain = np.asarray(gain, dtype=float)
     total = gain.sum(axis=-1)
@@ -134,7 +152,24 @@ def branch_energy(branch: xr.Dataset, device: Device = PAPER) -> xr.Dataset:
     Returns
     -------
     xarray.Dataset
-        Along ``point``: ``speed``, ``gain`` (per impact), ``U_I``, ``U_T``, ``stable``, ``admissible``.
+        Along ``point`` (coordinates ``d``, ``s``, ``F``): per impact ``v_minus``, ``speed`` (m/s) and
+        ``gain`` (V; the impacts' walls are ``wall``), and ``U_I``, ``U_T``, ``stable``, ``admissible``;
+        the device's attributes.
+
+    Examples
+    --------
+    Along the 2:1 branch (3 impacts per forcing period of 2 time units) ``U_T = 3 U_I / 2``; at
+    s = 0.2249 m it is :func:`~vibroimpact.orbit_energy` of the orbit there:
+
+    >>> import math, numpy as np, vibroimpact as vi
+    >>> o = vi.find_orbit(vi.Params.from_physical(s=0.2249, beta=math.pi / 6), "BBT", 5.855, 0.4185)
+    >>> br = vi.continue_orbit(o, vary="s", value_range=(0.224, 0.226), step=1e-3)
+    >>> en = vi.branch_energy(br)
+    >>> bool(np.allclose(en.U_T, 1.5 * en.U_I, rtol=1e-12)), bool(en.stable.all())
+    (True, True)
+    >>> at = int(np.argmin(abs(en.s.values - 0.2249)))
+    >>> round(float(en.U_T[at])), round(vi.orbit_energy(o, vi.Device())["U_T"])     # V per unit time
+    (33783, 33783)
     """
     if not branch.sizes.get("point", 0):
         return xr.Dataset(attrs=dict(branch.attrs))
@@ -297,6 +332,16 @@ def delivered(en: xr.Dataset, q: str = "U_T"):
     value, se : numpy.ndarray
         On ``(direction, point)``, in V. A sweep energy without settled cycles gives its window averages
         and NaN standard errors.
+
+    Examples
+    --------
+    Every point of this sweep is settled on a periodic orbit: its exact average, with standard error 0:
+
+    >>> import math, vibroimpact as vi
+    >>> sw = vi.sweep("s", [0.219, 0.2245, 0.23], beta=math.pi / 6, phi=5.855, v0=0.4185, long_impacts=0)
+    >>> value, se = vi.delivered(vi.sweep_energy(sw))
+    >>> value.round(-1).tolist(), se.tolist()          # up, then down (V per unit time)
+    ([[33130.0, 33690.0, 34070.0], [33130.0, 33760.0, 34070.0]], [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
     """
     if q not in ("U_T", "U_I"):
         raise ValueError(f"q = {q!r}; allowed: 'U_T' or 'U_I'")
@@ -336,8 +381,26 @@ def sweep_energy(sw: xr.Dataset, device: Device = PAPER, *, window_time: float =
     -------
     xarray.Dataset
         On ``(direction, point)``: ``U_I``, ``U_T``, ``window_impacts`` and ``window_time`` (the
-        span averaged over).  A point resting on the bottom for good (``gbar >= 1``) or without
-        impacts in its window has ``U_T = 0`` and ``U_I`` NaN (no impact to average).
+        span averaged over), the sweep's ``label``, ``settled`` and ``long_status``; on
+        ``(direction, point, event)`` the window's ``speed`` and ``gain``; where settled the exact cycle's
+        ``cycle_gain`` (on ``cycle``), ``cycle_U_I`` and ``cycle_U_T``; the long-run averages
+        ``U_I_long``, ``U_T_long`` with standard errors ``U_I_long_se``, ``U_T_long_se``.  A point resting
+        on the bottom for good (``gbar >= 1``) or without impacts in its window has ``U_T = 0`` and ``U_I``
+        NaN (no impact to average).
+
+    Examples
+    --------
+    On the bistable interval (the middle point, d = 0.13975) the up sweep's 3:1 motion and the down sweep's
+    2:1 deliver differently; ``U_T / U_I`` is the number of impacts per unit time, 4 or 3 per forcing period
+    of 2 time units:
+
+    >>> import math, vibroimpact as vi
+    >>> sw = vi.sweep("s", [0.219, 0.2245, 0.23], beta=math.pi / 6, phi=5.855, v0=0.4185, long_impacts=0)
+    >>> en = vi.sweep_energy(sw)
+    >>> en.label.values[:, 1].tolist(), en.U_T.values[:, 1].round(-1).tolist()
+    (['3:1 period-2', '2:1 period-2'], [33690.0, 33760.0])
+    >>> (en.U_T / en.U_I).round(9).values.tolist()
+    [[2.0, 2.0, 1.5], [2.0, 1.5, 1.5]]
     """
     F = sw["F"].values
     Fb = np.broadcast_to(F[None, :], sw["status"].shape)

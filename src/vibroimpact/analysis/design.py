@@ -72,8 +72,9 @@ def _fail(key, value, allowed):
 
 def start_states(n, *, distribution: str = "rest", seed: int = 0, phi_range=(0.0, 2 * math.pi),
                  v0_range=(0.02, 1.2)):
-    """``n`` start states ``(phi, v0)``: first bottom impacts at phase ``phi`` with pre-impact velocity
-    ``v0``, drawn with ``numpy.random.default_rng(seed)``.
+    """``n`` start states ``(phi, v0)``: first bottom impacts at phase ``phi`` with pre-impact velocity ``v0``.
+
+    They are drawn with ``numpy.random.default_rng(seed)``: the same seed gives the same states.
 
     Parameters
     ----------
@@ -92,6 +93,17 @@ def start_states(n, *, distribution: str = "rest", seed: int = 0, phi_range=(0.0
     -------
     phi, v0 : numpy.ndarray
         The start states.
+
+    Examples
+    --------
+    >>> import numpy as np, vibroimpact as vi
+    >>> phi, v0 = vi.start_states(8)                    # at rest on the bottom membrane
+    >>> phi.shape, bool(((0 <= phi) & (phi < 2 * np.pi)).all()), v0.tolist() == [0.0] * 8
+    ((8,), True, True)
+    >>> phi, v0 = vi.start_states(8, distribution="box", seed=1, v0_range=(0.1, 0.5))
+    >>> bool(((0.1 <= v0) & (v0 <= 0.5)).all()), bool((phi == vi.start_states(8, distribution="box", seed=1,
+    ...                                                   v0_range=(0.1, 0.5))[0]).all())
+    (True, True)
     """
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < MIN_STARTS:
         _fail("starts", n, f"an integer >= {MIN_STARTS}")
@@ -243,6 +255,25 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, device: Device | No
         ``(y_name, x_name, attractor)``: ``label``, ``share``, ``share_low``, ``share_high``, ``U_T``,
         ``U_I``, ``period``, ``n_bottom``, ``n_top``, and the last bottom impact of one run on it
         (``impact_phase``, ``impact_v_minus``).
+
+        Beside these: the starts reaching each attractor (``count``), whether its output is exact
+        (``settled``) or a long-run estimate with standard errors (``U_T_se``, ``U_I_se``), and per point
+        ``E_U_T_se``, ``worst_U_T_se`` and ``point_settled``; attributes: the settings, the axes ``x`` and
+        ``y`` and the values held.
+
+    Examples
+    --------
+    Eight starts on two lengths at the paper's incline: on the bistable interval (s = 0.2245 m, d = 0.13975)
+    they reach both motions, beyond G2 (s = 0.23 m) only the 2:1; the expected output ``E_U_T`` is the
+    attractors' outputs weighted by their shares, and the worst case the lowest of them:
+
+    >>> import math, numpy as np, vibroimpact as vi
+    >>> phi, v0 = vi.start_states(8, distribution="box", seed=0)
+    >>> dm = vi.design_map("s", [0.2245, 0.23], "beta", [math.pi / 6], phi=phi, v0=v0)
+    >>> dm.n_attractors.values.tolist(), dm.multistable.values.tolist(), sorted(dm.label.values[0, 0].tolist())
+    ([[2, 1]], [[True, False]], ['2:1 period-2', '3:1 period-2'])
+    >>> bool(np.allclose((dm.share * dm.U_T).sum("attractor"), dm.E_U_T)), dm.worst_U_T.values.round(-1).tolist()
+    (True, [[33690.0, 34070.0]])
     """
     for name in (x_name, y_name):
         if name not in DESIGN_AXES:
@@ -531,6 +562,29 @@ def tolerance_analysis(ds: xr.Dataset, curves: xr.Dataset | None, tolerance: dic
         ``ds`` with the tolerance box's lowest ``E_U_T`` (``box_min_E_U_T``; ``box_in_grid`` where the box
         lies inside the grid), the ``margin`` to the nearest admissible bifurcation curve in units of the box
         (``nearest_curve`` names it) and ``robust`` (``margin > 1``).
+
+    Examples
+    --------
+    A tolerance of 1 % on the length at the paper's incline, against the curves of the 2:1 grazing (G1,
+    s = 0.22104 m) and the 3:1 fold (G2, s = 0.22804 m): at s = 0.23 m G2 lies within the box (margin
+    below 1), at 0.2355 m three boxes away:
+
+    >>> import math, vibroimpact as vi
+    >>> dev = vi.Device()
+    >>> b21 = vi.continue_orbit(vi.find_orbit(dev.params(0.2249, math.pi / 6), "BBT", 5.855, 0.4185),
+    ...                         vary="s", d_range=(0.13, 0.16), step=2e-3)
+    >>> b31 = vi.continue_orbit(vi.find_orbit(dev.params(0.2249, math.pi / 6), "BBBT", 5.88, 0.3967),
+    ...                         vary="s", d_range=(0.13, 0.16), step=2e-3)
+    >>> b21.attrs["status"] = b31.attrs["status"] = "ok"
+    >>> curves = vi.curve_set([b21, b31], ("s", "beta"), ((0.2, 0.25), (0.5, 0.55)), kinds=("fold", "grazing"),
+    ...                       step=1e-2, physics={"beta": math.pi / 6})
+    >>> phi, v0 = vi.start_states(8, distribution="box", seed=0)
+    >>> dm = vi.design_map("s", [0.2245, 0.23, 0.2355, 0.241], "beta", [math.pi / 6], phi=phi, v0=v0)
+    >>> out = vi.tolerance_analysis(dm, curves, {"s": 0.01})
+    >>> out.margin.values.round(2).tolist(), out.robust.values.tolist()
+    ([[1.54, 0.85, 3.17, 5.38]], [[True, False, True, True]])
+    >>> out.nearest_curve.values.tolist(), out.box_in_grid.values.tolist()
+    ([['grazing of BBT', 'fold of BBBT', 'fold of BBBT', 'fold of BBBT']], [[False, True, True, False]])
     """
     ds = ds.copy()  # the caller's dataset is left as it was
     xname, yname = ds.attrs["x"], ds.attrs["y"]
@@ -582,8 +636,32 @@ def best_designs(ds: xr.Dataset, budget: dict, per: str | None = None) -> list[d
     Returns
     -------
     list of dict
-        One per value of ``per``: the design's coordinates, ``d``, ``motion``, ``E_U_T``, ``worst_U_T``,
-        ``box_min_E_U_T``, ``margin``, ``nearest_curve``, ``robust`` and ``found``.
+        One per value of ``per`` (one for ``None``): the design's coordinates, ``d``, ``motion``, ``E_U_T``,
+        ``worst_U_T``, ``box_min_E_U_T``, ``margin``, ``nearest_curve``, ``robust`` and ``found`` (False,
+        with the coordinates held only, where no point qualifies); with ``per`` and ``s`` the map's x
+        axis, ``longest``: the same description of the longest device within the budget.
+
+    Examples
+    --------
+    On the map of :func:`~vibroimpact.tolerance_analysis`'s example, within a length budget of 0.24 m, the
+    best robust design whose box lies inside the grid is s = 0.2355 m, on the 2:1 motion alone:
+
+    >>> import math, vibroimpact as vi
+    >>> dev = vi.Device()
+    >>> b21 = vi.continue_orbit(vi.find_orbit(dev.params(0.2249, math.pi / 6), "BBT", 5.855, 0.4185),
+    ...                         vary="s", d_range=(0.13, 0.16), step=2e-3)
+    >>> b31 = vi.continue_orbit(vi.find_orbit(dev.params(0.2249, math.pi / 6), "BBBT", 5.88, 0.3967),
+    ...                         vary="s", d_range=(0.13, 0.16), step=2e-3)
+    >>> b21.attrs["status"] = b31.attrs["status"] = "ok"
+    >>> curves = vi.curve_set([b21, b31], ("s", "beta"), ((0.2, 0.25), (0.5, 0.55)), kinds=("fold", "grazing"),
+    ...                       step=1e-2, physics={"beta": math.pi / 6})
+    >>> phi, v0 = vi.start_states(8, distribution="box", seed=0)
+    >>> dm = vi.design_map("s", [0.2245, 0.23, 0.2355, 0.241], "beta", [math.pi / 6], phi=phi, v0=v0)
+    >>> best = vi.best_designs(vi.tolerance_analysis(dm, curves, {"s": 0.01}), {"s": 0.24}, per="beta")
+    >>> [(b["found"], b["s"], b["motion"], round(b["margin"], 2)) for b in best]
+    [(True, 0.2355, '2:1 period-2 (100%)', 3.17)]
+    >>> best[0]["longest"]["s"]
+    0.2355
     """
     xname, yname = ds.attrs["x"], ds.attrs["y"]
     shape = ds["E_U_T"].shape

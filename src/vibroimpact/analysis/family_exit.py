@@ -179,8 +179,10 @@ def family_exit(d, gbar, r: float, phi: float, v0: float, *, n: int = 1, impacts
 
 
 def sweep_d_graz(sw: xr.Dataset, **kw) -> xr.Dataset:
-    """The paper's d_graz along a sweep (:func:`vibroimpact.analysis.sweeps.sweep`): :func:`family_exit` of
-    the 1:1 family on the sweep's line, from the start its down direction used at its largest d.
+    """The paper's d_graz along a sweep (:func:`vibroimpact.analysis.sweeps.sweep`).
+
+    It is :func:`family_exit` of the 1:1 family on the sweep's line, from the start its down direction
+    used at its largest d.
 
     Parameters
     ----------
@@ -227,8 +229,10 @@ _ALONG_D = {"s": 1.0, "d": 1.0, "F": -1.0}
 
 
 def d_graz_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, device=None, **kw) -> xr.Dataset:
-    """The paper's d_graz as a curve in a plane of two parameters: :func:`family_exit` of the 1:1 family
-    along lines of the plane, each followed from its largest d down.
+    """The paper's d_graz as a curve in a plane of two parameters.
+
+    It is :func:`family_exit` of the 1:1 family along lines of the plane, each followed from its largest d
+    down.
 
     Parameters
     ----------

@@ -138,8 +138,9 @@ def tangent_pass(t, vm, vp, phase, kind, gbar, r, first, batches, slow_speed, lo
     counts[4] = t1 - t0
 
 
+# a record a call returns: its fields are Attributes, not Parameters (no one constructs it)
 @dataclass(frozen=True)
-class Lyapunov:  # numpydoc ignore=PR01 (a record: its fields are Attributes)
+class Lyapunov:  # numpydoc ignore=PR01
     """Both Lyapunov exponents of a run of the impact map (:func:`lyapunov`).
 
     Attributes
@@ -169,6 +170,7 @@ class Lyapunov:  # numpydoc ignore=PR01 (a record: its fields are Attributes)
         That speed.
     status : str
         ``"ok"``, or why the exponents are not finite (sticks, a run that rests for good).
+
     Examples
     --------
     On the stable 2:1 orbit of Figure 7 (a) (3 impacts a forcing period, multipliers a complex pair of
@@ -180,7 +182,7 @@ class Lyapunov:  # numpydoc ignore=PR01 (a record: its fields are Attributes)
     >>> lam = vi.lyapunov(p, 1.015, 0.1924, 2000)
     >>> lam.status, [round(x, 3) for x in lam.per_impact], round(math.log(0.5), 3)
     ('ok', [-0.693, -0.693], -0.693)
-    >>> round(sum(lam.per_impact), 3), round(2 * math.log(0.5), 3), round(lam.mean_time, 3)   # 2/3 t a flight
+    >>> round(sum(lam.per_impact), 3), round(2 * math.log(0.5), 3), round(lam.mean_time, 3)   # mean_time: 2 / 3
     (-1.386, -1.386, 0.667)
     """
 

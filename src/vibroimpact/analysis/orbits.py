@@ -198,8 +198,9 @@ def step_jacobians(z, walls, gbar, r):
 # --------------------------------------------------------------------------------------------
 
 
+# a record a call returns: its fields are Attributes, not Parameters (no one constructs it)
 @dataclass
-class Orbit:  # numpydoc ignore=PR01 (a record: its fields are Attributes)
+class Orbit:  # numpydoc ignore=PR01
     """A periodic impact orbit (:func:`find_orbit`).
 
     Impact ``j`` (``j = 0 .. N-1``) is at wall ``wall[j]`` at time ``t[j]`` (``t[0] = 0``) with phase

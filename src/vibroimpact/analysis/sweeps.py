@@ -514,8 +514,9 @@ def transition_kind(before: str, after: str) -> str:
 def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float = 20_000,
                        max_events: int = 2_000_000, max_trials: int = 200,
                        progress: bool | None = None) -> xr.Dataset:
-    """Locate where each direction's followed attractor changes, between neighbouring points whose
-    motions differ, to ``xtol`` in d.
+    """Locate where each direction's followed attractor changes, to ``xtol`` in d.
+
+    The changes are looked for between neighbouring points of the sweep whose motions differ.
 
     From the point before the change the attractor is followed in the sweep's direction, each run
     starting from the previous attractor, with a step that doubles (up to the grid step) after a

@@ -32,8 +32,9 @@ def _check(name: str, value: float, ok: bool, allowed: str) -> float:
     return x
 
 
+# a record a call returns: its fields are Attributes, not Parameters (no one constructs it)
 @dataclass(frozen=True)
-class PhysicalScales:  # numpydoc ignore=PR01 (a record: its fields are Attributes)
+class PhysicalScales:  # numpydoc ignore=PR01
     """Factors converting non-dimensional quantities to SI units (paper eq. ``nondXYt``).
 
     ``tau = time * t``, ``dX/dtau = velocity * Xdot``, ``X = length * X*``.

@@ -436,8 +436,9 @@ def cycle_class(wall, kind, t_span):
     return k, nb, nt, sticking, label
 
 
+# a record a call returns: its fields are Attributes, not Parameters (no one constructs it)
 @dataclass(frozen=True)
-class Attractor:  # numpydoc ignore=PR01 (a record: its fields are Attributes)
+class Attractor:  # numpydoc ignore=PR01
     """What a run settled on (:func:`identify_attractor`).
 
     Attributes

@@ -196,8 +196,9 @@ def sweep_d_graz(sw: xr.Dataset, **kw) -> xr.Dataset:
     -------
     xarray.Dataset
         Scalars ``d_graz``, ``d_graz_width``, ``d_graz_clearance``, ``d_graz_slowest_after``,
-        ``d_graz_kind``, ``d_graz_after``, ``d_graz_status`` (:func:`family_exit`'s fields), and the
-        swept device at d_graz: ``d_graz_s`` (m) and ``d_graz_F`` (N).
+        ``d_graz_kind``, ``d_graz_after``, ``d_graz_sampled``, ``d_graz_status`` (:func:`family_exit`'s
+        fields), and the swept device at d_graz: ``d_graz_s`` (m) and ``d_graz_F`` (N); attributes
+        ``d_graz_impacts``, ``d_graz_xtol`` and ``d_graz_grazing_clearance``.
 
     Examples
     --------
@@ -254,8 +255,9 @@ def d_graz_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, dev
         Along ``line``: the fixed axis' value (named after it), the exit's value of the line's axis
         (``at``: named by ``along`` in the attributes), ``d_graz`` and the other fields of
         :func:`family_exit` (``d_graz_width``, ``d_graz_clearance``, ``d_graz_slowest_after``,
-        ``d_graz_kind``, ``d_graz_after``, ``d_graz_status``); attributes ``along``, ``other`` and
-        ``grid_step`` (the lines' grid spacing along ``along``).  Where neither axis changes d, no line:
+        ``d_graz_kind``, ``d_graz_after``, ``d_graz_sampled``, ``d_graz_status``); attributes ``along``,
+        ``other``, ``grid_step`` (the lines' grid spacing along ``along``), ``d_graz_grazing_clearance``
+        and ``status``.  Where neither axis changes d, no line:
         the attribute ``status`` says so.
 
     Examples

@@ -409,8 +409,12 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
         increasing, with ``s``, ``F``, ``gbar``) and ``event`` (the last ``window`` events of each
         attractor); per point ``label``, ``period``, ``period_events``, ``n_bottom``, ``n_top``,
         ``n_events``, ``status`` and the start used (``start_phi``, ``start_v0``); and what is
-        well-posed about each attractor (:func:`settle`): its exact cycle on dimension ``cycle``, or the
-        long-run statistics of a motion with no period.
+        well-posed about each attractor (:func:`settle`): ``settled`` and ``settle_status``, its exact
+        cycle on dimension ``cycle`` (``cycle_t``, ``cycle_wall``, ``cycle_v_minus``, ``cycle_phase``,
+        ``cycle_kind``), or the long-run statistics of a motion with no period (``long_status``,
+        ``long_phi``, ``long_v0``, ``abs_v_mean``, ``abs_v_se``); the largest Lyapunov exponent
+        ``lyap1`` with ``lyap1_low``, ``lyap1_high``, ``lyap1_time``, ``lyap1_sensitivity`` and
+        ``lyap1_source``.  Attributes: the settings and the device.
 
     Examples
     --------

@@ -417,8 +417,14 @@ def find_orbit(params: Params, word: str, phi: float, v0: float, *, k: int = 1) 
     --------
     >>> import vibroimpact as vi
     >>> o = vi.find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
-    >>> o.word, len(o.v_minus)
-    ('BBT', 3)
+    >>> o.word, o.v_minus.round(5).tolist(), o.stable, o.admissible
+    ('BBT', [0.40313, 0.18744, -0.46404], True, True)
+
+    A simulation started on the orbit's first impact repeats its impacts:
+
+    >>> run = vi.simulate(o.params, o.phi, o.v_minus[0], n_impacts=30)     # 10 periods of 3 impacts
+    >>> bool(abs(run.v_minus.values[-3:] - o.v_minus).max() < 1e-9)
+    True
 
     Raises
     ------

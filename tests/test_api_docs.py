@@ -51,8 +51,8 @@ def test_every_public_name_has_an_example(name):
 def test_the_examples_section_is_found_only_where_it_is():
     assert examples_section("Sum.\n\nExamples\n--------\n>>> 1 + 1\n2\n") == ">>> 1 + 1\n2\n"
     assert examples_section("Sum.\n\nReturns\n-------\nint\n    The sum.\n") == ""
-    assert not re.search(r"^>>> \S", examples_section("Sum.\n\nExamples\n--------\nNone here.\n\nNotes\n-----\n"
-                                                       ">>> 1\n"), re.M)
+    prose = "Sum.\n\nExamples\n--------\nNone here.\n\nNotes\n-----\n>>> 1\n"
+    assert not re.search(r"^>>> \S", examples_section(prose), re.M)
 
 
 def test_every_public_name_and_member_passes_the_site_s_numpydoc_checks():

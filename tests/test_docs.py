@@ -45,7 +45,8 @@ def test_every_public_name_has_a_numpydoc_docstring():
             names = {n for pair in documented for n in pair if n}
             assert names >= {f.name for f in dataclasses.fields(obj)}, (name, {f.name for f in dataclasses.fields(obj)} - names)
             continue
-        errors = [e for e in validate(f"vibroimpact.{name}")["errors"] if e[0] in ("SS01", "PR01", "RT01", "EX01")
+        errors = [e for e in validate(f"vibroimpact.{name}")["errors"]
+                  if e[0] in ("SS01", "PR01", "RT01", "EX01")
                   and not (isinstance(obj, type) and e[0] == "RT01")]
         if errors:
             bad[name] = errors

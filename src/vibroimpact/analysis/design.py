@@ -72,7 +72,7 @@ def _fail(key, value, allowed):
 
 def start_states(n, *, distribution: str = "rest", seed: int = 0, phi_range=(0.0, 2 * math.pi),
                  v0_range=(0.02, 1.2)):
-    """``n`` start states ``(phi, v0)``: first bottom impacts at phase ``phi`` with pre-impact velocity ``v0``.
+    """``n`` start states: first bottom impacts at phase ``phi`` with pre-impact velocity ``v0``.
 
     They are drawn with ``numpy.random.default_rng(seed)``: the same seed gives the same states.
 
@@ -270,10 +270,14 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, device: Device | No
     >>> import math, numpy as np, vibroimpact as vi
     >>> phi, v0 = vi.start_states(8, distribution="box", seed=0)
     >>> dm = vi.design_map("s", [0.2245, 0.23], "beta", [math.pi / 6], phi=phi, v0=v0)
-    >>> dm.n_attractors.values.tolist(), dm.multistable.values.tolist(), sorted(dm.label.values[0, 0].tolist())
-    ([[2, 1]], [[True, False]], ['2:1 period-2', '3:1 period-2'])
-    >>> bool(np.allclose((dm.share * dm.U_T).sum("attractor"), dm.E_U_T)), dm.worst_U_T.values.round(-1).tolist()
-    (True, [[33690.0, 34070.0]])
+    >>> dm.n_attractors.values.tolist(), dm.multistable.values.tolist()
+    ([[2, 1]], [[True, False]])
+    >>> sorted(dm.label.values[0, 0].tolist())
+    ['2:1 period-2', '3:1 period-2']
+    >>> bool(np.allclose((dm.share * dm.U_T).sum("attractor"), dm.E_U_T))
+    True
+    >>> dm.worst_U_T.values.round(-1).tolist()
+    [[33690.0, 34070.0]]
     """
     for name in (x_name, y_name):
         if name not in DESIGN_AXES:
@@ -576,8 +580,8 @@ def tolerance_analysis(ds: xr.Dataset, curves: xr.Dataset | None, tolerance: dic
     >>> b31 = vi.continue_orbit(vi.find_orbit(dev.params(0.2249, math.pi / 6), "BBBT", 5.88, 0.3967),
     ...                         vary="s", d_range=(0.13, 0.16), step=2e-3)
     >>> b21.attrs["status"] = b31.attrs["status"] = "ok"
-    >>> curves = vi.curve_set([b21, b31], ("s", "beta"), ((0.2, 0.25), (0.5, 0.55)), kinds=("fold", "grazing"),
-    ...                       step=1e-2, physics={"beta": math.pi / 6})
+    >>> curves = vi.curve_set([b21, b31], ("s", "beta"), ((0.2, 0.25), (0.5, 0.55)),
+    ...                       kinds=("fold", "grazing"), step=1e-2, physics={"beta": math.pi / 6})
     >>> phi, v0 = vi.start_states(8, distribution="box", seed=0)
     >>> dm = vi.design_map("s", [0.2245, 0.23, 0.2355, 0.241], "beta", [math.pi / 6], phi=phi, v0=v0)
     >>> out = vi.tolerance_analysis(dm, curves, {"s": 0.01})
@@ -653,8 +657,8 @@ def best_designs(ds: xr.Dataset, budget: dict, per: str | None = None) -> list[d
     >>> b31 = vi.continue_orbit(vi.find_orbit(dev.params(0.2249, math.pi / 6), "BBBT", 5.88, 0.3967),
     ...                         vary="s", d_range=(0.13, 0.16), step=2e-3)
     >>> b21.attrs["status"] = b31.attrs["status"] = "ok"
-    >>> curves = vi.curve_set([b21, b31], ("s", "beta"), ((0.2, 0.25), (0.5, 0.55)), kinds=("fold", "grazing"),
-    ...                       step=1e-2, physics={"beta": math.pi / 6})
+    >>> curves = vi.curve_set([b21, b31], ("s", "beta"), ((0.2, 0.25), (0.5, 0.55)),
+    ...                       kinds=("fold", "grazing"), step=1e-2, physics={"beta": math.pi / 6})
     >>> phi, v0 = vi.start_states(8, distribution="box", seed=0)
     >>> dm = vi.design_map("s", [0.2245, 0.23, 0.2355, 0.241], "beta", [math.pi / 6], phi=phi, v0=v0)
     >>> best = vi.best_designs(vi.tolerance_analysis(dm, curves, {"s": 0.01}), {"s": 0.24}, per="beta")

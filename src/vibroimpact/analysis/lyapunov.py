@@ -182,7 +182,7 @@ class Lyapunov:  # numpydoc ignore=PR01
     >>> lam = vi.lyapunov(p, 1.015, 0.1924, 2000)
     >>> lam.status, [round(x, 3) for x in lam.per_impact], round(math.log(0.5), 3)
     ('ok', [-0.693, -0.693], -0.693)
-    >>> round(sum(lam.per_impact), 3), round(2 * math.log(0.5), 3), round(lam.mean_time, 3)   # mean_time: 2 / 3
+    >>> round(sum(lam.per_impact), 3), round(2 * math.log(0.5), 3), round(lam.mean_time, 3)   # 2 / 3
     (-1.386, -1.386, 0.667)
     """
 

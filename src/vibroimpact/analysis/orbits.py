@@ -337,11 +337,12 @@ def orbit_from_vector(params: Params, word: str, k: int, z) -> Orbit:
 
 
 def orbit_run(orbit: Orbit, periods: int = 1):
-    """The orbit's impacts over ``periods`` periods as a run, in the form :func:`~vibroimpact.simulate` returns.
+    """The orbit's impacts over ``periods`` periods as a run like :func:`~vibroimpact.simulate`'s.
 
-    The run is for :func:`~vibroimpact.trajectory`: the exact state along the orbit, with no simulation: at a grazing point the loop touches a wall, and
-    whether a simulator registers that touch as an impact is decided by rounding; the Newton orbit's
-    flights (paper eqs. ``zdotj_p1``, ``zj_p1``) are the orbit itself.
+    The run is for :func:`~vibroimpact.trajectory`: the exact state along the orbit, with no simulation.
+    At a grazing point the loop touches a wall, and whether a simulator registers that touch as an impact
+    is decided by rounding; the Newton orbit's flights (paper eqs. ``zdotj_p1``, ``zj_p1``) are the orbit
+    itself.
 
     Parameters
     ----------

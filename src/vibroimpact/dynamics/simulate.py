@@ -247,7 +247,8 @@ def simulate_batch(d, gbar, r, phi, v0, *, n_impacts, t_end=None, stop_when_peri
     ...                        stop_when_periodic=True)
     >>> ds.status.values.tolist(), ds.period_events.values.tolist()     # 2: periodic
     ([2, 2], [3, 3])
-    >>> one = vi.simulate(vi.Params(d=0.16, gbar=0.122), 1.015, 0.1924, n_impacts=200, stop_when_periodic=True)
+    >>> p = vi.Params(d=0.16, gbar=0.122)
+    >>> one = vi.simulate(p, 1.015, 0.1924, n_impacts=200, stop_when_periodic=True)
     >>> n = int(ds.n_events[0])
     >>> n == one.sizes["impact"] and bool((ds.t[0, :n].values == one.t.values).all())
     True

@@ -171,15 +171,15 @@ def long_run(d, gbar, r, phi, v0, *, impacts: int = LONG_IMPACTS, tol: float = 1
     Examples
     --------
     At d = 0.235 on the incline pi/3 the motion is chaotic: the largest exponent is positive, and the two add
-    up to ``2 ln r`` per impact (each impact contracts areas by ``r^2``), up to a boundary term of order
-    ``1 / impacts``:
+    up to ``2 ln r = -1.386`` per impact (each impact contracts areas by ``r^2``), up to a boundary term of
+    order ``1 / impacts``:
 
     >>> import math, vibroimpact as vi
     >>> gbar = vi.Device().gbar(math.pi / 3)
     >>> run = vi.long_run(0.235, gbar, 0.5, 0.42, 0.87, impacts=2000)
     >>> lam = run["exponents"]
-    >>> run["status"], lam.per_impact[0] > 0.1, round(sum(lam.per_impact), 3), round(2 * math.log(0.5), 3)
-    ('aperiodic', True, -1.386, -1.386)
+    >>> run["status"], lam.per_impact[0] > 0.1, abs(sum(lam.per_impact) - 2 * math.log(0.5)) < 0.01
+    ('aperiodic', True, True)
     """
     from ..dynamics.params import Params
     from ..dynamics.simulate import simulate

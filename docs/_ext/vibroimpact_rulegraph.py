@@ -119,9 +119,10 @@ def page(rules: list[str], edges: list[tuple[str, str]]) -> str:
 
 
 def generate(app=None, root: Path = ROOT) -> list[str]:
-    """Write ``docs/_generated/rulegraph.svg`` and ``docs/_generated/workflow_graph.md``; return the rules."""
+    """Write ``_generated/rulegraph.svg`` and ``_generated/workflow_graph.md`` in the site's source (``docs/``);
+    return the rules."""
     rules, edges = rule_graph(root)
-    out = root / "docs" / "_generated"
+    out = (Path(app.srcdir) if app is not None else root / "docs") / "_generated"
     out.mkdir(parents=True, exist_ok=True)
     draw(rules, edges, out / "rulegraph.svg")
     (out / "workflow_graph.md").write_text(page(rules, edges))

@@ -22,6 +22,7 @@ extensions = [
     "numpydoc",
     "sphinx_gallery.gen_gallery",
     "vibroimpact_pages",
+    "vibroimpact_rulegraph",  # the workflow page's rule graph and target list, from the Snakefile
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 exclude_patterns = ["_build", "tutorials/*.ipynb", "tutorials/*.py", "tutorials/*.zip", "tutorials/*.md5",

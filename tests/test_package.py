@@ -116,10 +116,18 @@ def test_license_and_citation_name_one_version_and_the_paper():
 
     assert (ROOT / "LICENSE").read_text().startswith("BSD 3-Clause License")
     cff = yaml.safe_load((ROOT / "CITATION.cff").read_text())
+    import datetime
+
+    assert cff["cff-version"] == "1.2.0" and cff["type"] == "software" and cff["authors"]
     assert cff["version"] == vibroimpact.__version__ and cff["license"] == "BSD-3-Clause"
-    paper = cff["references"][0]
+    assert isinstance(cff["date-released"], datetime.date)  # YAML reads an ISO date as a date
+    paper = cff["preferred-citation"]
+    assert paper["type"] == "article"
     assert paper["title"] == "Post-grazing dynamics of a vibro-impacting energy generator"
     assert [a["family-names"] for a in paper["authors"]] == ["Serdukova", "Kuske", "Yurchenko"]
+    assert all(a["given-names"] and a["affiliation"] for a in paper["authors"])
+    # only what the paper states: it names no journal, year or DOI
+    assert not {"journal", "year", "doi", "volume"} & set(paper)
     assert 'dynamic = ["version"]' in (ROOT / "pyproject.toml").read_text()  # read from _version.py
 
 

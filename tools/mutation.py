@@ -15,8 +15,9 @@ Mutation operators (AST-located, applied as a text edit on the source bytes):
   delete   a `return` / `continue` / `break` statement -> `pass`
 Not mutated: docstrings, strings, decorators, annotations, `__all__`.
 
-Everything happens in a private copy of src/ and tests/ (``results/mutation/tree``, made on first use;
-``--fresh`` remakes it), never in the working tree.  For each mutant: write the mutated file, delete
+Everything happens in a private copy of the repository's files (every file git tracks, and new ones it
+does not ignore: what a clone holds, so the tests find the pages, examples and config they read;
+``results/mutation/tree``, made on first use; ``--fresh`` remakes it), never in the working tree.  For each mutant: write the mutated file, delete
 its __pycache__, use a fresh
 NUMBA_CACHE_DIR (numba modules) or a private warm copy of the clean cache (pure-Python modules,
 whose numba dependencies are unchanged), run the module's test files with
@@ -63,17 +64,23 @@ def module_path(mod):
 PY = os.environ.get("MUT_PYTHON", sys.executable)
 
 
+def repository_files():
+    """The working tree's files a clone holds: those git tracks and new ones it does not ignore."""
+    out = subprocess.run(["git", "ls-files", "-co", "--exclude-standard", "-z"], cwd=REPO, capture_output=True,
+                         check=True).stdout.decode()
+    return [f for f in out.split("\0") if f and os.path.isfile(os.path.join(REPO, f))]
+
+
 def make_tree(fresh=False):
-    """Copy src/, tests/, config/ (tests read the shipped config) and pyproject.toml into ROOT, and the
-    modules' pristine sources."""
+    """Copy the repository's files (:func:`repository_files`: src/, tests/, config/, docs/, examples/, ...,
+    whatever the tests read) into ROOT, and the modules' pristine sources."""
     if fresh and os.path.isdir(ROOT):
         shutil.rmtree(ROOT)
     if os.path.isdir(ROOT):
         return
-    ignore = shutil.ignore_patterns("__pycache__", "*.egg-info")
-    for item in ("src", "tests", "config"):
-        shutil.copytree(os.path.join(REPO, item), os.path.join(ROOT, item), ignore=ignore)
-    shutil.copy(os.path.join(REPO, "pyproject.toml"), ROOT)
+    for f in repository_files():
+        os.makedirs(os.path.dirname(os.path.join(ROOT, f)), exist_ok=True)
+        shutil.copy2(os.path.join(REPO, f), os.path.join(ROOT, f))
     os.makedirs(os.path.join(ROOT, "pristine"))
     for mod in TESTS:
         shutil.copy(module_path(mod), os.path.join(ROOT, "pristine", mod + ".py"))

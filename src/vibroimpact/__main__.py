@@ -12,6 +12,21 @@ from ._version import __version__
 
 REPOSITORY = "the vibroimpact source repository (git clone; the workflow is not part of the wheel)"
 
+#: the workflow's named targets (the rules no other rule's input needs, and the conditioning run that
+#: ``update_figure_references`` reads) -> what each writes; tests/test_workflow_graph.py holds this to the
+#: Snakefile's rule graph, and the documentation's target list is generated from it
+TARGETS = {
+    "all": "the default: every figure of the paper, its datasets, the arrays each figure draws, the tables "
+           "and the check of the paper's published values",
+    "check": "the paper's values, and every figure's arrays against its committed reference",
+    "bench": "speed against accuracy of the simulator and its peers",
+    "bifurcation": "bifurcation curves in two parameters over brute-force maps",
+    "design_maps": "expected and worst-case output under multistability, robust designs",
+    "docs": "the documentation site",
+    "figure_conditioning": "each figure array's spread under another libm and inputs moved by ulps",
+    "update_figure_references": "accepting the current figures' arrays as the new references",
+}
+
 
 def find_workflow(start: Path | None = None) -> Path | None:
     """The workflow's directory (holding ``Snakefile`` and ``workflow/rules``): the current directory
@@ -46,7 +61,7 @@ def report(start: Path | None = None) -> str:
     else:
         lines += [f"workflow: {wf / 'Snakefile'} (config: {wf / 'config' / 'config.yaml'})",
                   f"  run it: cd {wf} && snakemake --cores 2        (needs snakemake, installed with the package)",
-                  "  targets besides the default: check, bench, bifurcation, update_figure_references"]
+                  "  targets besides the default: " + ", ".join(t for t in TARGETS if t != "all")]
     siconos = "unknown"
     try:
         from .benchmarks.peer_siconos import available

@@ -21,7 +21,10 @@ rule docs:
         )
         + glob.glob("docs/_ext/*.py")
         + glob.glob("examples/*")
-        + glob.glob("workflow/report/*.rst"),
+        + glob.glob("workflow/report/*.rst")
+        # the workflow page's rule graph is drawn from the rules
+        + ["Snakefile"]
+        + glob.glob("workflow/rules/*.smk"),
     output:
         "results/docs/html/index.html",
     log:

@@ -1,0 +1,115 @@
+"""The pages a newcomer reads first: README's first screen, what the pages cite exists, the pages
+describe the project rather than its history, and the catalog, changelog and contributing guide are
+there and true."""
+
+import re
+
+import yaml
+from conftest import ROOT, readme_command
+
+README = (ROOT / "README.md").read_text()
+
+
+def pages():
+    """README, CONTRIBUTING and the documentation's own pages (not what the build generates)."""
+    docs = [p for p in (ROOT / "docs").rglob("*.md")
+            if not {"_generated", "generated", "tutorials"} & set(p.parts) and p.name != "paper.md"]
+    return [ROOT / "README.md", ROOT / "CONTRIBUTING.md", ROOT / "config" / "README.md", *sorted(docs)]
+
+
+#: words that tell the project's history or the writer's situation instead of what the project is
+HISTORY = re.compile(r"\btoday\b|\bnow\b|\bused to\b|\bthis machine\b|\bhere\b|\bfirst measurement\b|\brewrite\b"
+                     r"|\b(?:the )?previous (?:kernel|version|run)\b|\bcommit [0-9a-f]{7,40}\b|\bbusier hour\b"
+                     r"|\bother tenants\b", re.I)
+
+
+def test_the_pages_describe_the_project_not_its_history():
+    bad = {p.relative_to(ROOT).as_posix(): sorted({m.group(0) for m in HISTORY.finditer(p.read_text())})
+           for p in pages()}
+    assert not {k: v for k, v in bad.items() if v}
+
+
+def test_readme_s_first_screen():
+    """What and for whom, then the two commands as the first two code blocks (tests run them), one figure,
+    and the links to the notation, the documentation and one's own device, before the next section."""
+    first = README[:README.index("\n## ")]
+    blocks = re.findall(r"```(\w+)\n(.*?)```", README, re.S)
+    assert blocks[0][1].strip() == readme_command(
+        "tests/test_readme.py::test_the_first_command_sets_up_and_runs_the_default_target")
+    assert blocks[1][1].strip() == ".venv/bin/python -m pytest"
+    assert first.count("```bash") == 2 and first.count("![") == 1
+    assert "For researchers" in first
+    for link in ("docs/guide/notation.md", "docs/guide/", "#rerunning-for-a-new-device", "docs/guide/troubleshooting.md"):
+        assert f"]({link})" in first, link
+    assert "glibc" not in first and "libm" not in first  # test internals live on the testing page
+    assert re.search(r"^## Rerunning for a new device$", README, re.M)
+
+
+def test_what_readme_and_the_pages_link_to_exists():
+    for page in pages():
+        for target in re.findall(r"\]\(([^)#:]+)(?:#[^)]*)?\)", page.read_text()):
+            if target.startswith(("http", "mailto")):
+                continue
+            path = (page.parent / target).resolve()
+            if "_generated" in path.parts or "results" in path.relative_to(ROOT).parts[:1]:
+                continue  # made by the build or the workflow
+            assert path.exists(), (page.name, target)
+
+
+def test_readme_cites_the_workflow_s_results_as_such():
+    """What README cites under results/ is either committed (the figures) or said to be written by a
+    target; the pages are said to be readable as they are only for what the repository holds."""
+    for cited in re.findall(r"`(results/[^`]+)`", README):
+        if cited.startswith("results/figures/") and cited.endswith(".png"):
+            continue
+        assert not (ROOT / cited).exists() or cited.startswith("results/figures")
+    assert "results are not committed, only the figures" in README
+    assert "The pages are also readable in `docs/`" not in README
+    ignored = (ROOT / ".gitignore").read_text()
+    assert "results/*" in ignored and "!results/figures/*.png" in ignored
+
+
+def test_readme_says_what_each_public_function_returns():
+    """Where README names what a public function returns, the function's annotation agrees."""
+    import inspect
+
+    import vibroimpact as vi
+
+    stated = {"find_orbit": "Orbit", "identify_attractor": "Attractor", "lyapunov": "Lyapunov",
+              "orbit_energy": "dict", "family_exit": "dict", "polish_cycle": "dict", "long_run": "dict",
+              "best_designs": "list[dict]", "simulate": "xr.Dataset", "continue_orbit": "xr.Dataset",
+              "sweep": "xr.Dataset", "regime_map": "xr.Dataset", "basins": "xr.Dataset",
+              "branch_energy": "xr.Dataset", "sweep_energy": "xr.Dataset", "voltage_gain": "np.ndarray"}
+    for name, kind in stated.items():
+        assert inspect.signature(getattr(vi, name)).return_annotation == kind, name
+        assert kind == "xr.Dataset" or f"`{name}`" in README, name
+    assert "Everything returns xarray datasets" not in README
+    phi, v0 = vi.start_states(8)
+    assert len(phi) == len(v0) == 8
+
+
+def test_the_catalog_file_quotes_real_commands_and_pages():
+    cat = yaml.safe_load((ROOT / ".snakemake-workflow-catalog.yml").read_text())
+    desc = " ".join(cat["usage"]["mandatory-flags"]["desc"].split())
+    first = readme_command("tests/test_readme.py::test_the_first_command_sets_up_and_runs_the_default_target")
+    assert f"`{first}`" in desc
+    for path in re.findall(r"\b((?:docs|profiles)/[\w/.-]+\w)", desc):
+        assert (ROOT / path).exists(), path
+    section = re.search(r'"([^"]+)"', desc).group(1)
+    assert f"# {section}" in (ROOT / "docs" / "guide" / "cluster.md").read_text()
+
+
+def test_changelog_contributing_and_troubleshooting_are_there_and_linked():
+    changelog = (ROOT / "CHANGELOG.md").read_text()
+    assert "Keep a Changelog" in changelog and "## [Unreleased]" in changelog
+    assert re.findall(r"^### \d{4}-\d{2}-\d{2}", changelog, re.M)
+    contributing = (ROOT / "CONTRIBUTING.md").read_text()
+    for needed in ('pytest -m "not slow"', "figure_conditioning update_figure_references", "## Add a figure",
+                   "## Add a rule", "90 minutes"):
+        assert needed in contributing, needed
+    # the command to accept references is the one the checks page shows and a test runs
+    accept = readme_command("tests/test_conditioning.py::test_references_are_accepted_with_their_measured_conditioning")
+    assert accept.split("#")[0].strip() in contributing
+    assert "CHANGELOG.md" in README and "CONTRIBUTING.md" in README
+    index = (ROOT / "docs" / "index.md").read_text()
+    assert "guide/troubleshooting" in index and "guide/notation" in index

@@ -10,7 +10,7 @@ from conftest import ROOT
 from vibroimpact.__main__ import TARGETS, report
 
 sys.path.insert(0, str(ROOT / "docs" / "_ext"))
-import vibroimpact_rulegraph  # noqa: E402
+import vibroimpact_rulegraph
 
 
 def _listed(flag):

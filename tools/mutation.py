@@ -213,7 +213,7 @@ def mutants_of(path):
                     add(*sp, new + "=", f"augassign {old}=->{new}=", node)
         elif isinstance(node, ast.Compare):
             left = node.left
-            for op, right in zip(node.ops, node.comparators):
+            for op, right in zip(node.ops, node.comparators, strict=True):
                 old, new = CMPOP[type(op)]
                 sp = find_op(end(left), start(right), old)
                 if sp:
@@ -221,7 +221,7 @@ def mutants_of(path):
                 left = right
         elif isinstance(node, ast.BoolOp):
             old, new = ("and", "or") if isinstance(node.op, ast.And) else ("or", "and")
-            for x, y in zip(node.values, node.values[1:]):
+            for x, y in zip(node.values, node.values[1:], strict=False):
                 sp = find_op(end(x), start(y), old)
                 if sp:
                     add(*sp, new, f"boolop {old}->{new}", node)

@@ -4,6 +4,7 @@ describes: the paper's, or another written under its own folder."""
 import copy
 import math
 
+import numpy as np
 import pytest
 import yaml
 from conftest import ROOT
@@ -55,6 +56,18 @@ def test_a_device_without_a_name_is_named_after_its_values_and_never_paper():
     assert check(merged({"physics": {"F": 6.0}})).device.name == a.device.name  # the same values, the same name
     with pytest.raises(ConfigError, match=r"config: device = 'paper' is not allowed; allowed: another name"):
         check(merged({"device": "paper", "physics": {"F": 6.0}}))
+
+
+def test_a_value_moved_by_rounding_is_the_paper_s_device_and_a_larger_change_is_not():
+    """The figure check regenerates the paper's figures with M moved by 2 ulps: that run must write where the
+    paper's run writes (its results read in place); a change a user makes (1e-9 relative) is another device."""
+    from vibroimpact.outputs.conditioning import perturbed_config
+
+    for ulps in (2, -2):
+        cfg = check(perturbed_config(CONFIG, ulps))
+        assert cfg.paper_device and cfg.results_dir == "." and cfg.device.M != CONFIG["physics"]["M"]
+    other = check(merged({"physics": {"M": CONFIG["physics"]["M"] * (1 + 1e-9)}}))
+    assert not other.paper_device and other.results_dir.startswith("results/devices/device-")
 
 
 @pytest.mark.parametrize("edit, key, value, allowed", [
@@ -133,3 +146,15 @@ def test_the_typed_config_carries_what_the_rules_read():
     one = copy.deepcopy(CONFIG)
     one["figure_checks"]["figures"] = ["fig4"]
     assert check(one).figures == ["fig4"]
+
+
+def test_a_device_s_d_is_params_d_to_the_last_bit():
+    """The device's conversion and Params.from_physical round alike: a sweep (built through Params) and a
+    conversion of the same s give the same d, bit for bit (a 1-ulp difference moved a marginal sweep point's
+    settle verdict in Figure 2's lambda_1 panel)."""
+    rng = np.random.default_rng(5)
+    for dev in (vi.Device(), check(merged(EXAMPLE)).device):
+        s, F = rng.uniform(0.05, 1.0, 200), rng.uniform(1.0, 20.0, 200)
+        d = dev.d(s, F=F)
+        assert all(d[i] == dev.params(s=s[i], beta=0.5, F=F[i]).d for i in range(s.size))
+        assert np.allclose(dev.s(d, F=F), s, rtol=1e-15, atol=0)

@@ -64,11 +64,22 @@ def module_path(mod):
 PY = os.environ.get("MUT_PYTHON", sys.executable)
 
 
+#: what a working tree holds beside a clone's files (made by runs), left out where git cannot say
+NOT_CLONED = {".git", ".venv", "results", ".snakemake", "__pycache__", ".hypothesis", ".pytest_cache", "logs",
+              "build", "dist"}
+
+
 def repository_files():
-    """The working tree's files a clone holds: those git tracks and new ones it does not ignore."""
-    out = subprocess.run(["git", "ls-files", "-co", "--exclude-standard", "-z"], cwd=REPO, capture_output=True,
-                         check=True).stdout.decode()
-    return [f for f in out.split("\0") if f and os.path.isfile(os.path.join(REPO, f))]
+    """The working tree's files a clone holds: those git tracks and new ones it does not ignore; in a copy
+    that is not a git repository (a tree copied from a clone), every file outside :data:`NOT_CLONED`."""
+    out = subprocess.run(["git", "ls-files", "-co", "--exclude-standard", "-z"], cwd=REPO, capture_output=True)
+    if out.returncode == 0:
+        return [f for f in out.stdout.decode().split("\0") if f and os.path.isfile(os.path.join(REPO, f))]
+    files = []
+    for top, dirs, names in os.walk(REPO):
+        dirs[:] = [d for d in dirs if d not in NOT_CLONED and not d.endswith(".egg-info")]
+        files += [os.path.relpath(os.path.join(top, n), REPO) for n in names]
+    return sorted(files)
 
 
 def make_tree(fresh=False):

@@ -174,7 +174,7 @@ class Params:
         F = _check("F", F, lambda x: x > 0, "F > 0 (N)")
         omega = _check("omega", omega, lambda x: x > 0, "omega > 0 (rad/s)")
         g = _check("g", g, lambda x: x >= 0, "g >= 0 (m/s^2)")
-        d = length_factor(M, omega) * s / F
+        d = s * M * omega**2 / (F * math.pi**2)  # this order: the datasets' d to the last bit
         gbar = M * g * math.sin(beta) / F
         scales = PhysicalScales(
             time=math.pi / omega,

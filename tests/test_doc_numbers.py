@@ -186,6 +186,7 @@ CLAIMS = [
     ("docs/guide/orbits.md", r"just below d_B = (0\.\d+) the attractor", ["B pi/2"]),
     ("docs/guide/orbits.md", r"ends \((0\.\d+), (0\.\d+)\); 0\.205", ["fold pi/6", "fold pi/4"]),
     ("docs/guide/orbits.md", r"\(λ = −1 at d = (0\.\d+), on the wall-crossing", ["B pi/6"]),
+    ("docs/guide/orbits.md", r"branches' own points \(d = (0\.\d+) and (0\.\d+); the paper's", ["G1", "G2"]),
     ("docs/guide/notation.md", r"G1 = (0\.\d+), where the 2:1 orbit grazes", ["G1"]),
     ("docs/guide/notation.md", r"G2 = (0\.\d+), the 3:1 orbit's fold", ["G2"]),
     ("docs/guide/checks.md", r"located grazing point, d = (0\.\d+) = G1", ["G1"]),

@@ -201,6 +201,18 @@ def test_a_located_point_the_guide_states_is_the_package_s(located, page, patter
         assert same(text, located[name]), (page, name, text, located[name])
 
 
+def test_the_constants_the_checks_page_states_are_the_code_s():
+    """The figure check's threshold for long-run means and the image layer's floor, as the code has them."""
+    from vibroimpact.outputs import figcheck
+
+    (z,) = stated("docs/guide/checks.md", r"within (\d+\.\d+) combined standard errors")
+    assert float(z) == figcheck.Z_CRIT
+    (dof,) = stated("docs/guide/checks.md", r"Student's t, (\d+) degrees of freedom, false alarm 1e-6")
+    from scipy.stats import t
+
+    assert f"{t.isf(1e-6 / 2, int(dof)):.2f}" == z
+
+
 def test_the_sweep_located_g1_and_g2_the_sweeps_page_states(located):
     """Located from a sweep (to the accuracy the speed page's analytics rows give, far below 1e-6), they
     agree with the analytic points to the digits the page prints but the last."""

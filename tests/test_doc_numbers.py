@@ -213,8 +213,22 @@ def test_the_constants_the_checks_page_states_are_the_code_s():
     assert f"{t.isf(1e-6 / 2, int(dof)):.2f}" == z
 
 
-def test_the_sweep_located_g1_and_g2_the_sweeps_page_states(located):
-    """Located from a sweep (to the accuracy the speed page's analytics rows give, far below 1e-6), they
-    agree with the analytic points to the digits the page prints but the last."""
-    g1, g2 = stated("docs/guide/sweeps.md", r"recover \*\*G1 = (0\.\d+) and G2 = (0\.\d+)\*\*")
-    assert abs(float(g1) - located["G1"]) < 5e-7 and abs(float(g2) - located["G2"]) < 5e-7
+def test_the_analytic_points_the_sweeps_page_states(located):
+    """The sweeps page gives the analytic points its sweeps recover (the sweep-located ones are in the
+    transitions table it includes): G1 and G2 at pi/6, the 2:1 fold and period doubling at pi/3, and the
+    3:1 grazing point and 4:1 fold at pi/3, in its prose and in its example's comment."""
+    from test_sweeps import analytic_ends
+
+    from vibroimpact.analysis.sweeps import sweep
+
+    stated_at = [(r"analytic branches \((0\.\d+), (0\.\d+); tests", ["G1", "G2"]),
+                 (r"doubling \(analytic (0\.\d+) and (0\.\d+)\)", ["fold pi/3", "B pi/3"])]
+    for pattern, names in stated_at:
+        for text, name in zip(stated("docs/guide/sweeps.md", pattern), names, strict=True):
+            assert same(text, located[name]), (name, text, located[name])
+    sw = sweep("s", np.linspace(0.119, 0.127, 9) / 0.6225, beta=math.pi / 3, phi=0.42, v0=0.87)
+    grazing, fold = analytic_ends(sw, math.pi / 3)
+    for pattern in (r"fold \(analytic (0\.\d+) and (0\.\d+);",
+                    r"gains an impact at (0\.\d+) \(down\), 4:1 folds at (0\.\d+) \(up\)"):
+        lo, hi = stated("docs/guide/sweeps.md", pattern)
+        assert same(lo, grazing) and same(hi, fold), (lo, hi, grazing, fold)

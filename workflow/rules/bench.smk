@@ -147,3 +147,25 @@ rule bench_figure:
         code=code("bench_figure.py"),
     script:
         "../scripts/bench_figure.py"
+
+
+rule speed_summary:
+    """The speed-and-accuracy page's numbers, one row each with its source (the page cites the rows)."""
+    input:
+        kernel="results/bench/kernel.nc",
+        simulator="results/bench/simulator.nc",
+        work_precision="results/bench/work_precision.nc",
+        matched_accuracy="results/bench/matched_accuracy.nc",
+        failure_map="results/bench/failure_map.nc",
+        analytics_accuracy="results/bench/analytics_accuracy.nc",
+        workflow_cost="results/tables/workflow_cost.csv",
+    output:
+        md="results/tables/speed_summary.md",
+    log:
+        "logs/tables/speed_summary.log",
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        code=code("speed_summary.py"),
+    script:
+        "../scripts/speed_summary.py"

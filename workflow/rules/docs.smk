@@ -11,6 +11,8 @@ rule docs:
         rules.bench.input,
         rules.bifurcation.input,
         rules.design_maps.input,
+        # the speed-and-accuracy page's numbers
+        rules.speed_summary.output,
         conf="docs/conf.py",
         # its own sources, so that an edited page or tutorial rebuilds it (not the pages it generates)
         sources=sorted(

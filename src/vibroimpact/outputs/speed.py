@@ -1,0 +1,398 @@
+"""The speed-and-accuracy page's numbers, generated from the benchmark datasets: one table of rows
+(name, quantity, value, source), so that the page's prose names a row instead of typing a timing."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+#: the impact-time error the work-precision table asks of the cheapest setting of each method
+WORK_PRECISION_TARGET = 1e-9
+
+
+def _g(x: float, digits: int = 2) -> str:
+    """A number to ``digits`` significant figures: plain from 1e-3 up, in exponent form below."""
+    if not np.isfinite(x):
+        return "n/a"
+    s = f"{x:.{digits}g}"
+    if "e+" in s:
+        return f"{round(float(s)):d}"
+    if x and abs(x) < 1e-3:
+        return f"{x:.{digits - 1}e}"
+    return s
+
+
+def _range(values, digits: int = 2, unit: str = "") -> str:
+    """``lo–hi`` (or one value where they agree to the digits shown) of the finite values, with a unit."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    if not v.size:
+        return "n/a"
+    lo, hi = _g(float(v.min()), digits), _g(float(v.max()), digits)
+    return (lo if lo == hi else f"{lo}–{hi}") + unit
+
+
+def _per_scene(ds: xr.Dataset, var: str, digits: int = 2, unit: str = "") -> str:
+    """``value (scene); value (scene)`` over a dataset's scenes."""
+    return "; ".join(f"{_g(float(ds[var].sel(scene=s)), digits)}{unit} ({s})" for s in ds.scene.values)
+
+
+def _row(rows: list, name: str, quantity: str, value: str, source: str) -> None:
+    rows.append({"row": name, "quantity": quantity, "value": value, "source": source})
+
+
+def _kernel_rows(rows: list, kp: xr.Dataset) -> None:
+    src = "results/bench/kernel.nc"
+    _row(
+        rows,
+        "kernel_us_per_impact",
+        "exact simulator (`simulate`, one thread, dataset included): µs per impact",
+        _per_scene(kp, "us_per_impact", 2, " µs"),
+        f"{src}: `us_per_impact`",
+    )
+    _row(
+        rows,
+        "kernel_points_per_impact",
+        "points of a flight evaluated per impact",
+        _per_scene(kp, "points_per_impact", 2),
+        f"{src}: `points_per_impact`",
+    )
+    _row(
+        rows,
+        "kernel_trig_per_impact",
+        "sine and cosine calls per impact",
+        _per_scene(kp, "trig_per_impact", 2),
+        f"{src}: `trig_per_impact`",
+    )
+    hy = kp["heyoka_stepping_us_per_impact"].values
+    if np.isfinite(hy).any():
+        _row(
+            rows,
+            "heyoka_stepping_us_per_impact",
+            "heyoka at tol = eps, stepping alone (no events, no Python loop): µs per impact",
+            _per_scene(kp, "heyoka_stepping_us_per_impact", 2, " µs"),
+            f"{src}: `heyoka_stepping_us_per_impact`",
+        )
+        _row(
+            rows,
+            "heyoka_stepping_ratio",
+            "heyoka's stepping cost / the exact simulator's, same run",
+            _range(hy / kp["us_per_impact"].values, 2, "×"),
+            f"{src}: `heyoka_stepping_us_per_impact` / `us_per_impact`",
+        )
+    cores = kp.attrs.get("cores", "all")
+    _row(
+        rows,
+        "impacts_per_second_1",
+        "`simulate_batch` on one core: million impacts per second",
+        _range(kp["impacts_per_second_1"].values / 1e6, 2),
+        f"{src}: `impacts_per_second_1`",
+    )
+    _row(
+        rows,
+        "impacts_per_second_all",
+        f"`simulate_batch` on {cores} cores: million impacts per second",
+        _range(kp["impacts_per_second_all"].values / 1e6, 2),
+        f"{src}: `impacts_per_second_all`",
+    )
+
+
+def _simulator_rows(rows: list, sim: xr.Dataset) -> None:
+    src = "results/bench/simulator.nc"
+    v = {k: float(sim[k]) for k in sim.data_vars}
+    _row(
+        rows,
+        "simulator_speedup",
+        "solve_ivp DOP853 (rtol 1e-12) time per impact / the exact simulator's",
+        _g(v["speedup"], 3) + "×",
+        f"{src}: `speedup`",
+    )
+    if "lyapunov_ratio" in v:
+        _row(
+            rows,
+            "lyapunov_ratio",
+            "a run with both Lyapunov exponents / the plain run, time",
+            _g(v["lyapunov_ratio"], 3) + "×",
+            f"{src}: `lyapunov_ratio`",
+        )
+    if "branch_seconds" in v:
+        _row(
+            rows,
+            "branch_seconds",
+            f"continuation of the β = π/3 2:1 branch, {int(v['branch_points'])} points with "
+            "stability, admissibility and critical points: seconds",
+            _g(v["branch_seconds"], 2) + " s",
+            f"{src}: `branch_seconds`",
+        )
+    if "curve_seconds" in v:
+        _row(
+            rows,
+            "curve_seconds",
+            f"two-parameter curve of G1 in (s, β), {int(v['curve_points'])} points: seconds",
+            _g(v["curve_seconds"], 2) + " s",
+            f"{src}: `curve_seconds`",
+        )
+    if "sweep_seconds" in v:
+        _row(
+            rows,
+            "sweep_seconds",
+            f"sweep of d at β = π/3, {int(v['sweep_points'])} points each way, one core: " "seconds",
+            _g(v["sweep_seconds"], 3) + " s",
+            f"{src}: `sweep_seconds`",
+        )
+
+
+def _cheapest(wp: xr.Dataset, family: str, target: float):
+    """Per scene, the cheapest solver of ``family`` whose impact-time error is at most ``target``:
+    ``{scene: (setting, error, µs per impact)}``, scenes it does not reach left out."""
+    out = {}
+    for sc in wp.scene.values:
+        sub = wp.sel(scene=sc)
+        m = (sub.family.values == family) & (sub.err_t.values <= target)
+        if m.any():
+            i = np.flatnonzero(m)[np.argmin(sub.us_per_impact.values[m])]
+            out[str(sc)] = (
+                float(sub.setting.values[i]),
+                float(sub.err_t.values[i]),
+                float(sub.us_per_impact.values[i]),
+            )
+    return out
+
+
+def _work_precision_rows(rows: list, wp: xr.Dataset) -> None:
+    src = "results/bench/work_precision.nc"
+    exact = wp.sel(solver=wp.solver.values[wp.family.values == "exact"][0])
+    _row(
+        rows,
+        "exact_error",
+        "exact simulator: largest impact-time error over the scenes",
+        _g(float(exact.err_t.max()), 2),
+        f"{src}: `err_t`, solver `{str(exact.solver.values)}`",
+    )
+    _row(
+        rows,
+        "exact_us_per_impact",
+        "exact simulator in the work-precision run: µs per impact over the scenes",
+        _range(exact.us_per_impact.values, 2, " µs"),
+        f"{src}: `us_per_impact`, solver `{str(exact.solver.values)}`",
+    )
+    for fam in dict.fromkeys(wp.family.values):
+        if fam in ("exact", "python"):
+            continue
+        best = _cheapest(wp, fam, WORK_PRECISION_TARGET)
+        scenes = ", ".join(best) if len(best) < wp.sizes["scene"] else "every scene"
+        value = (
+            "not reached"
+            if not best
+            else f"{_range([b[2] for b in best.values()], 2, ' µs')} ({scenes}; settings "
+            + ", ".join(dict.fromkeys(_g(b[0], 3) for b in best.values()))
+            + ")"
+        )
+        _row(
+            rows,
+            f"work_precision_{fam}",
+            f"{fam}: cheapest setting reaching {WORK_PRECISION_TARGET:g} in impact " "times, µs per impact",
+            value,
+            f"{src}: `us_per_impact`, `err_t`, family `{fam}`",
+        )
+        err = wp.err_t.values[wp.family.values == fam]
+        _row(
+            rows,
+            f"work_precision_{fam}_error",
+            f"{fam}: impact-time errors over its ladder and the scenes",
+            _range(err, 1),
+            f"{src}: `err_t`, family `{fam}`",
+        )
+
+
+def _matched_rows(rows: list, ma: xr.Dataset) -> None:
+    src = "results/bench/matched_accuracy.nc"
+    target = _g(float(ma.attrs.get("target", math.nan)), 2)
+    for fam in ma.family.values:
+        if fam == "exact":
+            continue
+        r = ma.sel(family=fam)
+        reached = r.reached.values
+        if not reached.any():
+            value = "reaches it on no scene"
+        else:
+            scenes = "every scene" if reached.all() else ", ".join(str(s) for s in r.scene.values[reached])
+            value = (
+                f"{_range(r.us_per_impact.values[reached], 2, ' µs')}, "
+                f"{_range(r.ratio_to_exact.values[reached], 2, '×')} the exact simulator's ({scenes})"
+            )
+        _row(
+            rows,
+            f"matched_{fam}",
+            f"{fam}: cheapest setting reaching {target} on every impact, cost and ratio",
+            value,
+            f"{src}: `us_per_impact`, `ratio_to_exact`, family `{fam}`",
+        )
+
+
+def _followed(detail: str) -> float:
+    """The number of reference impacts a failure-map run followed, from its detail text."""
+    m = re.search(r"for (\d+)", detail)
+    return float(m.group(1)) if m else math.nan
+
+
+def _failure_rows(rows: list, fm: xr.Dataset) -> None:
+    src = "results/bench/failure_map.nc"
+    fam = fm.family.values
+    sign_change = np.array([f.startswith("ivp-") or f == "rk4" for f in fam])
+    hits = [c for c in fm.case.values if " hit by " in str(c)]
+    unseen = [
+        float(str(c).split(" by ")[1])
+        for c in hits
+        if (fm.outcome.sel(case=c).values[sign_change] != "correct").all()
+    ]
+    _row(
+        rows,
+        "failure_sign_change_unseen",
+        "largest ε of an impact by ε past a wall that no solve_ivp or RK4 setting gets right",
+        _g(max(unseen), 1) if unseen else "none",
+        f"{src}: `outcome`, cases `… hit by ε`",
+    )
+    chat = fm.detail.sel(case="chattering into sticking").values
+    total = re.search(r"reference's (\d+)", str(chat[0]))
+    _row(
+        rows,
+        "failure_chatter_followed",
+        "chattering into sticking: most fast impacts a solve_ivp or RK4 setting "
+        "follows" + (f" (of the reference's {total.group(1)})" if total else ""),
+        _g(max(_followed(str(d)) for d in chat[sign_change]), 3),
+        f"{src}: `detail`, case `chattering into sticking`",
+    )
+    chaos_case = [c for c in fm.case.values if str(c).startswith("chaotic")][0]
+    loose = sign_change & np.array([f.startswith("ivp-") for f in fam]) & (fm.setting.values >= 1e-6)
+    if loose.any():
+        _row(
+            rows,
+            "failure_chaos_loose",
+            f"{chaos_case}: impacts solve_ivp at rtol 1e-6 follows",
+            _range([_followed(str(d)) for d in fm.detail.sel(case=chaos_case).values[loose]], 3),
+            f"{src}: `detail`, case `{chaos_case}`",
+        )
+
+
+def _analytics_rows(rows: list, aa: xr.Dataset) -> None:
+    src = "results/bench/analytics_accuracy.nc"
+    coarse = aa.step.values != aa.step.values.min()  # the finest step is the reference
+    _row(
+        rows,
+        "analytics_branch_located",
+        "2:1 period doubling and fold located by refinement: largest change " "over the continuation steps",
+        _g(float(aa.branch_located_err.values[coarse].max()), 1),
+        f"{src}: `branch_located_err`",
+    )
+    _row(
+        rows,
+        "analytics_branch_grid",
+        "the same points read off the grid alone: error",
+        _range(aa.branch_grid_err.values, 1),
+        f"{src}: `branch_grid_err`",
+    )
+    for g in aa.grazing.values:
+        _row(
+            rows,
+            f"analytics_sweep_{g}",
+            f"{g} located from a sweep: error against the analytic point, over the " "sweep resolutions",
+            _range(aa.sweep_located_err.sel(grazing=g).values, 1),
+            f"{src}: `sweep_located_err`, grazing `{g}`",
+        )
+    _row(
+        rows,
+        "analytics_sweep_grid",
+        "G1 and G2 read off the sweep grid alone: error",
+        _range(aa.sweep_grid_err.values, 1),
+        f"{src}: `sweep_grid_err`",
+    )
+
+
+def _cost_rows(rows: list, jobs: pd.DataFrame) -> None:
+    src = "results/tables/workflow_cost.csv"
+    per_rule = jobs.groupby("rule").seconds.agg(["count", "sum"])
+    for rule, what in (
+        ("sweep", "the sweeps"),
+        ("regime_map", "the regime maps"),
+    ):  # rules of the default target, which the workflow-cost table waits for
+        if rule in per_rule.index:
+            n, s = per_rule.loc[rule]
+            _row(
+                rows,
+                f"cost_{rule}",
+                f"{what}: jobs, total seconds",
+                f"{int(n)} jobs, {_g(s, 3)} s",
+                f"{src}: rule `{rule}`",
+            )
+    timed = [r for r in ("work_precision", "analytics_accuracy") if r in per_rule.index]
+    if timed:
+        _row(
+            rows,
+            "cost_timed_benchmarks",
+            "the timed benchmarks ("
+            + ", ".join(f"`{r}`" for r in timed)
+            + "), which run alone: total seconds",
+            _g(float(per_rule.loc[timed, "sum"].sum()), 3) + " s",
+            f"{src}: rules " + ", ".join(f"`{r}`" for r in timed),
+        )
+
+
+def speed_summary(
+    *,
+    kernel: xr.Dataset | None = None,
+    simulator: xr.Dataset | None = None,
+    work_precision: xr.Dataset | None = None,
+    matched_accuracy: xr.Dataset | None = None,
+    failure_map: xr.Dataset | None = None,
+    analytics_accuracy: xr.Dataset | None = None,
+    workflow_cost: pd.DataFrame | None = None,
+) -> pd.DataFrame:
+    """The numbers the speed-and-accuracy page cites, from the benchmark datasets.
+
+    Parameters
+    ----------
+    kernel, simulator, work_precision, matched_accuracy, failure_map, analytics_accuracy : xarray.Dataset
+        The ``bench`` target's datasets (``results/bench/*.nc``), each optional: one left out gives no
+        rows.
+    workflow_cost : pandas.DataFrame, optional
+        The benchmarked jobs (``results/tables/workflow_cost.csv``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per number: ``row`` (its name, which the page cites), ``quantity``, ``value`` (as text,
+        with its unit) and ``source`` (dataset and variable).
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> ds = xr.Dataset({"speedup": ((), 1500.0)})
+    >>> speed_summary(simulator=ds).value.tolist()
+    ['1500×']
+    """
+    rows: list = []
+    for ds, add in (
+        (kernel, _kernel_rows),
+        (simulator, _simulator_rows),
+        (work_precision, _work_precision_rows),
+        (matched_accuracy, _matched_rows),
+        (failure_map, _failure_rows),
+        (analytics_accuracy, _analytics_rows),
+        (workflow_cost, _cost_rows),
+    ):
+        if ds is not None:
+            add(rows, ds)
+    return pd.DataFrame(rows, columns=["row", "quantity", "value", "source"])
+
+
+def speed_summary_markdown(df: pd.DataFrame) -> str:
+    """The summary as a Markdown table, its row names in code font so that the page can cite them."""
+    lines = ["| row | quantity | value | source |", "|---|---|---|---|"]
+    for r in df.itertuples():
+        lines.append(f"| `{r.row}` | {r.quantity} | {r.value} | {r.source} |")
+    return "\n".join(lines) + "\n"

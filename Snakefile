@@ -3,9 +3,14 @@
 #        snakemake --cores 2 check      (which of the paper's numbers are reproduced; figures against references)
 #        snakemake --cores 2 bench      (speed and accuracy of the simulator)
 import math
+import os
 import re
 
 from snakemake.utils import min_version, validate
+
+# the jobs draw into files, never onto a screen: matplotlib's file backend (the package leaves the choice
+# of backend to whoever imports it)
+os.environ.setdefault("MPLBACKEND", "Agg")
 
 min_version("8.0")
 

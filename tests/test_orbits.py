@@ -292,15 +292,15 @@ def _central_difference(f, x, h=FD_STEP):
 def test_orbit_equations_jacobian_agrees_with_finite_differences(name, word):
     """Newton converges with an approximate Jacobian too, so its exactness is checked directly, at a
     point off the orbit."""
-    from vibroimpact.analysis.orbits import _residual_and_jacobian, parse_word
+    from vibroimpact.analysis.orbits import parse_word, residual_and_jacobian
 
     beta, d, v, phi, *_ = CAPTIONS[name]
     p = vi.Params(d=d, gbar=gbar_of(beta), r=0.5)
     o = find_orbit(p, word, phi, v)
     walls = parse_word(word)
     z = o.z + np.random.default_rng(5).uniform(-1e-2, 1e-2, o.z.size)
-    F, J = _residual_and_jacobian(z, walls, p.d, p.gbar, p.r, o.k)
-    fd = _central_difference(lambda x: _residual_and_jacobian(x, walls, p.d, p.gbar, p.r, o.k)[0], z)
+    F, J = residual_and_jacobian(z, walls, p.d, p.gbar, p.r, o.k)
+    fd = _central_difference(lambda x: residual_and_jacobian(x, walls, p.d, p.gbar, p.r, o.k)[0], z)
     assert np.max(np.abs(J - fd)) < FD_TOL
 
 
@@ -584,7 +584,7 @@ def test_newton_accepts_a_residual_at_rounding_next_to_a_fold(pi6_3to1):
     stopped the workflow here, 'residual 2.47e-41').  The orbit found is the right one: by the saddle-node
     normal form, 1 - lambda grows as the square root of the distance to the fold (10^6 times the distance:
     10^3 times 1 - lambda, to 5 %)."""
-    from vibroimpact.analysis.orbits import ROUNDING_RESIDUAL, _residual_and_jacobian
+    from vibroimpact.analysis.orbits import ROUNDING_RESIDUAL, residual_and_jacobian
 
     (g2,) = critical(pi6_3to1, "fold")
     gbar = float(pi6_3to1.gbar[0])
@@ -592,7 +592,7 @@ def test_newton_accepts_a_residual_at_rounding_next_to_a_fold(pi6_3to1):
     gaps = []
     for below in (1e-6, 1e-12):
         o = find_orbit(vi.Params(d=g2 - below, gbar=gbar, r=0.5), "BBBT", start.phi, start.v_minus[0])
-        F, _ = _residual_and_jacobian(o.z, o.walls, o.params.d, gbar, 0.5, o.k)
+        F, _ = residual_and_jacobian(o.z, o.walls, o.params.d, gbar, 0.5, o.k)
         assert np.max(np.abs(F)) <= max(1e-11, ROUNDING_RESIDUAL * np.max(np.abs(o.z)))
         gaps.append(1.0 - float(np.max(np.abs(o.eigenvalues))))
     assert gaps[0] / gaps[1] == pytest.approx(1e3, rel=0.05)

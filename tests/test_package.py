@@ -109,6 +109,41 @@ def test_each_layer_imports_only_the_layers_below_it():
     assert {"simulate", "find_orbit", "continue_orbit", "sweep", "design_map", "curve_set"} <= set(vibroimpact.__all__)
 
 
+def test_no_module_imports_another_module_s_private_name():
+    """What one module needs of another is a documented public function of it: no ``from .x import _name``
+    across files (a private module, such as ``_progress`` or ``_version``, may be imported: it is the
+    package's own)."""
+    import ast
+
+    pkg = ROOT / "src" / "vibroimpact"
+    bad = []
+    for f in pkg.rglob("*.py"):
+        for node in ast.walk(ast.parse(f.read_text())):
+            if not isinstance(node, ast.ImportFrom) or (not node.level and not (node.module or "").startswith("vibroimpact")):
+                continue
+            base = f.parent if node.level else pkg.parent
+            for _ in range(max(node.level - 1, 0)):
+                base = base.parent
+            where = base.joinpath(*node.module.split(".")) if node.module else base
+            for a in node.names:
+                private = a.name.startswith("_") and not a.name.startswith("__")
+                if private and not ((where / f"{a.name}.py").is_file() or (where / a.name).is_dir()):
+                    bad.append(f"{f.relative_to(pkg)}:{node.lineno}: {ast.unparse(node)}")
+    assert not bad, bad
+
+
+def test_importing_the_plots_leaves_the_user_s_backend():
+    """The package draws with whatever matplotlib backend its user chose (the workflow chooses Agg for its
+    jobs): importing every plotting module changes none."""
+    code = ("import matplotlib; matplotlib.use('svg'); import vibroimpact.outputs.plots as p, pkgutil, importlib;"
+            " [importlib.import_module(f'{p.__name__}.{m.name}') for m in pkgutil.iter_modules(p.__path__)];"
+            " print(matplotlib.get_backend())")
+    env = {k: v for k, v in os.environ.items() if k != "MPLBACKEND"}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120)
+    assert out.returncode == 0 and out.stdout.strip() == "svg", out.stdout + out.stderr
+    assert 'os.environ.setdefault("MPLBACKEND", "Agg")' in (ROOT / "Snakefile").read_text()
+
+
 def test_license_and_citation_name_one_version_and_the_paper():
     """A BSD-3-Clause license the wheel carries; CITATION.cff cites this version of the software and the
     paper it reproduces; the version is written once (_version.py) and the citation agrees with it."""

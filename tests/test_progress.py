@@ -31,9 +31,9 @@ def test_no_bar_where_nobody_watches(capsys, monkeypatch):
     assert capsys.readouterr().err == ""
     monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
     monkeypatch.setitem(sys.modules, "snakemake", object())
-    assert not _progress._interactive()
+    assert not _progress.interactive()
     monkeypatch.delitem(sys.modules, "snakemake")
-    assert _progress._interactive()
+    assert _progress.interactive()
 
 
 def test_a_sweep_and_a_batch_give_the_same_results_with_the_bar(capsys):

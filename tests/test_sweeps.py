@@ -369,3 +369,23 @@ def test_without_a_long_run_a_motion_with_no_period_keeps_its_label_and_says_why
     assert set(sw.label.values.ravel()) == {"no period found"}
     assert np.isnan(sw.lyap1.values).all()
     assert set(sw.lyap1_source.values.ravel()) == {"not estimated: no long run (long_impacts = 0)"}
+
+
+def test_transitions_are_followed_with_the_sweep_s_own_window_and_longest_period(monkeypatch):
+    """locate_transitions follows each motion with the window and longest period the sweep identified it
+    with (recorded in the sweep), not with the defaults."""
+    import vibroimpact.analysis.sweeps as S
+
+    sw = vi.sweep("s", [0.219, 0.2245, 0.23], beta=math.pi / 6, phi=5.855, v0=0.4185, long_impacts=0,
+                  window=41, pmax=20)
+    assert (sw.attrs["window"], sw.attrs["pmax"]) == (41, 20)
+    seen = set()
+    run_one = S._run_one
+
+    def spy(*args):
+        seen.add(args[-2:])
+        return run_one(*args)
+
+    monkeypatch.setattr(S, "_run_one", spy)
+    tr = vi.locate_transitions(sw, xtol=1e-5)
+    assert seen == {(41, 20)} and list(tr.status.values) == ["refined", "refined"]

@@ -4,6 +4,7 @@ Costs are reported, never asserted."""
 import math
 
 import numpy as np
+import pytest
 
 import vibroimpact as vi
 from vibroimpact.benchmarks import methods as M
@@ -118,3 +119,26 @@ def test_absent_peers_are_recorded_not_dropped_silently(monkeypatch):
     assert status["heyoka"].startswith("not installed") and "not installed" in status["siconos"]
     ladder = method_ladder(["DOP853"], [1e-6], [1e-2], heyoka_tols=[1e-9], siconos_tols=[1e-9], siconos_steps=[1e-3])
     assert {f for f, _, _ in ladder} == {"exact", "python", "ivp-DOP853", "rk4"}
+
+
+def test_a_siconos_peer_that_dies_is_no_impact_and_a_bug_is_raised(monkeypatch):
+    """The failure map's Siconos flights: a peer process that dies or hangs is recorded as flights with no
+    impact; any other exception (a bug) reaches the caller instead of being recorded as a result."""
+    import subprocess
+
+    import vibroimpact.benchmarks.peer_siconos as ps
+    from vibroimpact.benchmarks import workprecision as wp
+
+    states = [(0.3, 0.0, 0.5), (1.2, 0.0, 0.4)]
+
+    def raising(err):
+        def flights(*args, **kw):
+            raise err
+        return flights
+
+    for err in (ps.SiconosPeerError("signal 6"), subprocess.TimeoutExpired("python3", 1.0)):
+        monkeypatch.setattr(ps, "siconos_flights", raising(err))
+        assert wp._flights("siconos-ed", 1e-10, states, 0.2, 0.1) == [(math.inf, 0)] * 2
+    monkeypatch.setattr(ps, "siconos_flights", raising(KeyError("status")))
+    with pytest.raises(KeyError):
+        wp._flights("siconos-mj", 1e-4, states, 0.2, 0.1)

@@ -16,7 +16,8 @@ import time
 log = logging.getLogger("vibroimpact")
 
 
-def _interactive() -> bool:
+def interactive() -> bool:
+    """Whether progress bars are drawn: standard error is a terminal and the caller is not a Snakemake job."""
     return bool(getattr(sys.stderr, "isatty", lambda: False)()) and "snakemake" not in sys.modules
 
 
@@ -29,7 +30,7 @@ class Progress:
         self._start = time.perf_counter()
         self._bar = None
         if enabled is None:
-            enabled = _interactive()
+            enabled = interactive()
         if enabled:
             try:
                 from tqdm.auto import tqdm

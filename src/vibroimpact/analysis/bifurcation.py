@@ -25,9 +25,9 @@ import xarray as xr
 from .._progress import Progress
 from ..datasets import annotate
 from ..dynamics.params import Params
-from .continuation import PARAMETERS, TESTS, _tangent, _tests
+from .continuation import PARAMETERS, TESTS, bifurcation_functions, null_tangent
 from .grazing import admissibility
-from .orbits import Orbit, OrbitError, _residual_and_jacobian, map_jacobian, orbit_from_vector, parse_word
+from .orbits import Orbit, OrbitError, map_jacobian, orbit_from_vector, parse_word, residual_and_jacobian
 from .sweeps import NO_PERIOD_LABELS
 
 __all__ = ["bistable_band", "curve_crossings", "curve_set", "curve_values", "follow_point", "map_boundaries", "plane_cusps"]
@@ -99,7 +99,7 @@ def _orbit(X, template: Orbit, pm: _TwoParameters) -> Orbit:
 
 def _test(X, walls, pm, kind):
     """The test function ``kind`` at X = (z, lam1, lam2), from only what it needs (as
-    :func:`~vibroimpact.analysis.continuation._tests` of the orbit there): the monodromy's trace and determinant
+    :func:`~vibroimpact.analysis.continuation.bifurcation_functions` of the orbit there): the monodromy's trace and determinant
     for B, fold and A, the clearance for grazing."""
     z = X[:-2]
     d, gbar, r = pm.at(X[-2:])
@@ -113,7 +113,7 @@ def _test(X, walls, pm, kind):
 def _residual(X, walls, template, pm, kind):
     """Residual [F; T] (2N+2) at X = (z, lam1, lam2)."""
     d, gbar, r = pm.at(X[-2:])
-    F, _ = _residual_and_jacobian(X[:-2], walls, d, gbar, r, template.k)
+    F, _ = residual_and_jacobian(X[:-2], walls, d, gbar, r, template.k)
     return np.append(F, _test(X, walls, pm, kind))
 
 
@@ -122,7 +122,7 @@ def _system(X, walls, template, pm, kind):
     n = walls.shape[0]
     z, lam = X[:-2], X[-2:]
     d, gbar, r = pm.at(lam)
-    F, Jz = _residual_and_jacobian(z, walls, d, gbar, r, template.k)
+    F, Jz = residual_and_jacobian(z, walls, d, gbar, r, template.k)
     # parameter columns: dF/d(d, gbar, r) times d(d, gbar, r)/dlam
     tau, v = z[1:n + 1], z[n + 1:]
     dF = np.zeros((2 * n + 1, 3))
@@ -231,7 +231,7 @@ def follow_point(orbit: Orbit, kind: str, *, params, ranges, step: float = 2e-3,
     if not (np.all(box[:, 0] <= X0[-2:]) and np.all(X0[-2:] <= box[:, 1])):
         raise ValueError(f"the {kind} point found, {dict(zip(params, X0[-2:], strict=True))}, is outside ranges = {ranges!r}")
     _, J0 = _system(X0, walls, orbit, pm, kind)
-    t0 = _tangent(J0)
+    t0 = null_tangent(J0)
     halves, stops = [], []
     for sign in (+1.0, -1.0):
         Xs, t, h, X, J = [X0], sign * t0, step, X0, J0
@@ -260,7 +260,7 @@ def follow_point(orbit: Orbit, kind: str, *, params, ranges, step: float = 2e-3,
                 stop = f"a flight time reached zero at {_where(params, Xn)}: the word {orbit.word} degenerates"
                 break
             _, J = _system(Xn, walls, orbit, pm, kind)
-            t = _tangent(J, t)
+            t = null_tangent(J, t)
             X = Xn
             Xs.append(X)
             h = min(step, 2 * h)
@@ -368,7 +368,7 @@ def _where(params, X):
 def _curve_dataset(Xs, template, pm, kind, params, stops, scale) -> xr.Dataset:
     orbits = [_orbit(X, template, pm) for X in Xs]
     lam = np.array([X[-2:] for X in Xs])
-    tests = [_tests(o) for o in orbits]
+    tests = [bifurcation_functions(o) for o in orbits]
     events = []
     for other in TESTS:
         if other == kind or other == "NS":

@@ -29,7 +29,7 @@ from scipy.optimize import brentq
 from .._progress import Progress
 from ..datasets import VARIABLES, annotate
 from ..dynamics.params import Params, length_factor
-from .orbits import Orbit, OrbitError, _residual_and_jacobian, find_orbit, orbit_from_vector, parse_word
+from .orbits import Orbit, OrbitError, find_orbit, orbit_from_vector, parse_word, residual_and_jacobian
 
 __all__ = ["PARAMETERS", "ParameterMap", "branch_from_simulation", "branch_parameters", "continue_orbit", "simulate_along"]
 
@@ -160,7 +160,7 @@ def _augmented(Y, walls, r, k, g0, g1, pm=None):
     else:
         d, gbar, r = pm.at(lam)
         dd, dg, dr = pm.deriv(lam)
-    F, Jz = _residual_and_jacobian(z, walls, d, gbar, r, k)
+    F, Jz = residual_and_jacobian(z, walls, d, gbar, r, k)
     Fd = np.zeros(2 * n + 1)
     tau, v = z[1:n + 1], z[n + 1:]
     for j in range(n):
@@ -174,7 +174,7 @@ def _augmented(Y, walls, r, k, g0, g1, pm=None):
     return F, np.column_stack([Jz, Fd])
 
 
-def _tangent(J, prev=None):
+def null_tangent(J, prev=None):
     """Unit null vector of the (m x m+1) Jacobian, oriented along ``prev`` (``t . prev > 0``: the
     extra row of the system asks for ``t . prev = 1``)."""
     m = J.shape[0]
@@ -208,7 +208,10 @@ def _orbit_at(Y, template: Orbit, pm: ParameterMap):
     return orbit_from_vector(p, template.word, template.k, Y[:-1].copy())
 
 
-def _tests(o: Orbit):
+def bifurcation_functions(o: Orbit):
+    """The test functions whose zeros are the orbit's critical points: period doubling ``B = 1 + Tr + Det``,
+    ``fold = 1 - Tr + Det``, node/focus ``A = Tr^2 - 4 Det``, Neimark-Sacker ``NS = Det - 1`` (where
+    ``A < 0``) and ``grazing`` (the orbit's clearance from the walls)."""
     tr, det = o.trace, o.det
     disc = tr * tr - 4 * det
     return {"B": 1 + tr + det, "fold": 1 - tr + det, "A": disc, "NS": (det - 1) if disc < 0 else math.nan,
@@ -291,7 +294,7 @@ def continue_orbit(
     r, k = orbit.params.r, orbit.k
     Y0 = np.append(orbit.z, pm.lam0)
     _, J0 = _augmented(Y0, walls, r, k, 0.0, 0.0, pm)
-    t0 = _tangent(J0)
+    t0 = null_tangent(J0)
     halves, stops = [], []
     bar = Progress(1000, f"continue {orbit.word} in {vary}", progress, unit="‰ of the interval")
     seen = [float(Y0[-1]), float(Y0[-1])]
@@ -316,7 +319,7 @@ def continue_orbit(
                 stop = f"a flight time reached zero near {pm.label} = {Yn[-1]:.10g}: the word {orbit.word} degenerates"
                 break
             _, J = _augmented(Yn, walls, r, k, 0.0, 0.0, pm)
-            t = _tangent(J, t)
+            t = null_tangent(J, t)
             Y = Yn
             Ys.append(Y)
             seen = [min(seen[0], max(float(Y[-1]), lo)), max(seen[1], min(float(Y[-1]), hi))]
@@ -381,7 +384,7 @@ def _lam_range(pm: ParameterMap, orbit: Orbit, d_range, value_range):
 
 def _locate(Ys, orbits, template, walls, r, k, xtol, pm):
     """Zeros of the test functions between consecutive branch points, refined on the arclength."""
-    vals = [_tests(o) for o in orbits]
+    vals = [bifurcation_functions(o) for o in orbits]
     found = []
     for i in range(len(Ys) - 1):
         Ya, Yb = Ys[i], Ys[i + 1]
@@ -394,7 +397,7 @@ def _locate(Ys, orbits, template, walls, r, k, xtol, pm):
 
             def f(sig, name=name, Ya=Ya, chord=chord, tan=tan):
                 Y = _correct(Ya + sig * chord, tan, walls, r, k, 0.0, 0.0, pm=pm)
-                return _tests(_orbit_at(Y, template, pm))[name]
+                return bifurcation_functions(_orbit_at(Y, template, pm))[name]
 
             adm = orbits[i].admissible or orbits[i + 1].admissible
             try:
@@ -407,7 +410,7 @@ def _locate(Ys, orbits, template, walls, r, k, xtol, pm):
                               f"between {pm.label} = {Ya[-1]:.10g} and {Yb[-1]:.10g}"))
                 continue
             o = _orbit_at(Y, template, pm)
-            val = _tests(o)[name]
+            val = bifurcation_functions(o)[name]
             if abs(val) > 1e-7 * max(1.0, min(abs(fa), abs(fb))):
                 # a jump, not a zero: the clearance when an extremum appears, or a pole of the
                 # Jacobian where an impact velocity passes through zero

@@ -32,16 +32,16 @@ import numpy as np
 import xarray as xr
 from scipy.stats import binomtest
 
-from .._progress import Progress, _interactive
+from .._progress import Progress, interactive
 from ..datasets import annotate
 from ..dynamics import kernels as K
 from ..dynamics.device import Device
 from .energy import window_averages
 from .sweeps import (
     APERIODIC,
-    _last_bottom,
     attractor_batch,
     held_values,
+    last_bottom_impact,
     no_period,
     plane_params,
     split_no_period,
@@ -292,7 +292,7 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, device: Device | No
     per_pt = max(1, block // n_st)
     points = []
     total = 0
-    shown = _interactive() if progress is None else bool(progress)
+    shown = interactive() if progress is None else bool(progress)
     with Progress(n_pts, f"design map over ({x_name}, {y_name})", shown, unit="point") as bar:
         for a in range(0, n_pts, per_pt):
             b = min(n_pts, a + per_pt)
@@ -315,7 +315,7 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, device: Device | No
                 pt = a + j
                 for att in atts:
                     k = rs.start + int(att["runs"][0])
-                    last = _last_bottom(*(e[k] for e in ev), int(nw[k]))
+                    last = last_bottom_impact(*(e[k] for e in ev), int(nw[k]))
                     att["impact"] = last if last is not None else (math.nan, math.nan)
                     for v in ("period", "n_bottom", "n_top"):
                         att[v] = int(runs[v].values[k])

@@ -14,7 +14,7 @@ import math
 
 from numba import njit
 
-from ..dynamics.events import _rtsafe, next_accel_zero, next_impact
+from ..dynamics.events import next_accel_zero, next_impact, rtsafe
 from ..dynamics.flight import PI, TWO_PI, displacement, velocity
 
 
@@ -39,7 +39,7 @@ def interior_clearance(theta, z0, u, d, gbar, tau_end):
             tb = tau_end
         vb = velocity(tb, c, s, u, gbar)
         if (va < 0.0 and vb > 0.0) or (va > 0.0 and vb < 0.0):
-            te = _rtsafe(0, ta, tb, va, vb, math.nan, math.nan, c, s, 0.0, u, gbar)[0]
+            te = rtsafe(0, ta, tb, va, vb, math.nan, math.nan, c, s, 0.0, u, gbar)[0]
             if 0.0 < te < tau_end:
                 ze = z0 + displacement(te, c, s, u, gbar)
                 gap = 0.5 * d - ze if va > 0.0 else ze + 0.5 * d

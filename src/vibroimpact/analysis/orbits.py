@@ -78,7 +78,7 @@ def _flight(tau, theta, u, gbar):
     return disp, vel, acc, disp_th, vel_th
 
 
-def _residual_and_jacobian(z, walls, d, gbar, r, k):
+def residual_and_jacobian(z, walls, d, gbar, r, k):
     """Equations of the orbit in unknowns z = (theta_0, tau_0..tau_{N-1}, v_0..v_{N-1})."""
     n = walls.shape[0]
     theta0 = z[0]
@@ -124,7 +124,7 @@ def solve_orbit(z0, walls, d, gbar, r, k, *, tol=1e-13, max_iter=50):
     z = np.array(z0, dtype=float)
     n = walls.shape[0]
     for it in range(max_iter):
-        F, J = _residual_and_jacobian(z, walls, d, gbar, r, k)
+        F, J = residual_and_jacobian(z, walls, d, gbar, r, k)
         if np.max(np.abs(F)) <= ROUNDING_RESIDUAL * max(1.0, float(np.max(np.abs(z)))):
             z[0] %= TWO_PI
             return z
@@ -140,7 +140,7 @@ def solve_orbit(z0, walls, d, gbar, r, k, *, tol=1e-13, max_iter=50):
             lam = min(1.0, 0.9 * float(np.min(tau[neg] / -dtau[neg])))
         z = z + lam * step
         if lam == 1.0 and np.max(np.abs(step)) < tol * max(1.0, np.max(np.abs(z))):
-            F, _ = _residual_and_jacobian(z, walls, d, gbar, r, k)
+            F, _ = residual_and_jacobian(z, walls, d, gbar, r, k)
             if np.max(np.abs(F)) < 1e-11:
                 z[0] %= TWO_PI
                 return z
@@ -370,7 +370,7 @@ def orbit_run(orbit: Orbit, periods: int = 1):
     ([0.07, 0.07, -0.07], True)
     """
     from ..dynamics import kernels as K
-    from ..dynamics.simulate import _events_dataset
+    from ..dynamics.simulate import events_dataset
 
     if int(periods) < 1:
         raise ValueError(f"periods = {periods!r}; allowed: an integer >= 1")
@@ -381,7 +381,7 @@ def orbit_run(orbit: Orbit, periods: int = 1):
     vm = orbit.v_minus[idx]
     bufs = (t, walls.astype(np.int8), vm, -orbit.params.r * vm, orbit.phase[idx],
             np.full(m, K.IMPACT, np.int8), 0.5 * orbit.params.d * walls)
-    ds = _events_dataset(bufs, m)
+    ds = events_dataset(bufs, m)
     ds.attrs.update(d=orbit.params.d, gbar=orbit.params.gbar, r=orbit.params.r, phi=orbit.phi,
                     v0=float(orbit.v_minus[0]), t0=0.0, start=f"periodic orbit {orbit.word} (k = {orbit.k})",
                     status="n_events", t_valid=float(t[-1]))

@@ -15,7 +15,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from .._progress import Progress, _interactive
+from .._progress import Progress, interactive
 from ..datasets import annotate
 from ..dynamics import kernels as K
 from ..dynamics.device import PAPER, Device
@@ -192,7 +192,7 @@ def attractor_batch(d, gbar, r, phi, v0, *, max_periods: float = 200, max_events
     tot = np.zeros(m, np.int64)
     nw = np.zeros(m, np.int64)
     phi = phi % (2 * np.pi)
-    shown = _interactive() if progress is None else bool(progress)
+    shown = interactive() if progress is None else bool(progress)
     # in one parallel call unless a bar is shown: then in tenths (each run is independent of the others)
     cuts = np.linspace(0, m, 11 if shown and m >= 20 else 2).astype(int)
     with Progress(m, desc, shown, unit="run") as bar:
@@ -279,7 +279,7 @@ def settle(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None, tol: 
     for idx in np.ndindex(shape):
         n, lag = int(n_real[idx]), int(lags[idx])
         rows = {v: ev[v][idx][:n] for v in _EVENT_VARS}
-        start = _last_bottom(*(rows[v] for v in _EVENT_VARS), n)
+        start = last_bottom_impact(*(rows[v] for v in _EVENT_VARS), n)
         if lag and n > lag:
             span = rows["t"][n - 1] - rows["t"][n - 1 - lag]
             res = polish_cycle(d[idx], gbar[idx], r[idx], *(rows[v][n - lag:n] for v in _EVENT_VARS), span=span)
@@ -355,7 +355,9 @@ def settle(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None, tol: 
     return ds
 
 
-def _last_bottom(win_t, win_wall, win_vm, win_phase, win_kind, n):
+def last_bottom_impact(win_t, win_wall, win_vm, win_phase, win_kind, n):
+    """Phase and pre-impact speed of the last bottom impact among a window's first ``n`` events (a start on
+    the same motion), or None where the window holds none."""
     for j in range(n - 1, -1, -1):
         if win_wall[j] == 1 and win_kind[j] == K.IMPACT and win_vm[j] > 0:
             return float(win_phase[j]), float(win_vm[j])
@@ -455,7 +457,7 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
             starts[k_dir, i] = start
             for arr, w in zip(win, w1, strict=True):
                 arr[k_dir, i] = w
-            nxt = _last_bottom(*w1, int(nw[k_dir, i]))
+            nxt = last_bottom_impact(*w1, int(nw[k_dir, i]))
             if nxt is not None:
                 start = nxt
     bar.close()
@@ -467,8 +469,8 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
     ds["start_v0"] = (("direction", "point"), starts[..., 1], {"units": "1", "long_name": "pre-impact velocity of the start impact"})
     ds["s"].attrs.update(units="m", long_name="cylinder length s")
     ds["F"].attrs.update(units="N", long_name="forcing amplitude ||F||")
-    ds.attrs.update(vary=vary, beta=beta, r=r, max_periods=max_periods, tol=tol, first_phi=phi, first_v0=v0,
-                    **held, **device.attrs())
+    ds.attrs.update(vary=vary, beta=beta, r=r, max_periods=max_periods, tol=tol, window=int(window), pmax=int(pmax),
+                    first_phi=phi, first_v0=v0, **held, **device.attrs())
     return annotate(ds)
 
 
@@ -569,6 +571,8 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
     dvals = sw["d"].values
     r = float(sw.attrs["r"])
     tol = float(sw.attrs["tol"])
+    # the sweep's own window and longest period (a sweep written without them used the defaults)
+    window, pmax = int(sw.attrs.get("window", 65)), int(sw.attrs.get("pmax", 64))
     d_min, d_max = float(dvals.min()), float(dvals.max())
     rows = []
     bar = Progress(len(sw.direction) * (len(dvals) - 1), "locate transitions", progress, unit="point")
@@ -587,12 +591,12 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
             before = labels[i]
             n = int(np.sum(np.isfinite(sw["t"].values[k_dir, i])))
             w = [sw[v].values[k_dir, i] for v in _EVENT_VARS]
-            start = _last_bottom(*w, n) or (float(sw["start_phi"][k_dir, i]), float(sw["start_v0"][k_dir, i]))
+            start = last_bottom_impact(*w, n) or (float(sw["start_phi"][k_dir, i]), float(sw["start_v0"][k_dir, i]))
             slope = (g0[j] - g0[i]) / (dvals[j] - dvals[i])  # gbar is affine in d for both sweeps
             def follow(trial, start, gi=g0[i], slope=slope, di=dvals[i]):
                 win, st, lag, _, nw = _run_one(trial, gi + slope * (trial - di), r, start[0], start[1],
-                                               max_periods, max_events, tol, 65, 64)
-                return _classify(win, nw, st, lag)[3], _last_bottom(*win, nw) or start
+                                               max_periods, max_events, tol, window, pmax)
+                return _classify(win, nw, st, lag)[3], last_bottom_impact(*win, nw) or start
 
             # adaptive continuation of the followed motion: the step doubles (up to the grid step)
             # after a run that keeps the motion and halves after one that loses it
@@ -918,7 +922,7 @@ def _split_cells(ds, d, gbar, r, tol):
     lyap = np.full((labels.size, 3), np.nan)
     ev = [ds[v].values for v in _EVENT_VARS]
     for i in np.flatnonzero(labels == APERIODIC):
-        start = _last_bottom(*(e[i] for e in ev), int(np.isfinite(ev[0][i]).sum()))
+        start = last_bottom_impact(*(e[i] for e in ev), int(np.isfinite(ev[0][i]).sum()))
         if start is None:
             continue
         split = split_no_period(d[i], gbar[i], r[i], *start, tol=tol)

@@ -200,7 +200,7 @@ def _count_worker(args: str) -> None:
 
         setattr(events, name, g)
 
-    for name, key in (("state3", "points"), ("state_step", "points"), ("state_from_sc", "points"), ("_rtsafe", "roots")):
+    for name, key in (("state3", "points"), ("state_step", "points"), ("state_from_sc", "points"), ("rtsafe", "roots")):
         counted(name, key)
     fm = types.SimpleNamespace(**{k: getattr(math, k) for k in dir(math) if not k.startswith("_")})
 

@@ -8,6 +8,7 @@ after another.
 from __future__ import annotations
 
 import math
+import subprocess
 
 import numpy as np
 import xarray as xr
@@ -82,10 +83,8 @@ def _run(family, setting, p, phi, v0, n, t_end=math.inf, max_seconds=30.0, max_e
 
         kw = {"tol": setting} if family == "siconos-ed" else {"h": setting}
         method = "event-driven" if family == "siconos-ed" else "moreau-jean"
-        try:
-            return run_siconos(p, phi, v0, n, method=method, t_end=t_end, max_seconds=max_seconds, **kw)
-        except Exception as err:  # the peer process failed: recorded as a crash of that method
-            return M.Run(np.array([]), np.array([], dtype=int), np.array([]), f"{M.CRASHED}: {err}", math.nan)
+        # a peer process that dies or outlives its time is recorded by run_siconos ("crashed", "stalled")
+        return run_siconos(p, phi, v0, n, method=method, t_end=t_end, max_seconds=max_seconds, **kw)
     return M.run_rk4(p, phi, v0, n, h=setting, t_end=t_end)
 
 
@@ -224,13 +223,13 @@ def _flight(family, setting, theta, z0, u, d, gbar):
 def _flights(family, setting, states, d, gbar):
     """(tau, wall) of each flight; Siconos in one call of its peer process (a crash: no impacts)."""
     if family.startswith("siconos"):
-        from .peer_siconos import siconos_flights
+        from .peer_siconos import SiconosPeerError, siconos_flights
 
         method = "event-driven" if family == "siconos-ed" else "moreau-jean"
         kw = {"tol": setting} if family == "siconos-ed" else {"h": setting}
         try:
             res = siconos_flights([(*s, d, gbar) for s in states], method, **kw)
-        except Exception:
+        except (SiconosPeerError, subprocess.TimeoutExpired):  # the peer process died or hung: no impacts
             return [(math.inf, 0)] * len(states)
         return [(r.tau, r.wall) for r in res]
     return [_flight(family, setting, *s, d, gbar) for s in states]

@@ -116,7 +116,7 @@ def _done(step, x, df, d2f, d3f):
 
 
 @njit(cache=True, error_model="numpy")
-def _rtsafe(which, lo, hi, flo, fhi, dflo, dfhi, c, s, z0w, u, gbar):
+def rtsafe(which, lo, hi, flo, fhi, dflo, dfhi, c, s, z0w, u, gbar):
     """Root of a monotone function on [lo, hi] with f(lo), f(hi) of opposite sign (or zero):
     ``which=0`` Zdot, ``which=1`` the gap ``Z - wall`` (``z0w`` its value at the flight's start),
     ``which=2`` the slope ``(Z(x) - Z(0)) / x`` of a flight that starts on the wall it returns to;
@@ -337,12 +337,12 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
                 # root at 0, so its chord slope from 0 is monotone, and its one root is the impact
                 if -sg1 * db >= 0.0:
                     g1 = db / tb
-                    t, _, v = _rtsafe(2, 0.0, tb, u, g1, 0.5 * (c + gbar), (vb - g1) / tb, c, s, 0.0, u, gbar)
+                    t, _, v = rtsafe(2, 0.0, tb, u, g1, 0.5 * (c + gbar), (vb - g1) / tb, c, s, 0.0, u, gbar)
                     return _slow(t, v, ta, tb, theta, c, s, z0w2, u, gbar, -sg1)
             elif skip and sg1 * (z0w2 + da) > 0.0:
                 # a convex or concave gap of opposite signs at the ends has one root between them
                 if -sg1 * (z0w2 + db) >= 0.0:
-                    t, _, v = _rtsafe(1, ta, tb, z0w2 + da, z0w2 + db, va, vb, c, s, z0w2, u, gbar)
+                    t, _, v = rtsafe(1, ta, tb, z0w2 + da, z0w2 + db, va, vb, c, s, z0w2, u, gbar)
                     return _slow(t, v, ta, tb, theta, c, s, z0w2, u, gbar, -sg1)
             else:
                 skip = False
@@ -351,12 +351,12 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
                     # the gap (convex or concave, of opposite signs at ta and ts) has one root between
                     ds_, vs_, _, _ = state3(ts, c, s, u, gbar)
                     if sg1 * (z0w1 + ds_) > DD_MARGIN:
-                        t, _, v = _rtsafe(1, ta, ts, z0w1 + da, z0w1 + ds_, va, vs_, c, s, z0w1, u, gbar)
+                        t, _, v = rtsafe(1, ta, ts, z0w1 + da, z0w1 + ds_, va, vs_, c, s, z0w1, u, gbar)
                         return _slow(t, v, ta, ts, theta, c, s, z0w1, u, gbar, sg1)
             if skip:
                 n_sub = 0  # no piece can reach a wall: on to the next one
             else:
-                te, de, ve = _rtsafe(0, ta, tb, va, vb, aa, ab, c, s, 0.0, u, gbar)
+                te, de, ve = rtsafe(0, ta, tb, va, vb, aa, ab, c, s, 0.0, u, gbar)
                 n_sub = 2
         p = ta
         vp = va
@@ -383,7 +383,7 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
                     gp = z0w + dp if p > 0.0 else z0w
                     if sgn * gp > 0.0:
                         gp = 0.0
-                    t, _, v = _rtsafe(1, p, q, gp, gq, vp, vq, c, s, z0w, u, gbar)
+                    t, _, v = rtsafe(1, p, q, gp, gq, vp, vq, c, s, z0w, u, gbar)
                     return _slow(t, v, p, q, theta, c, s, z0w, u, gbar, sgn)
             p = q
             vp = vq

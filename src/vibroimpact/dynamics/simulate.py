@@ -156,7 +156,7 @@ def simulate(
             "lift it off again; the run ends there (status 'stuck_forever')",
             stacklevel=2,
         )
-    ds = _events_dataset(bufs, n)
+    ds = events_dataset(bufs, n)
     ds.attrs.update(_param_attrs(params))
     ds.attrs.update(phi=phi, v0=v0, t0=t0, start="bottom impact" if Z0 is None else f"flight at Z0={Z0!r}",
                     status=K.STATUS_NAMES[status], period_events=int(lag), tol=tol, v_chatter=v_chatter,
@@ -186,7 +186,9 @@ def _param_attrs(params: Params) -> dict:
     return out
 
 
-def _events_dataset(bufs, n, dim="impact") -> xr.Dataset:
+def events_dataset(bufs, n, dim="impact") -> xr.Dataset:
+    """The first ``n`` events of a run's buffers (t, wall, v_minus, v_plus, phase, kind, Z) as a dataset along
+    ``dim``, with ``dt``, the time since the previous event (NaN for the first)."""
     t, wall, vm, vp, phase, kind, z = (b[..., :n] for b in bufs)
     base = bufs[0].base
     # the block's spare row when the buffers are still the block's rows, else a new array
@@ -271,7 +273,7 @@ def simulate_batch(d, gbar, r, phi, v0, *, n_impacts, t_end=None, stop_when_peri
     mask = np.arange(cap)[None, :] >= out_n[:, None]
     for b in bufs:  # the padding: NaN, and 0 for wall and kind
         b[mask] = np.nan if b.dtype.kind == "f" else 0
-    ds = _events_dataset(bufs, cap)
+    ds = events_dataset(bufs, cap)
     for name, a in (("d", d), ("gbar", gbar), ("r", r), ("phi", phi), ("v0", v0)):
         ds[name] = ("run", a)
     ds["n_events"] = ("run", out_n)

@@ -8,14 +8,14 @@ import numpy as np
 
 from ._common import wellposed
 from .energy import (
-    _mark_grazing,
-    _motion_runs,
-    _panel_title,
-    _rows_of_names,
-    _secondary_axis,
-    _sim_points,
     grazing_handles,
     grazing_marks,
+    mark_grazing,
+    motion_runs,
+    panel_title,
+    rows_of_names,
+    secondary_axis,
+    sim_points,
     sweep_step,
     use_style,
 )
@@ -53,7 +53,7 @@ def _mark(ax, marks, *, names=True, step=0.0):
     """Vertical lines at the critical points: grazing dash-dotted (as Figs 0 and 5), B and folds dotted (named
     with ``names``: under the velocities they would cover the motions written over the panel)."""
     grazing = [(n, d) for n, d in marks if n == "G1" or n.startswith("d_graz")]
-    _mark_grazing(ax, grazing, step)
+    mark_grazing(ax, grazing, step)
     for name, d in marks:
         if (name, d) in grazing:
             continue
@@ -141,12 +141,12 @@ def fig_lyapunov(sweeps, orbit_sets, transitions=None, *, ncols=3):
         lax = fig.add_subplot(inner[1], sharex=vax)
         marks = critical_marks(obs, tr)
         drawn |= {name for name, _ in marks}
-        _sim_points(vax, sw, "v_minus", every=True)
+        sim_points(vax, sw, "v_minus", every=True)
         vax.set_ylabel(r"$|\dot Z_k|$", fontsize=7)
-        vax.set_title(_panel_title(sw, next(letters)), fontsize=7)
+        vax.set_title(panel_title(sw, next(letters)), fontsize=7)
         vax.tick_params(labelbottom=False)
-        _motion_runs(vax, sw)
-        _secondary_axis(vax, sw)
+        motion_runs(vax, sw)
+        secondary_axis(vax, sw)
         vax.set_ylim(top=vax.get_ylim()[1] * 1.15)
         for direction, marker in (("down", "o"), ("up", "+")):
             _lyapunov_points(lax, sw, direction, marker)
@@ -180,5 +180,5 @@ def fig_lyapunov(sweeps, orbit_sets, transitions=None, *, ncols=3):
         ax.legend(handles=h, loc="center", fontsize=6, title=note, title_fontsize=6, frameon=False)
     else:
         fig.legend(handles=h, loc="outside lower center", ncol=3, fontsize=6, title=note, title_fontsize=6)
-    _rows_of_names(fig)
+    rows_of_names(fig)
     return fig

@@ -10,7 +10,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from ._common import pi_label, use_style, wellposed
-from .sweeps import _pi_ticks, curve_pieces
+from .sweeps import curve_pieces, pi_ticks
 
 _AXIS = {"s": "cylinder length $s$ (m)", "F": r"forcing amplitude $\|\hat F\|$ (N)", "beta": r"incline $\beta$ (rad)"}
 
@@ -106,7 +106,7 @@ def fig_design_map(ds, curves, best):
         ax.set_title(title, fontsize=8)
     axes[0].set_ylabel(_AXIS[yname])
     if yname == "beta":
-        _pi_ticks(axes[0], ys[0], ys[-1])
+        pi_ticks(axes[0], ys[0], ys[-1])
     fig.colorbar(mesh, ax=axes, label=r"$\overline{U}_T$ (kV per unit of $t$)", shrink=0.9)
     handles += [Patch(facecolor="none", edgecolor="k", hatch="////", label="two or more motions coexist\n"
                       f"(each reached by $\\geq$ {ds.attrs['min_share']:.0%} of the starts)"),

@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ._common import BOTTOM, TOP, beta_label, branch_line, use_style, wellposed
-from .sweeps import _last_events, point_info
+from .sweeps import last_events, point_info
 
 U_I_COLOR = "tab:red"
 U_T_COLOR = "tab:cyan"
@@ -107,7 +107,7 @@ def sweep_step(sw) -> float:
     return float(np.max(np.diff(sw.d.values))) if sw.sizes["point"] > 1 else 0.0
 
 
-def _motion_runs(ax, sw, direction="down", min_share=0.07):
+def motion_runs(ax, sw, direction="down", min_share=0.07):
     """The motion identified along the sweep, written over the top of the panel where it holds for
     at least ``min_share`` of the points (:func:`motion_blocks`), so every cloud of points can be read
     against it."""
@@ -121,12 +121,12 @@ def _motion_runs(ax, sw, direction="down", min_share=0.07):
                     color="0.4", shrinkA=0, shrinkB=0, mutation_scale=2))
         text = ax.text(0.5 * (d[a] + d[b - 1]), 0.965, name, transform=tr, ha="center", va="top", fontsize=5,
                        color="0.25")
-        text._vi_run_name = True  # placed in rows by _rows_of_names once the figure is laid out
+        text._vi_run_name = True  # placed in rows by rows_of_names once the figure is laid out
         wellposed(text, "run", step=step)
 
 
-def _rows_of_names(fig, row_height=0.045, pad=3.0):
-    """Once the figure is laid out (drawn once): each panel's motion names (:func:`_motion_runs`), left to
+def rows_of_names(fig, row_height=0.045, pad=3.0):
+    """Once the figure is laid out (drawn once): each panel's motion names (:func:`motion_runs`), left to
     right, kept inside the panel (a name wider than its run at an end of the axis is aligned to that end)
     and a row lower where they would come within ``pad`` pixels of a name already placed."""
     fig.canvas.draw()
@@ -152,7 +152,7 @@ def _rows_of_names(fig, row_height=0.045, pad=3.0):
             placed.append(text)
 
 
-def _secondary_axis(ax, sw):
+def secondary_axis(ax, sw):
     """The physical parameter the sweep varies on a second x axis: s = d ||F|| / k is linear in d, and
     ||F|| = k s / d its inverse (d = k s / ||F||, k = M omega^2 / pi^2; the constant from the sweep's
     own s, F and d)."""
@@ -177,7 +177,8 @@ def _secondary_axis(ax, sw):
     sec.tick_params(labelsize=6)
 
 
-def _panel_title(sw, letter):
+def panel_title(sw, letter):
+    """A sweep panel's title: its letter, incline and the range of the parameter it varies, the other held."""
     vary = sw.attrs["vary"]
     rng = sw[vary].values
     if vary == "s":
@@ -187,13 +188,13 @@ def _panel_title(sw, letter):
     return f"({letter}) {beta_label(sw.attrs['beta'])}, {span}, {fixed}"
 
 
-def _sim_points(ax, sw, var, scale=1.0, *, every=False):
+def sim_points(ax, sw, var, scale=1.0, *, every=False):
     """The last period of events of every sweep point (24 events where no period was found): the down sweep
     (d decreasing, o) and the up sweep (+), thinned to every other point each (the down sweep's even points,
     the up sweep's odd ones), or with ``every`` at every point both."""
     for direction, marker, keep in (("down", "o", 0), ("up", "+", 1)):
         sub = sw if every else sw.isel(point=slice(keep, None, 2))
-        x, y, info = _last_events(sub, var, direction, info=True)
+        x, y, info = last_events(sub, var, direction, info=True)
         line = ax.plot(x, np.abs(y) * scale, marker, mfc="none", color=SIM_COLOR, ms=2.2, mew=0.5, ls="none",
                        zorder=2)[0]
         _motions(line, info, scale)
@@ -213,7 +214,7 @@ def _point_markers(ax, en, var, fmt, scale, **style):
     return line
 
 
-def _mark_grazing(ax, marks, step=0.0):
+def mark_grazing(ax, marks, step=0.0):
     """d_graz (purple: dash-dotted where the 1:1 motion grazes, dotted where it jumps without grazing) and
     G1 (black, dash-dotted), named at the panel's foot.  d_graz is located along the sweep (``step``: its
     grid step, to which the check holds it where its location is ill-conditioned); G1 is analytic."""
@@ -297,25 +298,25 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
         marks = grazing_marks(obs, tr)
         drawn |= {name for name, _ in marks}
         if vax is not None:
-            _sim_points(vax, sw, "v_minus")
+            sim_points(vax, sw, "v_minus")
             _analytic(vax, brs, "v_minus")
             vax.set_xlabel("d")
             vax.set_ylabel(r"$|\dot Z_k|$ (non-dimensional)")
-            vax.set_title(_panel_title(sw, next(letters)))
-        _sim_points(uax, en, "gain", KV)
+            vax.set_title(panel_title(sw, next(letters)))
+        sim_points(uax, en, "gain", KV)
         _analytic(uax, brs, "gain", scale=KV)
         _analytic(uax, brs, "gain", averages=True, scale=KV)
         _point_markers(uax, en, "U_T", "D", KV, mfc="none", color=U_T_COLOR, ms=3, mew=0.6, zorder=3)
         _point_markers(uax, en, "U_I", "*", KV, color=U_I_COLOR, ms=3, zorder=3)
         uax.set_xlabel("d")
         uax.set_ylabel(r"$U_k-U_{in}$, $\overline{U}_I$, $\overline{U}_T$ (kV)")
-        uax.set_title(_panel_title(sw, next(letters)))
+        uax.set_title(panel_title(sw, next(letters)))
         for ax in (vax, uax):
             if ax is None:
                 continue
-            _motion_runs(ax, sw)
-            _mark_grazing(ax, marks, sweep_step(sw))
-            _secondary_axis(ax, sw)
+            motion_runs(ax, sw)
+            mark_grazing(ax, marks, sweep_step(sw))
+            secondary_axis(ax, sw)
             ax.set_ylim(top=ax.get_ylim()[1] * 1.1)  # room for the motions written over the top
     a = energies[0].attrs
     note = None
@@ -332,7 +333,7 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
         note = (note + "\n" if note else "") + "Not drawn:\n" + "\n".join(
             textwrap.fill(f"{', '.join(panels_)}: {why}", width) for why, panels_ in missing.items())
     _energy_legend(fig, velocities, note, drawn)
-    _rows_of_names(fig)
+    rows_of_names(fig)
     return fig
 
 

@@ -30,7 +30,7 @@ def point_info(s, idx, var):
     return dict(motion=lab, settled=np.asarray(settled, bool), unsettled=unsettled, mean=mean, se=se)
 
 
-def _last_events(ds, var, direction="down", labels=False, info=False):
+def last_events(ds, var, direction="down", labels=False, info=False):
     """(d, values) of every point's last period of events in one sweep direction: its exact cycle from
     the canonical first impact where the sweep settled it (:func:`vibroimpact.analysis.sweeps.settle`), else the
     recorded last period (the last 24 events where no period was found); ``var="dt"`` gives the time
@@ -132,7 +132,7 @@ def _bis_points(ax, sw, var, stride, y_of=None):
     that height per direction instead of the values (the panel of the sweeps)."""
     for direction, offset, name in (("down", 0, "d decreasing"), ("up", stride // 2, "d increasing")):
         sub = sw.isel(point=slice(offset, None, stride))
-        x, y, info = _last_events(sub, var, direction, info=True)
+        x, y, info = last_events(sub, var, direction, info=True)
         y = np.abs(y) if var == "v_minus" else y
         lab = info["motion"]
         for motion in sorted(set(lab)):
@@ -366,7 +366,7 @@ def _scan_lines(m, xdim, ydim, scans):
     return out
 
 
-def _pi_ticks(ax, lo, hi):
+def pi_ticks(ax, lo, hi):
     """Ticks of an angle axis at the fractions of pi inside [lo, hi]."""
     import math
 
@@ -396,7 +396,7 @@ def fig_regime_map(maps, scans=None):
         ax.set_xlabel(f"{names.get(xdim, xdim)} ({m[xdim].attrs.get('units', '')})")
         ax.set_ylabel(f"{names.get(ydim, ydim)} ({m[ydim].attrs.get('units', '')})")
         if ydim == "beta":
-            _pi_ticks(ax, float(m.beta.min()), float(m.beta.max()))
+            pi_ticks(ax, float(m.beta.min()), float(m.beta.max()))
         nondim = {xdim, ydim} & {"d", "gbar"}
         fixed = [k for k in (("d", "gbar", "r") if nondim else ("beta", "F", "s")) if k in m.attrs and k not in (xdim, ydim)]
         text = {"beta": lambda v: r"$\beta$=" + pi_label(v), "F": lambda v: rf"$\|\hat F\|$={v:g} N",

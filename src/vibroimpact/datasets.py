@@ -197,8 +197,8 @@ def write_netcdf(ds: xr.Dataset, path, *, fmt: str = "NETCDF4") -> None:
     """Write atomically (temporary file then rename): never a partial file; annotated first
     (:func:`annotate`).  ``fmt="NETCDF3_64BIT"`` suits many small float variables (a figure's data: a
     third of the size); it is written by scipy's engine, which writes the header once, where the netCDF4
-    library rewrites it for every variable (fig2's 648 arrays: 0.6 s against 6.5 s; the same dataset
-    read back).  NETCDF4 files are written by the netCDF4 engine."""
+    library rewrites it for every variable (the difference grows with the number of variables; the same
+    dataset read back).  NETCDF4 files are written by the netCDF4 engine."""
     import os
     import tempfile
     from pathlib import Path

@@ -64,7 +64,7 @@ def run_python(p: Params, phi, v0, n, t_end=math.inf, timeout=600):
 
 def run_python_many(cases, timeout=600):
     """:func:`run_python` for several ``(params, phi, v0, n, t_end)`` in one fresh interpreter (its
-    start-up and imports, about 1.5 s, paid once); each run timed on its own."""
+    start-up and imports paid once); each run timed on its own."""
     env = dict(os.environ, NUMBA_DISABLE_JIT="1")
     args = json.dumps([dict(d=p.d, gbar=p.gbar, r=p.r, phi=phi, v0=v0, n=n, t_end=None if math.isinf(t_end) else t_end)
                        for p, phi, v0, n, t_end in cases])

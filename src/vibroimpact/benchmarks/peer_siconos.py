@@ -14,7 +14,7 @@ That script documents the model and the two methods:
 
 The forcing (``force=``): ``"plugin"``, Siconos' plugin mechanism with the C function of
 ``_siconos/siconos_force.c``, compiled here once with the system C compiler (``$CC`` or ``cc``) into
-``~/.cache/vibroimpact/``; ``"python"``, a Python override of ``computeFExt`` (2-4x slower per
+``~/.cache/vibroimpact/``; ``"python"``, a Python override of ``computeFExt`` (slower per
 impact, the same numbers to the last bit); ``"auto"`` (default), the plugin when it compiles, else Python.
 ``SiconosRun.force`` / ``FlightResult.force`` say which was used.
 

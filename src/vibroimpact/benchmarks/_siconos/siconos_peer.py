@@ -17,7 +17,7 @@ external force ``fExt(t)``, Siconos evaluating it whenever it computes the force
   (``setComputeFExtFunction(path, "vi_fext")``) with the C function of ``siconos_force.c (beside this script)``
   (compiled by the caller), ``theta`` and ``gbar`` passed in the DS's parameter vector ``z``;
 * otherwise a Python override of ``computeFExt(time)`` (SWIG director).  Same results to the last
-  bit, but the director routes every force evaluation through Python (2-4x slower per impact).
+  bit, but the director routes every force evaluation through Python (slower per impact).
 
 Methods (``job["method"]``):
 

@@ -308,7 +308,7 @@ def test_orbit_equations_jacobian_agrees_with_finite_differences(name, word):
 def test_branch_equations_derivative_in_d_agrees_with_finite_differences(vary):
     """The column d/dd of the continuation's equations, with gbar fixed (vary s) or moving with d
     (vary F: gbar = (gbar/d) d)."""
-    from vibroimpact.analysis.continuation import _augmented, branch_parameters
+    from vibroimpact.analysis.continuation import ParameterMap, _augmented, branch_parameters
     from vibroimpact.analysis.orbits import parse_word
 
     p = vi.Params.from_physical(s=0.14 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
@@ -317,8 +317,10 @@ def test_branch_equations_derivative_in_d_agrees_with_finite_differences(vary):
     assert (g1 != 0) == (vary == "F")
     walls = parse_word("BBT")
     Y = np.append(o.z, p.d) + np.random.default_rng(6).uniform(-1e-2, 1e-2, o.z.size + 1)
-    _, J = _augmented(Y, walls, p.r, o.k, g0, g1)
-    fd = _central_difference(lambda x: _augmented(x, walls, p.r, o.k, g0, g1)[0], Y)
+    pm = ParameterMap(o, vary)
+    assert (pm.g_int, pm.g_slope) == (g0, g1)
+    _, J = _augmented(Y, walls, o.k, pm)
+    fd = _central_difference(lambda x: _augmented(x, walls, o.k, pm)[0], Y)
     assert np.max(np.abs(J - fd)) < FD_TOL
 
 
@@ -477,8 +479,8 @@ def test_branch_equations_derivative_in_any_parameter_agrees_with_finite_differe
     pm = ParameterMap(o, vary)
     walls = parse_word("BBT")
     Y = np.append(o.z, pm.lam0) + np.random.default_rng(7).uniform(-1e-3, 1e-3, o.z.size + 1)
-    _, J = _augmented(Y, walls, p.r, o.k, 0.0, 0.0, pm)
-    fd = _central_difference(lambda x: _augmented(x, walls, p.r, o.k, 0.0, 0.0, pm)[0], Y)
+    _, J = _augmented(Y, walls, o.k, pm)
+    fd = _central_difference(lambda x: _augmented(x, walls, o.k, pm)[0], Y)
     assert np.max(np.abs(J - fd)) < FD_TOL
 
 

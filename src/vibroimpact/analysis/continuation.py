@@ -150,16 +150,13 @@ class ParameterMap:
         return self.physical(lam)[self.vary]
 
 
-def _augmented(Y, walls, r, k, g0, g1, pm=None):
+def _augmented(Y, walls, k, pm):
     """Residual F(z, lam) and its Jacobian [F_z | F_lam] (2N+1 x 2N+2), ``lam`` the last entry of ``Y``:
-    ``d`` with ``gbar = g0 + g1 d`` and restitution ``r``, or as the parameter map ``pm`` says."""
+    the model's ``(d, gbar, r)`` and their derivatives in ``lam`` as the parameter map ``pm`` says."""
     n = walls.shape[0]
     z, lam = Y[:-1], Y[-1]
-    if pm is None:
-        d, gbar, dd, dg, dr = lam, g0 + g1 * lam, 1.0, g1, 0.0
-    else:
-        d, gbar, r = pm.at(lam)
-        dd, dg, dr = pm.deriv(lam)
+    d, gbar, r = pm.at(lam)
+    dd, dg, dr = pm.deriv(lam)
     F, Jz = residual_and_jacobian(z, walls, d, gbar, r, k)
     Fd = np.zeros(2 * n + 1)
     tau, v = z[1:n + 1], z[n + 1:]
@@ -185,18 +182,18 @@ def null_tangent(J, prev=None):
     return t / np.linalg.norm(t)
 
 
-def _correct(Yp, tangent, walls, r, k, g0, g1, tol=1e-13, max_iter=12, pm=None):
+def _correct(Yp, tangent, walls, k, pm, tol=1e-13, max_iter=12):
     """Newton on F = 0 plus tangent . (Y - Yp) = 0."""
     Y = Yp.copy()
     for _ in range(max_iter):
-        F, J = _augmented(Y, walls, r, k, g0, g1, pm)
+        F, J = _augmented(Y, walls, k, pm)
         G = np.append(F, tangent @ (Y - Yp))
         A = np.vstack([J, tangent])
         step = np.linalg.solve(A, -G)
         Y += step
         if np.max(np.abs(step)) < tol * max(1.0, np.max(np.abs(Y))):
             return Y
-    F, _ = _augmented(Y, walls, r, k, g0, g1, pm)
+    F, _ = _augmented(Y, walls, k, pm)
     if np.max(np.abs(F)) < 1e-10:
         return Y
     raise OrbitError("corrector did not converge")
@@ -293,7 +290,7 @@ def continue_orbit(
     walls = parse_word(orbit.word)
     r, k = orbit.params.r, orbit.k
     Y0 = np.append(orbit.z, pm.lam0)
-    _, J0 = _augmented(Y0, walls, r, k, 0.0, 0.0, pm)
+    _, J0 = _augmented(Y0, walls, k, pm)
     t0 = null_tangent(J0)
     halves, stops = [], []
     bar = Progress(1000, f"continue {orbit.word} in {vary}", progress, unit="‰ of the interval")
@@ -306,7 +303,7 @@ def continue_orbit(
         stop = f"max_points ({max_points}) reached"
         while len(Ys) < max_points:
             try:
-                Yn = _correct(Y + h * t, t, walls, r, k, 0.0, 0.0, pm=pm)
+                Yn = _correct(Y + h * t, t, walls, k, pm)
                 if not pm.valid(Yn[-1]):
                     raise OrbitError(f"{vary} = {pm.value(Yn[-1]):.10g} is outside the model's range")
             except (OrbitError, np.linalg.LinAlgError, ValueError) as err:
@@ -318,7 +315,7 @@ def continue_orbit(
             if np.any(Yn[1:1 + len(walls)] <= 0):  # a flight time reached zero: the word degenerates
                 stop = f"a flight time reached zero near {pm.label} = {Yn[-1]:.10g}: the word {orbit.word} degenerates"
                 break
-            _, J = _augmented(Yn, walls, r, k, 0.0, 0.0, pm)
+            _, J = _augmented(Yn, walls, k, pm)
             t = null_tangent(J, t)
             Y = Yn
             Ys.append(Y)
@@ -396,13 +393,13 @@ def _locate(Ys, orbits, template, walls, r, k, xtol, pm):
                 continue
 
             def f(sig, name=name, Ya=Ya, chord=chord, tan=tan):
-                Y = _correct(Ya + sig * chord, tan, walls, r, k, 0.0, 0.0, pm=pm)
+                Y = _correct(Ya + sig * chord, tan, walls, k, pm)
                 return bifurcation_functions(_orbit_at(Y, template, pm))[name]
 
             adm = orbits[i].admissible or orbits[i + 1].admissible
             try:
                 sig = brentq(f, 0.0, 1.0, xtol=xtol / max(abs(chord[-1]), 1e-300), rtol=1e-15)
-                Y = _correct(Ya + sig * chord, tan, walls, r, k, 0.0, 0.0, pm=pm)
+                Y = _correct(Ya + sig * chord, tan, walls, k, pm)
             except (ValueError, OrbitError, np.linalg.LinAlgError) as err:
                 # kept, with a linear estimate between the branch points and the reason
                 est = float(Ya[-1] + fa / (fa - fb) * (Yb[-1] - Ya[-1]))

@@ -163,3 +163,21 @@ def test_acceleration_zero_comes_with_the_sign_of_the_sine_there():
         f = np.cos(theta + math.pi * s) + gbar
         assert np.all(f[:-1] * f[1:] > 0)
         assert next_accel_zero(tau, theta, alpha) == t  # the time alone, as the grazing search uses it
+
+
+def test_a_hit_is_defined_once_and_used_everywhere():
+    """An event reaches a wall when it is an impact or a grazing contact: kernels.is_hit (compiled) and
+    kernels.hits (arrays) agree with the kinds' names, and no other module spells the rule out again."""
+    import re
+
+    from conftest import ROOT
+
+    from vibroimpact.dynamics import kernels as K
+
+    kinds = np.arange(len(K.KIND_NAMES), dtype=np.int8)
+    expected = [name in ("impact", "grazing") for name in K.KIND_NAMES]
+    assert K.hits(kinds).tolist() == expected == [bool(K.is_hit(k)) for k in kinds]
+    spelled = re.compile(r"kind\W[^\n]*(IMPACT[^\n]*GRAZING|<=\s*(1|K\.GRAZING)\b|isin\([^)]*\(0, 1\))")
+    again = [f"{f.relative_to(ROOT)}:{i}" for f in (ROOT / "src" / "vibroimpact").rglob("*.py") if f.name != "kernels.py"
+             for i, line in enumerate(f.read_text().splitlines(), 1) if spelled.search(line)]
+    assert not again, again

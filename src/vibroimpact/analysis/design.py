@@ -190,7 +190,7 @@ def _settle_attractor(att, events, lag, d, gbar, r, F, device):
     res = polish_cycle(d, gbar, r, t[sl], wall[sl], vm[sl], phase[sl], kind[sl], span=t[n - 1] - t[n - 1 - lag])
     if not (res["settled"] or res["status"] == "sticking"):
         return
-    hit = (res["kind"] == K.IMPACT) | (res["kind"] == K.GRAZING)
+    hit = K.hits(res["kind"])
     gain = voltage_gain(device.speed_si(res["v_minus"][hit], F), device.membrane)
     att["U_T"] = float(gain.sum() / (2.0 * att["period"])) if att["period"] else math.nan
     att["U_I"] = float(gain.mean()) if gain.size else math.nan

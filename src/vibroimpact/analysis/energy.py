@@ -218,7 +218,7 @@ def window_averages(t, v_minus, kind, status, period_events, F, device: Device =
     t, vm, kind = (np.asarray(a) for a in (t, v_minus, kind))
     shape = t.shape[:-1]
     speed = device.speed_si(vm, np.asarray(F, dtype=float)[..., None])
-    hit = np.isfinite(t) & ((kind == 0) | (kind == 1))
+    hit = np.isfinite(t) & K.hits(kind)
     gain_all = np.where(hit, voltage_gain(np.where(hit, speed, 0.0), device.membrane), np.nan)
     u_i, u_t, span = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
     count = np.zeros(shape, np.int64)
@@ -261,7 +261,7 @@ def _settled_energy(sw, F, device):
 
     shape = sw["status"].shape
     vm, kind = sw["cycle_v_minus"].values, sw["cycle_kind"].values
-    hit = np.isfinite(vm) & ((kind == K.IMPACT) | (kind == K.GRAZING))
+    hit = np.isfinite(vm) & K.hits(kind)
     cyc_gain = np.where(hit, voltage_gain(np.where(hit, device.speed_si(vm, F[..., None]), 0.0), device.membrane),
                         np.nan)
     per = sw["period"].values.astype(float)
@@ -296,7 +296,7 @@ def batch_averages(run, F, device: Device, *, batches: int) -> np.ndarray:
     """``U_I``, its standard error, ``U_T``, its standard error over the impacts of a long run
     (:func:`vibroimpact.long_run`'s dict) at forcing ``F``, from ``batches`` consecutive batches of equally
     many impacts."""
-    hit = (run["kind"] == K.IMPACT) | (run["kind"] == K.GRAZING)
+    hit = K.hits(run["kind"])
     t, gain = run["t"][hit], voltage_gain(device.speed_si(run["v_minus"][hit], F), device.membrane)
     m = gain.size // batches
     if m < 2:

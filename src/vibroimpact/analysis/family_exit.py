@@ -170,7 +170,7 @@ def family_exit(d, gbar, r: float, phi: float, v0: float, *, n: int = 1, impacts
     return out | {
         "status": "located" if refined else f"not refined: {max_trials} runs (max_trials) left a bracket of {x - y:.1e}",
         "d": float(0.5 * (x + y)), "d_width": float(x - y), "clearance": clearance,
-        "slowest_after": float(np.min(np.abs(beyond.v_minus.values[beyond.kind.values <= K.GRAZING]), initial=math.inf)),
+        "slowest_after": float(np.min(np.abs(beyond.v_minus.values[K.hits(beyond.kind.values)]), initial=math.inf)),
         "kind": "grazing" if clearance < GRAZING_CLEARANCE * x else "no grazing",
         "after": after,
         # the clearance of a motion with no period is the least over its judged events: a statistic

@@ -56,11 +56,6 @@ def _step_jacobian(tau, theta, u, v_next, acc_next, r):
     return 1.0 + dtau_dt, dtau_dv, acc_next * dtau_dt + PI * vel_th, acc_next * dtau_dv - r
 
 
-@njit(cache=True, error_model="numpy")
-def _is_impact(kind):
-    return kind == K.IMPACT or kind == K.GRAZING
-
-
 #: a running product of stretch factors is folded into its logarithm beyond this range (one ``log`` per
 #: hundreds of impacts instead of two per impact; far from overflow)
 _FOLD = 1e150
@@ -82,7 +77,7 @@ def tangent_pass(t, vm, vp, phase, kind, gbar, r, first, batches, slow_speed, lo
     n = t.shape[0]
     steps = 0
     for k in range(first, n - 1):
-        if _is_impact(kind[k]) and _is_impact(kind[k + 1]):
+        if K.is_hit(kind[k]) and K.is_hit(kind[k + 1]):
             steps += 1
     per = steps // batches
     counts[3] = per
@@ -98,7 +93,7 @@ def tangent_pass(t, vm, vp, phase, kind, gbar, r, first, batches, slow_speed, lo
         a, b = kind[k], kind[k + 1]
         if k >= first and b == K.STICK:
             sticks += 1
-        if not (_is_impact(a) and _is_impact(b)):
+        if not (K.is_hit(a) and K.is_hit(b)):
             if b == K.STICK or a == K.RELEASE:  # across a stick the map is constant: restart
                 q1, q2 = 1.0, 0.0
             continue

@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..dynamics import kernels as K
 from ..dynamics.flight import INV_PI, INV_PI2, PI, TWO_PI, one_minus_cos, sin_minus_x
 from ..dynamics.params import Params
 
@@ -369,7 +370,6 @@ def orbit_run(orbit: Orbit, periods: int = 1):
     >>> run.z.values.round(9).tolist()[:3], bool(abs(run.v_minus[3] - run.v_minus[0]) < 1e-9)
     ([0.07, 0.07, -0.07], True)
     """
-    from ..dynamics import kernels as K
     from ..dynamics.simulate import events_dataset
 
     if int(periods) < 1:
@@ -442,7 +442,7 @@ def find_orbit(params: Params, word: str, phi: float, v0: float, *, k: int = 1) 
     n = len(word)
     run = simulate(params, phi, v0, n_impacts=n + 1)
     seen = "".join("B" if w == 1 else "T" for w in run["wall"].values[:n])
-    if run.sizes["impact"] < n + 1 or not np.all(run["kind"].values[: n + 1] <= 1):
+    if run.sizes["impact"] < n + 1 or not np.all(K.hits(run["kind"].values[: n + 1])):
         raise OrbitError(f"the guess (phi={phi!r}, v0={v0!r}) sticks or ends before {n} impacts")
     rot = next((i for i in range(n) if word[i:] + word[:i] == seen), None)
     if rot is None:

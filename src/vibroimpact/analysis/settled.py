@@ -203,5 +203,5 @@ def long_statistics(events: dict, batches: int = LONG_BATCHES):
     its status is ``"aperiodic"``."""
     if events["status"] != "aperiodic":
         return np.nan, np.nan
-    hit = (events["kind"] == K.IMPACT) | (events["kind"] == K.GRAZING)
+    hit = K.hits(events["kind"])
     return batch_means(np.abs(events["v_minus"][hit]), batches)

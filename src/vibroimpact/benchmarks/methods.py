@@ -26,6 +26,7 @@ import numpy as np
 from numba import njit
 from scipy.integrate import solve_ivp
 
+from ..dynamics import kernels as K
 from ..dynamics.params import Params
 
 OK, STALLED, NO_IMPACT, CRASHED = "ok", "stalled", "no impact", "crashed"
@@ -52,7 +53,7 @@ def run_exact(p: Params, phi, v0, n, t_end=math.inf):
     start = time.perf_counter()
     ds = simulate(p, phi, v0, n_impacts=n + 1, t_end=None if math.isinf(t_end) else t_end)
     sec = time.perf_counter() - start
-    hit = ds.kind.values[1:] <= 1
+    hit = K.hits(ds.kind.values[1:])
     status = OK if ds.sizes["impact"] == n + 1 or not math.isinf(t_end) else ds.attrs["status"]
     return Run(ds.t.values[1:][hit], ds.wall.values[1:][hit].astype(int), ds.v_minus.values[1:][hit], status, sec)
 
@@ -83,7 +84,7 @@ def _python_worker(args):
         start = time.perf_counter()
         ds = simulate(p, a["phi"], a["v0"], n_impacts=a["n"] + 1, t_end=a["t_end"])
         sec = time.perf_counter() - start
-        hit = ds.kind.values[1:] <= 1
+        hit = K.hits(ds.kind.values[1:])
         out.append(dict(t=ds.t.values[1:][hit].tolist(), wall=ds.wall.values[1:][hit].astype(int).tolist(),
                         v=ds.v_minus.values[1:][hit].tolist(), status=OK, seconds=sec))
     print(json.dumps(out))

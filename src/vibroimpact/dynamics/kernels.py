@@ -300,10 +300,25 @@ def run_batch(d, gbar, r, theta0, v0, n_events, t_end, v_chatter, detect, tol, p
 
 
 @njit(cache=True, error_model="numpy")
-def _resume_code(kind):
+def is_hit(kind):
+    """Whether an event of ``kind`` reaches a wall: an impact or a grazing contact (not a stick, a release
+    or the start); the one definition every module uses."""
+    return kind == IMPACT or kind == GRAZING
+
+
+def hits(kind) -> np.ndarray:
+    """:func:`is_hit` of an array of event kinds (NaN-padded buffers hold their kinds as integers)."""
+    kind = np.asarray(kind)
+    return (kind == IMPACT) | (kind == GRAZING)
+
+
+@njit(cache=True, error_model="numpy")
+def resume_code(kind):
+    """How a run resumes after an event of ``kind``: resting (a stick), from an impact (a hit) or from a
+    free state."""
     if kind == STICK:
         return STICK
-    if kind == IMPACT or kind == GRAZING:
+    if is_hit(kind):
         return RESUME_IMPACT
     return RESUME
 
@@ -344,7 +359,7 @@ def run_window(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, 
             bz[j] = bz[j + shift]
         last = keep - 1
         room = min(cap, keep + max_events - total)
-        n, status, lag = run(d, gbar, r, bt[last], bph[last], bz[last], bvp[last], _resume_code(bk[last]),
+        n, status, lag = run(d, gbar, r, bt[last], bph[last], bz[last], bvp[last], resume_code(bk[last]),
                              bw[last], keep, t_end, v_chatter, detect, tol, counts,
                              bt[:room], bw[:room], bvm[:room], bvp[:room], bph[:room], bk[:room], bz[:room])
         total += n - keep

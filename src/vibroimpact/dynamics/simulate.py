@@ -146,7 +146,7 @@ def simulate(
         bufs = tuple(np.concatenate([b, np.zeros(new_cap - cap, b.dtype)]) for b in bufs)
         cap = new_cap
         j = n - 1
-        resume = {K.STICK: K.STICK, K.IMPACT: K.RESUME_IMPACT, K.GRAZING: K.RESUME_IMPACT}.get(int(bufs[5][j]), K.RESUME)
+        resume = K.resume_code(int(bufs[5][j]))
         n, status, lag = K.run(params.d, params.gbar, params.r, bufs[0][j], bufs[4][j], bufs[6][j],
                                bufs[3][j], resume, bufs[1][j],
                                n, t_end, v_chatter, stop_when_periodic, tol, counts, *bufs)
@@ -398,7 +398,7 @@ def chatter_bounces(wall, kind):
     resolves before it sums the rest (:mod:`vibroimpact.dynamics.kernels`) depends on ``v_chatter``."""
     wall, kind = np.asarray(wall), np.asarray(kind)
     n = kind.size
-    is_hit = (kind == K.IMPACT) | (kind == K.GRAZING)
+    is_hit = K.hits(kind)
     out = np.zeros(n, dtype=bool)
     for s in np.flatnonzero(kind == K.STICK):
         run = []
@@ -424,7 +424,7 @@ def cycle_class(wall, kind, t_span):
     ``"1:0 over 2 forcing periods with sticking"``.
     """
     k = int(round(t_span / 2.0))
-    is_hit = (kind == K.IMPACT) | (kind == K.GRAZING)
+    is_hit = K.hits(kind)
     nb = int(((wall == 1) & is_hit).sum())
     nt = int(((wall == -1) & is_hit).sum())
     sticking = bool((kind == K.STICK).any())

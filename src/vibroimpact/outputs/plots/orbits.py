@@ -5,6 +5,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ...dynamics import kernels as K
 from ._common import BALL, BOTTOM, TOP, pi_label, use_style
 
 #: an orbit whose margin to grazing is below this fraction of d is titled "near grazing"
@@ -55,7 +56,7 @@ def time_series(ax, ds):
     if "wall" in ds and "impact" in ds.dims:
         # the impacts in the window, at the wall they hit: count the bottom impacts per period
         tk = ds["t"].values
-        hit = np.isfinite(tk) & (tk <= t[-1]) & np.isin(ds["kind"].values, (0, 1))
+        hit = np.isfinite(tk) & (tk <= t[-1]) & K.hits(ds["kind"].values)
         # the bottom wall (Z = d/2) is the end at X - d/2 in the absolute frame: x* = X - Z
         xk = np.interp(tk[hit], t, ds["X"].values) - ds["wall"].values[hit] * d / 2
         for w, col, mk, name in ((1, BOTTOM, "v", "bottom impact"), (-1, TOP, "^", "top impact")):

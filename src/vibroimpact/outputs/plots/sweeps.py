@@ -122,7 +122,7 @@ def _portrait_impacts(p, gbar, r):
     from ...dynamics.simulate import simulate
 
     run = simulate(Params(d=float(p.d), gbar=gbar, r=r), float(p.phi), float(p.v0), t_end=2.5)
-    one = (run.t.values < 2.0 - 1e-6) & np.isin(run.kind.values, (K.IMPACT, K.GRAZING))
+    one = (run.t.values < 2.0 - 1e-6) & K.hits(run.kind.values)
     return run.wall.values[one], run.v_minus.values[one]
 
 

@@ -8,8 +8,9 @@ import pytest
 from conftest import CAPTIONS, gbar_of
 
 import vibroimpact as vi
-from vibroimpact.analysis.lyapunov import _step_jacobian, exponents_of_run
+from vibroimpact.analysis.lyapunov import exponents_of_run
 from vibroimpact.analysis.orbits import find_orbit
+from vibroimpact.dynamics.flight import step_jacobian
 
 #: The one allowance besides an estimate's own confidence interval: the exponents are means of
 #: ~1e4 logarithms, each exact to rounding (~1e-16 relative) times the Jacobian's conditioning, which
@@ -74,8 +75,8 @@ def test_one_step_jacobian_agrees_with_finite_differences_of_the_simulator():
             return np.array([nxt.t.values[1] + dt, nxt.v_minus.values[1]])
 
         fd = np.column_stack([(step(h, 0) - step(-h, 0)) / (2 * h), (step(0, h) - step(0, -h)) / (2 * h)])
-        J = np.array(_step_jacobian(t[k + 1] - t[k], ph[k], vp[k], vm[k + 1], CHAOS.gbar + math.cos(ph[k + 1]),
-                                    CHAOS.r)).reshape(2, 2)
+        J = np.array(step_jacobian(t[k + 1] - t[k], ph[k], vm[k + 1], CHAOS.gbar + math.cos(ph[k + 1]),
+                                   CHAOS.r)).reshape(2, 2)
         # central differences: error h^2 x third derivatives, and rounding 1e-16 / h
         np.testing.assert_allclose(J, fd, atol=1e-6 * max(1.0, np.abs(fd).max()))
         checked += 1
@@ -361,3 +362,25 @@ def test_the_sensitivity_of_a_cycle_s_multiplier_runs_through_each_factor_and_ex
                for _ in range(400)]
     s = multiplier_sensitivity(F)
     assert max(changes) <= s * (1 + 1e-4) and max(changes) > 0.5 * s
+
+
+def test_newton_s_monodromy_is_the_product_of_the_tangent_map_s_steps_on_the_cycle():
+    """One implementation of the impact map's derivative (flight.step_jacobian): the monodromy matrix of the
+    Newton-solved 2:1 orbit (from its unknowns) equals the product of the steps the Lyapunov tangent pass
+    applies along the simulated cycle (from the recorded impacts), to the agreement of the two orbits."""
+    from vibroimpact.analysis.orbits import map_jacobian, parse_word
+    from vibroimpact.dynamics import kernels as K
+
+    p = vi.Params.from_physical(s=0.14 / 0.6225, beta=math.pi / 6)
+    o = vi.find_orbit(p, "BBT", phi=5.855, v0=0.4185)
+    n = o.walls.size
+    run = vi.simulate(p, o.phi, float(o.v_minus[0]), n_impacts=n + 1)
+    hit = K.hits(run.kind.values)
+    t, phase, vm = (run[v].values[hit][: n + 1] for v in ("t", "phase", "v_minus"))
+    assert np.allclose(vm[:n], o.v_minus, rtol=1e-9, atol=0)  # the simulated cycle is the Newton orbit's
+    DP = np.eye(2)
+    for k in range(n):
+        j11, j12, j21, j22 = step_jacobian(t[k + 1] - t[k], phase[k], vm[k + 1], p.gbar + math.cos(phase[k + 1]), p.r)
+        DP = np.array([[j11, j12], [j21, j22]]) @ DP
+    assert np.allclose(DP, map_jacobian(o.z, o.walls, p.gbar, p.r), rtol=1e-7, atol=1e-9)
+    assert parse_word("BBT").tolist() == o.walls.tolist()

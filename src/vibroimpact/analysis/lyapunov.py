@@ -33,27 +33,13 @@ import numpy as np
 from numba import njit
 
 from ..dynamics import kernels as K
-from ..dynamics.flight import INV_PI, INV_PI2, PI, one_minus_cos, sin_minus_x
+from ..dynamics.flight import step_jacobian
 from ..dynamics.params import Params
 
 __all__ = ["Lyapunov", "lyapunov", "tangent_pass", "exponents_of_run", "multiplier_sensitivity", "MIN_PER_BATCH"]
 
 #: fewest impacts per batch of the confidence interval
 MIN_PER_BATCH = 10
-
-
-@njit(cache=True, error_model="numpy")
-def _step_jacobian(tau, theta, u, v_next, acc_next, r):
-    """The 2x2 Jacobian of one flight's map ``(t, Zdot-) -> (t', Zdot'-)`` (eqs. EntrP1-EntrP3)."""
-    x = PI * tau
-    c, s = math.cos(theta), math.sin(theta)
-    omc, smx = one_minus_cos(x), sin_minus_x(x)
-    sx = math.sin(x)
-    disp_th = (-s * omc + c * smx) * INV_PI2
-    vel_th = (-s * sx - c * omc) * INV_PI
-    dtau_dt = -PI * disp_th / v_next
-    dtau_dv = r * tau / v_next
-    return 1.0 + dtau_dt, dtau_dv, acc_next * dtau_dt + PI * vel_th, acc_next * dtau_dv - r
 
 
 #: a running product of stretch factors is folded into its logarithm beyond this range (one ``log`` per
@@ -100,7 +86,7 @@ def tangent_pass(t, vm, vp, phase, kind, gbar, r, first, batches, slow_speed, lo
         if k >= first and done >= per * batches:
             break
         v1 = vm[k + 1]
-        j11, j12, j21, j22 = _step_jacobian(t[k + 1] - t[k], phase[k], vp[k], v1, gbar + math.cos(phase[k + 1]), r)
+        j11, j12, j21, j22 = step_jacobian(t[k + 1] - t[k], phase[k], v1, gbar + math.cos(phase[k + 1]), r)
         m1 = j11 * q1 + j12 * q2
         m2 = j21 * q1 + j22 * q2
         r11 = math.sqrt(m1 * m1 + m2 * m2)

@@ -22,7 +22,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..dynamics import kernels as K
-from ..dynamics.flight import INV_PI, INV_PI2, PI, TWO_PI, one_minus_cos, sin_minus_x
+from ..dynamics.flight import (
+    PI,
+    TWO_PI,
+    flight_partials,
+    step_jacobian,
+)
 from ..dynamics.params import Params
 
 __all__ = ["Orbit", "OrbitError", "find_orbit", "parse_word", "solve_orbit"]
@@ -65,20 +70,6 @@ def parse_word(word: str) -> np.ndarray:
 # --------------------------------------------------------------------------------------------
 
 
-def _flight(tau, theta, u, gbar):
-    """Displacement, velocity, and partials d/dtau, d/dtheta, d/du of both."""
-    x = PI * tau
-    c, s = math.cos(theta), math.sin(theta)
-    omc, smx = one_minus_cos(x), sin_minus_x(x)
-    sx = math.sin(x)
-    disp = u * tau + 0.5 * gbar * tau * tau + (c * omc + s * smx) * INV_PI2
-    vel = u + gbar * tau + (c * sx - s * omc) * INV_PI
-    acc = math.cos(theta + x) + gbar
-    disp_th = (-s * omc + c * smx) * INV_PI2
-    vel_th = (-s * sx - c * omc) * INV_PI
-    return disp, vel, acc, disp_th, vel_th
-
-
 def residual_and_jacobian(z, walls, d, gbar, r, k):
     """Equations of the orbit in unknowns z = (theta_0, tau_0..tau_{N-1}, v_0..v_{N-1})."""
     n = walls.shape[0]
@@ -91,7 +82,7 @@ def residual_and_jacobian(z, walls, d, gbar, r, k):
     for j in range(n):
         jn = (j + 1) % n
         u = -r * v[j]
-        disp, vel, acc, disp_th, vel_th = _flight(tau[j], theta, u, gbar)
+        disp, vel, acc, disp_th, vel_th = flight_partials(tau[j], theta, u, gbar)
         # position: w_j d/2 + disp = w_{j+1} d/2   (eq. zj_p1)
         F[2 * j] = disp - (walls[jn] - walls[j]) * 0.5 * d
         # velocity: v_{j+1} = vel               (eq. zdotj_p1)
@@ -181,15 +172,10 @@ def step_jacobians(z, walls, gbar, r):
     out = []
     for j in range(n):
         u = -r * v[j]
-        _, vel, acc, disp_th, vel_th = _flight(tau[j], theta, u, gbar)
+        _, vel, acc, _, _ = flight_partials(tau[j], theta, u, gbar)
         # implicit flight time: disp(tau; theta_j, u_j) = const, theta_j = pi t_j + phi, u_j = -r v_j
-        dtau_dt = -PI * disp_th / vel
-        dtau_dv = r * tau[j] / vel
-        dt_dt = 1.0 + dtau_dt
-        dt_dv = dtau_dv
-        dv_dt = acc * dtau_dt + PI * vel_th
-        dv_dv = acc * dtau_dv - r
-        out.append(np.array([[dt_dt, dt_dv], [dv_dt, dv_dv]]))
+        j11, j12, j21, j22 = step_jacobian(tau[j], theta, vel, acc, r)
+        out.append(np.array([[j11, j12], [j21, j22]]))
         theta += PI * tau[j]
     return out
 

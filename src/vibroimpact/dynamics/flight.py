@@ -48,6 +48,43 @@ def sin_minus_x(x):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _theta_partials(c, s, omc, smx, sx):
+    """d/dtheta of the displacement and of the velocity, from the flight's trigonometric terms."""
+    return (-s * omc + c * smx) * INV_PI2, (-s * sx - c * omc) * INV_PI
+
+
+@njit(cache=True, error_model="numpy")
+def flight_partials(tau, theta, u, gbar):
+    """Displacement ``Z(tau) - Z(0)``, velocity and acceleration at ``tau`` of a flight from forcing phase
+    ``theta`` with velocity ``u``, and the displacement's and velocity's derivatives in ``theta``: what the
+    periodic orbits' equations and their Jacobian need (eqs. ``zj_p1``, ``zdotj_p1``)."""
+    x = PI * tau
+    c, s = math.cos(theta), math.sin(theta)
+    omc, smx = one_minus_cos(x), sin_minus_x(x)
+    sx = math.sin(x)
+    disp = u * tau + 0.5 * gbar * tau * tau + (c * omc + s * smx) * INV_PI2
+    vel = u + gbar * tau + (c * sx - s * omc) * INV_PI
+    acc = math.cos(theta + x) + gbar
+    disp_th, vel_th = _theta_partials(c, s, omc, smx, sx)
+    return disp, vel, acc, disp_th, vel_th
+
+
+@njit(cache=True, error_model="numpy")
+def step_jacobian(tau, theta, v_next, acc_next, r):
+    """The 2x2 Jacobian ``(j11, j12, j21, j22)`` of one flight's map ``(t, Zdot-) -> (t', Zdot'-)`` (the
+    paper's eqs. EntrP1-EntrP3): a flight of time ``tau`` from phase ``theta``, arriving with velocity
+    ``v_next`` and acceleration ``acc_next``, after a rebound of restitution ``r``.  The one implementation
+    of the impact map's derivative: the periodic orbits' monodromy matrix is the product of these steps, and
+    the Lyapunov exponents' tangent map applies them along a run."""
+    x = PI * tau
+    c, s = math.cos(theta), math.sin(theta)
+    disp_th, vel_th = _theta_partials(c, s, one_minus_cos(x), sin_minus_x(x), math.sin(x))
+    dtau_dt = -PI * disp_th / v_next
+    dtau_dv = r * tau / v_next
+    return 1.0 + dtau_dt, dtau_dv, acc_next * dtau_dt + PI * vel_th, acc_next * dtau_dv - r
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def displacement(tau, c, s, u, gbar):
     """Z(tau) - Z(0) for a flight with cos/sin of the start phase ``c``, ``s``."""
     x = PI * tau

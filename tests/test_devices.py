@@ -7,8 +7,8 @@ the force, the frequency, the restitution, the membrane's constants, and the fou
 schema's bounds where the schema has them (r, h; the inclines within the (s, beta) map's range, where the design
 table's must lie); where it has none (no physical bound exists for a mass, a force, a frequency, a stiffness, a
 radius or a voltage on its own), within a factor of 10 of the paper's, the membrane's radius above the ball's.
-Three draws, the same on every run (derandomized, not shrunk: a failing draw is reported as drawn): one refused,
-two run end to end, ~4 min on 2 cores.  The example device (config/example_device.yaml) runs the whole default
+Two draws, the same on every run (derandomized, not shrunk: a failing draw is reported as drawn): the first
+(hypothesis' simplest: a 1 kg cylinder at 1 N) is refused, the second runs end to end, ~2 min on 2 cores.  The example device (config/example_device.yaml) runs the whole default
 target at the draft preset in tests/test_readme.py, by README's line for a device of one's own.
 """
 
@@ -122,7 +122,7 @@ def clone(tmp_path_factory):
 
 
 @pytest.mark.slow
-@settings(max_examples=3, deadline=None, derandomize=True, database=None, phases=[Phase.explicit, Phase.generate],
+@settings(max_examples=2, deadline=None, derandomize=True, database=None, phases=[Phase.explicit, Phase.generate],
           suppress_health_check=list(HealthCheck))
 @given(draw=devices)
 def test_a_device_drawn_at_random_runs_end_to_end_or_is_refused_before_any_job(clone, draw):

@@ -590,3 +590,21 @@ def test_a_classification_from_a_sample_may_change_its_artist():
     not_sampled = _located_rows(_located([np.nan, 0.21, 0.22], [np.nan, 0.2, 0.3], step_x=0.01,
                                          sampled=[False, True, False]), ref)
     assert not_sampled.status["a0_line0_x"] == "fail"
+
+
+def test_a_figure_that_draws_nothing_in_some_panels_is_a_file_the_netcdf_library_reads(tmp_path):
+    """Another device's figure may hold several empty lines (a panel with nothing to draw): the classic
+    format takes a zero length for its one unlimited dimension, so the file is written as NETCDF4 and the
+    netCDF library reads it back; a figure without empty lines keeps the classic format."""
+    import numpy as np
+    import xarray as xr
+
+    from vibroimpact.datasets import write_netcdf
+
+    empty = xr.Dataset({f"a0_line{i}_{c}": (f"a0_line{i}_{c}_dim0", np.zeros(0)) for i in range(2) for c in "xy"}
+                       | {"a1_line0_x": ("a1_line0_x_dim0", np.arange(3.0))})
+    write_netcdf(empty, tmp_path / "e.nc", fmt="NETCDF3_64BIT")
+    back = xr.load_dataset(tmp_path / "e.nc", engine="netcdf4")
+    assert back.sizes["a0_line1_y_dim0"] == 0 and back["a1_line0_x"].values.tolist() == [0.0, 1.0, 2.0]
+    write_netcdf(empty[["a1_line0_x"]], tmp_path / "c.nc", fmt="NETCDF3_64BIT")
+    assert (tmp_path / "c.nc").read_bytes()[:4] == b"CDF\x02"

@@ -198,7 +198,9 @@ def write_netcdf(ds: xr.Dataset, path, *, fmt: str = "NETCDF4") -> None:
     (:func:`annotate`).  ``fmt="NETCDF3_64BIT"`` suits many small float variables (a figure's data: a
     third of the size); it is written by scipy's engine, which writes the header once, where the netCDF4
     library rewrites it for every variable (the difference grows with the number of variables; the same
-    dataset read back).  NETCDF4 files are written by the netCDF4 engine."""
+    dataset read back).  NETCDF4 files are written by the netCDF4 engine.  A dataset with more than one
+    empty dimension (a figure that draws nothing in some panels) is written as NETCDF4: the classic format
+    reads a zero length as its one unlimited dimension, and the netCDF library refuses a file with several."""
     import os
     import tempfile
     from pathlib import Path
@@ -206,6 +208,8 @@ def write_netcdf(ds: xr.Dataset, path, *, fmt: str = "NETCDF4") -> None:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     annotate(ds)  # every dataset written carries units and long names (CF style)
+    if fmt.startswith("NETCDF3") and sum(size == 0 for size in ds.sizes.values()) > 1:
+        fmt = "NETCDF4"
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".part")
     os.close(fd)
     try:

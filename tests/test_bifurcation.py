@@ -169,7 +169,8 @@ def test_the_bouncing_balls_period_doubling_cascade_approaches_feigenbaums_const
     of twice as many impacts (B, BB, BBBB, ...) is continued in gbar to its own doubling.  The ratios
     of successive intervals tend to Feigenbaum's 4.6692: each nearer than the one before, the third
     within 0.5 %."""
-    from vibroimpact.dynamics.simulate import identify_attractor, simulate
+    from vibroimpact.analysis.motions import identify_attractor
+    from vibroimpact.dynamics.simulate import simulate
 
     r, feigenbaum = 0.5, 4.669201609
     points = [1 / _gamma_pd(r)]

@@ -80,7 +80,7 @@ def test_another_device_with_nothing_to_compare_is_not_compared_and_a_real_failu
                              "d=0.135 is 2:1 period-2 (BTB), not 'BBBT')")
     assert other.note[1].startswith("this device (weak) has nothing to compare: nothing compared; not compared: d = 0.14")
     # no 1:1 period-2 attractor in any sweep: nothing to hold U_I = U_T on
-    row = checks.energy_rows([], [], [])[0]
+    row = checks.energy_rows([], [], [], [])[0]
     assert row["item"] == "U_I = U_T for 1:1 period-2 motion" and row["status"] == "fail"
     assert checks.for_another_device(pd.DataFrame([row]), "weak").status[0] == checks.NOT_COMPARED
 
@@ -93,7 +93,11 @@ def test_energy_at_the_same_d_compares_the_two_coexisting_motions():
     u_t = np.array([[1.2, 1.0, 2.0], [1.0, 1.0, 1.0]])
     e = xr.Dataset({"label": (("direction", "point"), lab), "U_T": (("direction", "point"), u_t),
                     "U_I": (("direction", "point"), u_t)}, coords={"direction": ["up", "down"], "d": ("point", [0.1, 0.2, 0.3])})
-    row = next(r for r in checks.energy_rows([], [], [e]) if r["item"] == "2:1 -> 3:1 at the same d: U_T rises")
+    from vibroimpact.analysis.motions import Motion
+
+    three, two = Motion(period=1, bottom=3, top=1), Motion(period=1, bottom=2, top=1)
+    row = next(r for r in checks.energy_rows([], [], [e], [[two, three, three]])
+               if r["item"] == "2:1 -> 3:1 at the same d: U_T rises")
     assert row["computed"].startswith("3:1 above 2:1 at 1 of 2 bistable sweep points (U_T ratio 3:1 / 2:1 in [0.5000, 1.2000])")
     assert row["status"] == "fail"
 

@@ -10,6 +10,7 @@ import yaml
 from conftest import ROOT
 
 import vibroimpact as vi
+from vibroimpact.analysis.basins import basins
 from vibroimpact.analysis.design import (
     best_designs,
     box_minimum,
@@ -23,7 +24,6 @@ from vibroimpact.analysis.design import (
 )
 from vibroimpact.analysis.energy import Membrane, orbit_energy
 from vibroimpact.analysis.orbits import find_orbit
-from vibroimpact.analysis.sweeps import basins
 from vibroimpact.dynamics.params import Params
 from vibroimpact.outputs.workflow_config import check_design
 
@@ -351,8 +351,8 @@ def test_a_chaotic_attractor_is_named_so_and_delivers_its_long_run_average():
     value)."""
     from vibroimpact.analysis.design import _settle_attractor
     from vibroimpact.analysis.energy import LONG_BATCHES, batch_averages
+    from vibroimpact.analysis.motions import APERIODIC
     from vibroimpact.analysis.settled import LONG_IMPACTS, long_run
-    from vibroimpact.analysis.sweeps import APERIODIC
     from vibroimpact.outputs.figcheck import Z_CRIT
 
     gbar = PH["M"] * 9.8 * math.sin(math.pi / 3) / PH["F"]

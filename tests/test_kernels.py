@@ -127,7 +127,7 @@ def test_sliding_window_run_equals_one_long_run(d, gbar, pmax, expected):
 
 def test_batch_runs_equal_single_runs_event_for_event():
     """simulate_batch and attractor_batch (parallel) against simulate, including the event count."""
-    from vibroimpact.analysis.sweeps import attractor_batch
+    from vibroimpact.analysis.windows import attractor_batch
 
     d = np.array([0.3, 0.235, 0.2])
     gbar = np.array([0.9, 0.21216, 0.0311])

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import vibroimpact as vi
+from vibroimpact.analysis.motions import chatter_bounces, cycle_class
 from vibroimpact.dynamics import kernels as K
-from vibroimpact.dynamics.simulate import chatter_bounces, cycle_class
 
 IM, G, S, R = K.IMPACT, K.GRAZING, K.STICK, K.RELEASE
 
@@ -56,5 +56,5 @@ def test_chatter_bounces_are_the_impacts_after_the_landing_of_a_run_that_sticks(
 
 
 def test_labels_of_motions_without_sticking_keep_every_impact():
-    assert cycle_class(np.array([1, 1, -1]), np.array([IM, IM, IM]), 2.0)[4] == "2:1 period-2"
-    assert cycle_class(np.array([1, -1, 1, 1, -1]), np.array([IM, IM, IM, G, IM]), 4.0)[4] == "3:2 over 2 forcing periods"
+    assert cycle_class(np.array([1, 1, -1]), np.array([IM, IM, IM]), 2.0).label == "2:1 period-2"
+    assert cycle_class(np.array([1, -1, 1, 1, -1]), np.array([IM, IM, IM, G, IM]), 4.0).label == "3:2 over 2 forcing periods"

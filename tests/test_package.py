@@ -2,6 +2,7 @@
 command that says where the workflow is and what it needs."""
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -170,3 +171,16 @@ def test_the_wheel_carries_the_license(wheel):
     whl, _ = wheel
     names = zipfile.ZipFile(whl).namelist()
     assert any(n.endswith("licenses/LICENSE") for n in names), [n for n in names if "dist-info" in n]
+
+
+def test_the_package_page_names_every_module_of_each_layer():
+    """docs/guide/package.md says where each job lives: every module of a layer is named in its layer's entry
+    (a module added, split or renamed without the page is caught)."""
+    page = (ROOT / "docs" / "guide" / "package.md").read_text()
+    for layer in ("dynamics", "analysis", "benchmarks", "outputs"):
+        entry = re.search(rf"^- `{layer}/`:(.*?)(?=^- |\Z)", page, re.M | re.S).group(1)
+        named = set(re.findall(r"`(\w+)/?`", entry))
+        files = {p.stem for p in (ROOT / "src" / "vibroimpact" / layer).glob("*.py") if not p.stem.startswith("_")}
+        files |= {p.name for p in (ROOT / "src" / "vibroimpact" / layer).iterdir()
+                  if p.is_dir() and not p.name.startswith("_")}
+        assert files <= named, f"{layer}/ modules the page does not name: {sorted(files - named)}"

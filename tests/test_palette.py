@@ -8,7 +8,7 @@ import pytest
 import xarray as xr
 from matplotlib.colors import to_hex
 
-from vibroimpact.analysis.sweeps import NO_PERIOD_LABELS
+from vibroimpact.analysis.motions import NO_PERIOD_LABELS
 from vibroimpact.outputs.plots import fig_basins, fig_bis, fig_regime_map
 from vibroimpact.outputs.plots._common import BOTTOM, MOTION_COLORS, TOP, motion_color
 from vibroimpact.outputs.plots.sweeps import BIS_MARKERS, BIS_POINTS

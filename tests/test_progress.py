@@ -38,7 +38,8 @@ def test_no_bar_where_nobody_watches(capsys, monkeypatch):
 
 def test_a_sweep_and_a_batch_give_the_same_results_with_the_bar(capsys):
     """The bar runs a batch in tenths instead of one parallel call: every run is the same."""
-    from vibroimpact.analysis.sweeps import attractor_batch, sweep
+    from vibroimpact.analysis.sweeps import sweep
+    from vibroimpact.analysis.windows import attractor_batch
 
     g = 0.1245 * 9.8 * math.sin(math.pi / 6) / 5.0
     d = np.linspace(0.13, 0.3, 40)

@@ -15,8 +15,9 @@ from vibroimpact.analysis.settled import (
     long_run,
     long_statistics,
     polish_cycle,
+    settle_attractors,
 )
-from vibroimpact.analysis.sweeps import settle, sweep
+from vibroimpact.analysis.sweeps import sweep
 from vibroimpact.dynamics import kernels as K
 
 
@@ -126,9 +127,9 @@ def test_a_sweep_settles_every_periodic_point_and_runs_the_aperiodic_ones_long()
     # a settled cycle holds one period: as many events as the period, NaN after
     n = np.isfinite(sw.cycle_v_minus.values).sum(axis=-1)
     assert np.array_equal(n[per], sw.period_events.values[per])
-    again = settle(sw.drop_vars([v for v in sw.data_vars if v.startswith(("cycle_", "long_", "abs_v"))]
-                                + ["settled", "settle_status"]), sw.d.values[None, :], sw.gbar.values[None, :],
-                   0.5, long_impacts=500)
+    again = settle_attractors(sw.drop_vars([v for v in sw.data_vars if v.startswith(("cycle_", "long_", "abs_v"))]
+                                           + ["settled", "settle_status"]), sw.d.values[None, :],
+                             sw.gbar.values[None, :], 0.5, long_impacts=500)
     np.testing.assert_array_equal(again.cycle_v_minus.values, sw.cycle_v_minus.values)
 
 

@@ -7,17 +7,23 @@ import pytest
 import xarray as xr
 
 import vibroimpact as vi
-from vibroimpact.analysis import sweeps
+from vibroimpact.analysis import windows
+from vibroimpact.analysis.basins import basins
+from vibroimpact.analysis.bistability import bistable_intervals
 from vibroimpact.analysis.continuation import continue_orbit
-from vibroimpact.analysis.orbits import find_orbit
-from vibroimpact.analysis.sweeps import (
-    basins,
-    bistable_intervals,
-    locate_transitions,
-    parameter_grid,
-    regime_map,
-    sweep,
+from vibroimpact.analysis.grids import parameter_grid
+from vibroimpact.analysis.motions import (
+    APERIODIC,
+    NO_PERIOD_LABELS,
+    Motion,
+    no_period,
+    no_period_label,
+    transition_kind,
 )
+from vibroimpact.analysis.orbits import find_orbit
+from vibroimpact.analysis.regime_maps import regime_map
+from vibroimpact.analysis.sweeps import sweep
+from vibroimpact.analysis.transitions import locate_transitions
 
 K_S = 0.1245 * (5 * math.pi) ** 2 / (5 * math.pi**2)  # d = K_S s at the paper's force
 G1_ANALYTIC = 0.1376002140  # tests/test_orbits.py: 2:1 grazing point (beta = pi/6)
@@ -123,7 +129,7 @@ def synthetic(up, down, d, transitions):
 
 def test_bistable_interval_with_an_aperiodic_side_ends_on_the_grid():
     d = np.array([0.1, 0.2, 0.3, 0.4])
-    gone = sweeps.APERIODIC
+    gone = APERIODIC
     sw, tr = synthetic(["A", "A", "A", "B"], ["A", gone, gone, "B"], d, [("up", 0.35, "A", "B")])
     (row,) = bistable_intervals(sw, tr).to_dataframe().itertuples()
     assert (row.d_lo, row.lo_source, row.d_lo_width) == (pytest.approx(0.15), "grid", pytest.approx(0.1))
@@ -132,7 +138,7 @@ def test_bistable_interval_with_an_aperiodic_side_ends_on_the_grid():
 
 def test_bistable_interval_with_an_aperiodic_upper_side_ends_on_the_grid():
     d = np.array([0.1, 0.2, 0.3, 0.4])
-    gone = sweeps.APERIODIC
+    gone = APERIODIC
     sw, tr = synthetic(["A", "B", "B", gone], ["A", "A", "A", gone], d, [("down", 0.15, "A", "B")])
     (row,) = bistable_intervals(sw, tr).to_dataframe().itertuples()
     assert (row.d_lo, row.lo_source) == (0.15, "located")
@@ -192,14 +198,27 @@ def test_no_bistability_gives_an_empty_table():
     ("2:0 period-2 with sticking", "2:1 period-2", "other"),
 ])
 def test_transition_kinds(before, after, kind):
-    assert sweeps.transition_kind(before, after) == kind
+    """Each motion given by its parts (bottom and top impacts over its period, sticking), its label checked."""
+    assert MOTIONS[before].label == before and MOTIONS[after].label == after
+    assert transition_kind(MOTIONS[before], MOTIONS[after]) == kind
+
+
+MOTIONS = {
+    "2:1 period-2": Motion(period=1, bottom=2, top=1), "3:1 period-2": Motion(period=1, bottom=3, top=1),
+    "1:1 period-2": Motion(period=1, bottom=1, top=1), "1:2 period-2": Motion(period=1, bottom=1, top=2),
+    "2:2 period-2": Motion(period=1, bottom=2, top=2), "3:2 period-2": Motion(period=1, bottom=3, top=2),
+    "1:1 period-4": Motion(period=2, bottom=2, top=2), "1:1 period-6": Motion(period=3, bottom=3, top=3),
+    "4:2 period-4": Motion(period=2, bottom=8, top=4),
+    "2:0 period-2 with sticking": Motion(period=1, bottom=2, top=0, sticking=True),
+    **{label: Motion(kind=label) for label in NO_PERIOD_LABELS},
+}
 
 
 def test_bad_window_is_rejected_before_running():
     with pytest.raises(ValueError, match="window = 64; allowed: >= pmax \\+ 1 = 65"):
         sweep("s", [0.3], beta=math.pi / 6, window=64)
     with pytest.raises(ValueError, match="window = 10"):
-        sweeps.attractor_batch(0.2, 0.1, 0.5, 0.0, 0.5, window=10, pmax=16)
+        windows.attractor_batch(0.2, 0.1, 0.5, 0.0, 0.5, window=10, pmax=16)
     with pytest.raises(ValueError, match="axes"):
         regime_map("s", [0.3], "s", [0.4])
 
@@ -272,7 +291,6 @@ def test_regime_map_on_non_dimensional_axes_runs_the_parameters_it_names():
     with a physical axis is refused."""
     import math
 
-    from vibroimpact.analysis.sweeps import regime_map
 
     g = 0.1245 * 9.8 * math.sin(math.pi / 6) / 5.0
     m = regime_map("d", [0.16, 0.40], "gbar", [g], phi=1.015, v0=0.1924)
@@ -303,11 +321,11 @@ def test_regime_map_on_non_dimensional_axes_runs_the_parameters_it_names():
     ("no restart", 0.01, 0.3, 0, "no period found"),
 ])
 def test_a_motion_with_no_period_is_named_by_the_interval_of_its_largest_exponent(status, low, high, sticks, label):
-    assert sweeps.no_period_label(status, low, high, sticks) == label
+    assert no_period_label(status, low, high, sticks) == label
 
 
 def test_every_label_of_a_motion_with_no_period_is_one():
-    assert list(sweeps.no_period(["chaotic", "quasi-periodic", "unsettled", "no period found", "2:1 period-2",
+    assert list(no_period(["chaotic", "quasi-periodic", "unsettled", "no period found", "2:1 period-2",
                                   "1:1 period-2 with sticking"])) == [True] * 4 + [False] * 2
 
 
@@ -374,18 +392,18 @@ def test_without_a_long_run_a_motion_with_no_period_keeps_its_label_and_says_why
 def test_transitions_are_followed_with_the_sweep_s_own_window_and_longest_period(monkeypatch):
     """locate_transitions follows each motion with the window and longest period the sweep identified it
     with (recorded in the sweep), not with the defaults."""
-    import vibroimpact.analysis.sweeps as S
+    import vibroimpact.analysis.transitions as S
 
     sw = vi.sweep("s", [0.219, 0.2245, 0.23], beta=math.pi / 6, phi=5.855, v0=0.4185, long_impacts=0,
                   window=41, pmax=20)
     assert (sw.attrs["window"], sw.attrs["pmax"]) == (41, 20)
     seen = set()
-    run_one = S._run_one
+    run_one = S.run_window
 
     def spy(*args):
         seen.add(args[-2:])
         return run_one(*args)
 
-    monkeypatch.setattr(S, "_run_one", spy)
+    monkeypatch.setattr(S, "run_window", spy)
     tr = vi.locate_transitions(sw, xtol=1e-5)
     assert seen == {(41, 20)} and list(tr.status.values) == ["refined", "refined"]

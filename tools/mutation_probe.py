@@ -73,7 +73,7 @@ def events_probe():
 
 def kernels_probe():
     import vibroimpact as vi
-    from vibroimpact.analysis.sweeps import attractor_batch
+    from vibroimpact.analysis.windows import attractor_batch
 
     out = {}
     G6 = 0.1245 * 9.8 * math.sin(math.pi / 6) / 5.0

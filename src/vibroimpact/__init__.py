@@ -32,7 +32,6 @@ _WHERE = {
     "Params": "dynamics.params", "PhysicalScales": "dynamics.params",
     "Device": "dynamics.device", "Membrane": "dynamics.device",
     "simulate": "dynamics.simulate", "simulate_batch": "dynamics.simulate", "trajectory": "dynamics.simulate",
-    "identify_attractor": "dynamics.simulate", "Attractor": "dynamics.simulate",
     # analysis: periodic orbits and their branches
     "Orbit": "analysis.orbits", "OrbitError": "analysis.orbits", "find_orbit": "analysis.orbits",
     "orbit_run": "analysis.orbits",
@@ -42,8 +41,9 @@ _WHERE = {
     # analysis: attractors, sweeps and maps
     "polish_cycle": "analysis.settled", "long_run": "analysis.settled",
     "lyapunov": "analysis.lyapunov", "Lyapunov": "analysis.lyapunov",
-    "sweep": "analysis.sweeps", "attractor_batch": "analysis.sweeps", "locate_transitions": "analysis.sweeps",
-    "bistable_intervals": "analysis.sweeps", "basins": "analysis.sweeps", "regime_map": "analysis.sweeps",
+    "identify_attractor": "analysis.motions", "Attractor": "analysis.motions",
+    "sweep": "analysis.sweeps", "attractor_batch": "analysis.windows", "locate_transitions": "analysis.transitions",
+    "bistable_intervals": "analysis.bistability", "basins": "analysis.basins", "regime_map": "analysis.regime_maps",
     "family_exit": "analysis.family_exit", "sweep_d_graz": "analysis.family_exit",
     "d_graz_curve": "analysis.family_exit",
     # analysis: energy and design

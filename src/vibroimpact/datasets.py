@@ -218,3 +218,26 @@ def write_netcdf(ds: xr.Dataset, path, *, fmt: str = "NETCDF4") -> None:
     except BaseException:
         os.unlink(tmp)
         raise
+
+
+def _codes(labels: np.ndarray):
+    """Integer codes for labels, most frequent first; returns (codes, legend)."""
+    uniq, counts = np.unique(labels, return_counts=True)
+    legend = list(uniq[np.argsort(-counts, kind="stable")])
+    lookup = {lab: i for i, lab in enumerate(legend)}
+    return np.vectorize(lookup.__getitem__, otypes=[np.int16])(labels), legend
+
+
+def attractor_codes(ds: xr.Dataset, dims) -> xr.Dataset:
+    """``ds`` with the integer ``attractor`` of each cell on ``dims``: an index into its labels, most frequent
+    first, listed in the variable's ``legend`` attribute and as JSON in the dataset's."""
+    codes, legend = _codes(ds["label"].values)
+    ds["attractor"] = (dims, codes, {"units": "1", "long_name": "attractor class (index into the legend)",
+                                      "legend": "; ".join(f"{i}: {lab}" for i, lab in enumerate(legend))})
+    ds.attrs["legend"] = json_list(legend)
+    return ds
+
+
+def json_list(items):
+    """The items as a JSON list of strings (a netCDF attribute)."""
+    return json.dumps([str(x) for x in items])

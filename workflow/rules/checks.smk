@@ -29,6 +29,10 @@ rule check_paper_values:
             for v in ("s", "F")
             for p in config["energy"]["design"][v]
         ],
+        # the same sweeps' motions (their windows of events)
+        motion_sweeps=[
+            sweep_path(p) for v in ("s", "F") for p in config["energy"]["design"][v]
+        ],
         # the 2:1 branches whose curve order the captions of Figs 0, 2 and 5 state
         order_orbits=[
             branch_path("orbit", b, "BBT") for b in BRANCH_SCENES["fig2"]["betas"]

@@ -5,7 +5,7 @@ import numba
 import numpy as np
 
 import vibroimpact as vi
-from vibroimpact.analysis.sweeps import basins
+from vibroimpact.analysis.basins import basins
 from vibroimpact.datasets import provenance, write_netcdf
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)

@@ -4,6 +4,7 @@ import logging
 import pandas as pd
 import xarray as xr
 
+from vibroimpact.analysis.windows import window_motions
 from vibroimpact.outputs import checks
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
@@ -11,7 +12,8 @@ load = lambda f: xr.load_dataset(f, engine="netcdf4")
 i = snakemake.input
 rows = (checks.caption_rows(load(i.captions)) + checks.stability_rows(pd.read_csv(i.table1))
         + checks.grazing_rows(load(i.bis)) + checks.simulation_rows([load(f) for f in i.sims])
-        + checks.energy_rows([load(f) for f in i.branches_s], [load(f) for f in i.branches_F], [load(f) for f in i.sweeps])
+        + checks.energy_rows([load(f) for f in i.branches_s], [load(f) for f in i.branches_F], [load(f) for f in i.sweeps],
+                             [window_motions(load(f).sel(direction="down")) for f in i.motion_sweeps])
         + checks.curve_order_rows([load(f) for f in i.order_orbits], [load(f) for f in i.order_energy])
         + checks.d_graz_rows([load(f) for f in i.length_transitions], pd.read_csv(i.table1),
                              [load(f) for f in i.bt_branches]))

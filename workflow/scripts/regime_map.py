@@ -4,7 +4,7 @@ import logging
 import numba
 import numpy as np
 
-from vibroimpact.analysis.sweeps import regime_map
+from vibroimpact.analysis.regime_maps import regime_map
 from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.dynamics.device import Device
 

@@ -5,9 +5,11 @@ import logging
 import numpy as np
 import xarray as xr
 
+from vibroimpact.analysis.bistability import bistable_intervals
 from vibroimpact.analysis.energy import sweep_energy
 from vibroimpact.analysis.family_exit import sweep_d_graz
-from vibroimpact.analysis.sweeps import bistable_intervals, locate_transitions, sweep
+from vibroimpact.analysis.sweeps import sweep
+from vibroimpact.analysis.transitions import locate_transitions
 from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.dynamics.device import Device
 

@@ -27,8 +27,8 @@ from ..datasets import annotate
 from ..dynamics.params import Params
 from .continuation import PARAMETERS, TESTS, bifurcation_functions, null_tangent
 from .grazing import admissibility
+from .motions import NO_PERIOD_LABELS
 from .orbits import Orbit, OrbitError, map_jacobian, orbit_from_vector, parse_word, residual_and_jacobian
-from .sweeps import NO_PERIOD_LABELS
 
 __all__ = ["bistable_band", "curve_crossings", "curve_set", "curve_values", "follow_point", "map_boundaries", "plane_cusps"]
 

@@ -2,7 +2,7 @@
 
 At every point of a grid over two design parameters (``s`` and ``beta`` at fixed force, or ``s`` and
 ``F`` at fixed incline) the same set of start states is run to its attractor
-(:func:`vibroimpact.analysis.sweeps.attractor_batch`, in parallel).  The runs that reach one attractor give its
+(:func:`vibroimpact.analysis.windows.attractor_batch`, in parallel).  The runs that reach one attractor give its
 share of the starts, with a binomial (Clopper-Pearson) confidence interval, and its averages ``U_I``
 and ``U_T`` (:func:`vibroimpact.analysis.energy.window_averages`: one whole period where the motion is
 periodic, the last ``window_time`` time units where no period was found).  Per point:
@@ -37,15 +37,10 @@ from ..datasets import annotate
 from ..dynamics import kernels as K
 from ..dynamics.device import Device
 from .energy import window_averages
-from .sweeps import (
-    APERIODIC,
-    attractor_batch,
-    held_values,
-    last_bottom_impact,
-    no_period,
-    plane_params,
-    split_no_period,
-)
+from .grids import held_values, plane_params
+from .motions import APERIODIC, no_period
+from .settled import split_no_period
+from .windows import attractor_batch, last_bottom_impact
 
 __all__ = ["DISTRIBUTIONS", "MIN_STARTS", "AT_REST", "start_states", "design_map",
            "merge_chunks", "share_interval", "table_designs", "tolerance_analysis", "curve_margin", "box_minimum", "best_designs"]
@@ -230,7 +225,7 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, device: Device | No
     device : Device, optional
         The harvester (default the paper's, ``Device()``): its physics and the membranes of the outputs.
     max_periods, tol, window
-        As in :func:`vibroimpact.analysis.sweeps.attractor_batch` (``window``: events kept per run, enough to
+        As in :func:`vibroimpact.analysis.windows.attractor_batch` (``window``: events kept per run, enough to
         span ``window_time`` where no period is found).
     window_time : float
         Averaging span of runs without a period (non-dimensional time), as in the sweeps.
@@ -245,7 +240,7 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, device: Device | No
         A progress bar over the points (default: only when run interactively).
     **held
         The values held where they are not an axis (``s``, ``F``, ``beta``; ``r`` changes the device's):
-        :func:`vibroimpact.analysis.sweeps.plane_params`.
+        :func:`vibroimpact.analysis.grids.plane_params`.
 
     Returns
     -------

@@ -255,7 +255,7 @@ def window_averages(t, v_minus, kind, status, period_events, F, device: Device =
 
 
 def _settled_energy(sw, F, device):
-    """Gains and averages of each attractor's exact cycle (:func:`vibroimpact.analysis.sweeps.settle`), and the
+    """Gains and averages of each attractor's exact cycle (:func:`vibroimpact.analysis.settled.settle_attractors`), and the
     long-run averages (batch means, with standard errors) of each motion with no period."""
     from .settled import long_run
 
@@ -362,7 +362,7 @@ def sweep_energy(sw: xr.Dataset, device: Device = PAPER, *, window_time: float =
     """Gains and averages at every point of a sweep.
 
     A periodic attractor is averaged over one whole period: its exact cycle's where the sweep settled it
-    (:func:`vibroimpact.analysis.sweeps.settle`), else as the simulated events measure it (from an event to the
+    (:func:`vibroimpact.analysis.settled.settle_attractors`), else as the simulated events measure it (from an event to the
     same event one period earlier).  Where no period was found the average runs over the impacts of the
     last ``window_time`` time units (the paper uses 30 for the 1:1 and 20 for the 2:1 motion), and
     ``window_time`` records the span actually used; such a window is one sample of the motion, so the

@@ -10,7 +10,7 @@ A motion is in the n:1 *family* when its impacts come in groups of ``n`` bottom 
 single top impacts, whatever its period (1:1 period-4, a chaotic 1:1 motion, ...).  Along a line of
 parameters the attractor is followed from its largest d down, each run starting from the last
 bottom impact of the previous attractor; where it stops being in the family, the exit is bracketed
-to ``xtol`` by the same adaptive continuation as :func:`vibroimpact.analysis.sweeps.locate_transitions`.
+to ``xtol`` by the same adaptive continuation as :func:`vibroimpact.analysis.transitions.locate_transitions`.
 What says whether the exit is a grazing is measured there: the smallest *clearance* of the last
 attractor in the family (the distance to a wall of the flights' interior extrema,
 :func:`vibroimpact.analysis.grazing.interior_clearance`), which tends to zero at a grazing, and the
@@ -27,8 +27,9 @@ import xarray as xr
 from ..datasets import VARIABLES, annotate
 from ..dynamics import kernels as K
 from ..dynamics.params import Params
-from ..dynamics.simulate import identify_attractor, simulate
+from ..dynamics.simulate import simulate
 from .grazing import interior_clearance
+from .motions import identify_attractor
 
 #: An exit is a grazing when the last attractor in the family comes closer to a wall than this
 #: fraction of d.  Measured on the paper's sweeps (4000 impacts per run, xtol 1e-7): the exits
@@ -268,7 +269,7 @@ def d_graz_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, dev
     >>> str(c.d_graz_kind.values[0]), round(float(c.at[0]), 3)    # the cylinder length s at d_graz (m)
     ('grazing', 0.339)
     """
-    from .sweeps import plane_params
+    from .grids import plane_params
 
     fam = {k: kw.pop(k) for k in ("impacts", "transient", "xtol", "max_trials") if k in kw}
     along, other, values = ((x_name, y_name, ys) if x_name in _ALONG_D else

@@ -21,11 +21,19 @@ batch means of what the figures draw, with their standard errors.
 from __future__ import annotations
 
 import numpy as np
+import xarray as xr
 
 from ..dynamics import kernels as K
 from ..dynamics.flight import TWO_PI
+from ..dynamics.params import Params
+from ..dynamics.simulate import simulate
+from .lyapunov import exponents_of_run, multiplier_sensitivity
+from .motions import no_period_label
+from .orbits import OrbitError, orbit_from_vector, parse_word, solve_orbit, step_jacobians
+from .windows import EVENT_VARS, last_bottom_impact
 
-__all__ = ["polish_cycle", "long_run", "batch_means", "canonical_start",
+__all__ = ["polish_cycle", "long_run", "long_statistics", "batch_means", "canonical_start", "split_no_period",
+           "settle_attractors",
            "SETTLE_MATCH", "STICK_REL", "LONG_IMPACTS", "LONG_BATCHES"]
 
 #: a Newton orbit is the recorded cycle's own when every impact's velocity and phase lie within this of
@@ -93,9 +101,6 @@ def polish_cycle(d, gbar, r, t, wall, v_minus, phase, kind, span) -> dict:
     >>> [round(float(abs(m)), 9) for m in orbit["multipliers"]]
     [0.125, 0.125]
     """
-    from ..dynamics.params import Params
-    from .orbits import OrbitError, orbit_from_vector, parse_word, solve_orbit, step_jacobians
-
     t, v_minus, phase = (np.asarray(a, dtype=float) for a in (t, v_minus, phase))
     wall, kind = np.asarray(wall, dtype=np.int8), np.asarray(kind, dtype=np.int8)
     n = t.size
@@ -181,12 +186,8 @@ def long_run(d, gbar, r, phi, v0, *, impacts: int = LONG_IMPACTS, tol: float = 1
     >>> run["status"], lam.per_impact[0] > 0.1, abs(sum(lam.per_impact) - 2 * math.log(0.5)) < 0.01
     ('aperiodic', True, True)
     """
-    from ..dynamics.params import Params
-    from ..dynamics.simulate import simulate
-
     run = simulate(Params(d=float(d), gbar=float(gbar), r=float(r)), float(phi), float(v0),
                    n_impacts=int(impacts), stop_when_periodic=True, tol=tol)
-    from .lyapunov import exponents_of_run
 
     status = {"periodic": "settles", "stuck_forever": "stuck"}.get(run.attrs["status"], "aperiodic")
     lam = None
@@ -205,3 +206,145 @@ def long_statistics(events: dict, batches: int = LONG_BATCHES):
         return np.nan, np.nan
     hit = K.hits(events["kind"])
     return batch_means(np.abs(events["v_minus"][hit]), batches)
+
+
+def split_no_period(d, gbar, r, phi, v0, *, impacts: int | None = None, tol: float = 1e-9) -> dict:
+    """Continue a motion with no period from a bottom impact ``(phi, v0)`` (e.g. the last of its window)
+    and say what it is: ``label`` (:func:`no_period_label`), ``status`` of the continuation, its largest
+    Lyapunov exponent ``lyap1`` per impact with the interval ``lyap1_low``, ``lyap1_high``, and per unit
+    time ``lyap1_time``, and the continuation itself (``run``, :func:`vibroimpact.long_run`'s dict)."""
+    run = long_run(d, gbar, r, phi, v0, impacts=LONG_IMPACTS if impacts is None else int(impacts), tol=tol)
+    lam = run["exponents"]
+    nan = float("nan")
+    lyap = (lam.per_impact[0], *lam.interval[0], lam.per_time[0]) if lam is not None else (nan,) * 4
+    label = no_period_label(run["status"], lyap[1], lyap[2], lam.sticks if lam is not None else 0)
+    return dict(label=label, status=run["status"], lyap1=lyap[0], lyap1_low=lyap[1], lyap1_high=lyap[2],
+                lyap1_time=lyap[3], run=run)
+
+
+def settle_attractors(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None,
+                      tol: float = 1e-9) -> xr.Dataset:
+    """Add what is well-posed about each attractor of a window dataset (a sweep's or
+    :func:`~vibroimpact.analysis.windows.attractor_batch`'s): the exact cycle of a periodic one, the long-run statistics of an
+    aperiodic one (:func:`polish_cycle`, :func:`long_run`), and the largest Lyapunov exponent of each.
+
+    ``d``, ``gbar``, ``r`` broadcast to the dataset's per-run shape.  Added, per run: ``settled`` and
+    ``settle_status``; ``cycle_t``, ``cycle_wall``, ``cycle_v_minus``, ``cycle_phase``, ``cycle_kind``
+    on a ``cycle`` dimension (the Newton-solved orbit from its canonical first impact, or the recorded
+    cycle where it is not settled; NaN-padded); for runs with no period, ``long_status``, the restart
+    ``long_phi``, ``long_v0`` (the window's last bottom impact) and ``abs_v_mean``, ``abs_v_se`` (batch
+    means of ``|Zdot-|`` over ``long_impacts`` impacts; ``long_impacts = 0`` skips the long runs), and
+    their ``label`` split into :data:`CHAOTIC`, :data:`QUASI_PERIODIC` and :data:`UNSETTLED`
+    (:func:`no_period_label`); for every run ``lyap1`` (per impact) with its interval ``lyap1_low``,
+    ``lyap1_high``, ``lyap1_time`` (per unit time) and ``lyap1_source``: the multipliers of the
+    Newton-solved cycle (exact, ``ln max|mu| / N``), ``-inf`` for a sticking cycle (its map is constant)
+    or a ball at rest, else the long run's tangent estimate (:func:`vibroimpact.lyapunov`).
+    """
+    long_impacts = LONG_IMPACTS if long_impacts is None else int(long_impacts)
+    shape = ds["status"].shape
+    d, gbar, r = (np.broadcast_to(np.asarray(a, dtype=float), shape) for a in (d, gbar, r))
+    lags = ds["period_events"].values
+    acc = _settled_arrays(shape, max(int(lags.max()) if lags.size else 1, 1), ds["label"].values)
+    ev = {v: ds[v].values for v in EVENT_VARS}
+    n_real = np.isfinite(ev["t"]).sum(axis=-1)
+    for idx in np.ndindex(shape):
+        n, lag = int(n_real[idx]), int(lags[idx])
+        rows = {v: ev[v][idx][:n] for v in EVENT_VARS}
+        start = last_bottom_impact(*(rows[v] for v in EVENT_VARS), n)
+        if lag and n > lag:
+            _settle_cycle(acc, idx, (d[idx], gbar[idx], r[idx]), rows, n, lag, start, long_impacts)
+        elif int(ds["status"].values[idx]) == K.STUCK_FOREVER:  # at rest on the bottom for good: exact
+            acc["settled"][idx], acc["status"][idx], acc["long_status"][idx] = True, "stuck", "stuck"
+            acc["lyap"][idx] = -np.inf
+            acc["source"][idx] = "at rest on the bottom for good"
+        else:
+            _settle_no_period(acc, idx, (d[idx], gbar[idx], r[idx]), start, long_impacts, tol)
+    return _with_settled(ds, acc, long_impacts)
+
+
+def _settled_arrays(shape, width, labels):
+    """What :func:`settle_attractors` fills in, run by run."""
+    cyc = {v: np.full((*shape, width), np.nan) for v in ("t", "v_minus", "phase")}
+    cyc |= {v: np.zeros((*shape, width), np.int8) for v in ("wall", "kind")}
+    return dict(
+        cycle=cyc, settled=np.zeros(shape, bool), status=np.empty(shape, dtype=object),
+        long_status=np.full(shape, "", dtype=object), long_start=np.full((*shape, 2), np.nan),
+        stats=np.full((*shape, 2), np.nan),
+        lyap=np.full((*shape, 4), np.nan),  # lambda_1 per impact, its interval, per unit time
+        sens=np.full(shape, np.nan),  # of an exact lambda_1: its sensitivity to the monodromy matrix's entries
+        source=np.full(shape, "", dtype=object), labels=labels.astype(object))
+
+
+def _settle_cycle(acc, idx, dgr, rows, n, lag, start, long_impacts):
+    """A run with a period: its Newton-solved cycle and exact lambda_1, or why not and an estimate."""
+    span = rows["t"][n - 1] - rows["t"][n - 1 - lag]
+    res = polish_cycle(*dgr, *(rows[v][n - lag:n] for v in EVENT_VARS), span=span)
+    for v, arr in acc["cycle"].items():
+        arr[idx][:lag] = res[v]
+    acc["settled"][idx], acc["status"][idx] = res["settled"], res["status"]
+    if res["settled"]:  # exact: the multipliers of the Newton-solved cycle
+        top = float(np.log(np.abs(res["multipliers"]).max()))
+        acc["lyap"][idx] = (top / lag, top / lag, top / lag, top / (2.0 * round(span / 2.0)))
+        acc["sens"][idx] = multiplier_sensitivity(res["step_jacobians"]) / lag
+        acc["source"][idx] = "multipliers of the Newton-solved cycle"
+    elif res["status"] == "sticking":
+        acc["lyap"][idx] = -np.inf
+        acc["source"][idx] = "sticking cycle: its map over a period is constant (multipliers 0)"
+    elif start is not None and long_impacts:  # periodic, not solved: the tangent estimate of a run
+        run = simulate(Params(d=float(dgr[0]), gbar=float(dgr[1]), r=float(dgr[2])), *start, n_impacts=long_impacts)
+        lam = exponents_of_run(run, transient=long_impacts // 10, batches=LONG_BATCHES)
+        acc["lyap"][idx] = (lam.per_impact[0], *lam.interval[0], lam.per_time[0])
+        acc["source"][idx] = f"long run of {long_impacts} impacts ({res['status']})"
+    else:
+        acc["source"][idx] = f"not estimated: the cycle is not solved ({res['status']}) and no long run " + (
+            "(long_impacts = 0)" if not long_impacts else "(no bottom impact to restart from)")
+
+
+def _settle_no_period(acc, idx, dgr, start, long_impacts, tol):
+    """A run without a period: its long run's statistics, lambda_1 and what the motion is."""
+    acc["status"][idx] = "aperiodic"
+    if start is None or not long_impacts:
+        acc["long_status"][idx] = "no restart" if start is None else "not run"
+        acc["source"][idx] = ("not estimated: no bottom impact in the window to restart a long run from"
+                              if start is None else "not estimated: no long run (long_impacts = 0)")
+        return
+    acc["long_start"][idx] = start
+    split = split_no_period(*dgr, *start, impacts=long_impacts, tol=tol)
+    acc["long_status"][idx] = split["status"]
+    acc["labels"][idx] = split["label"]
+    acc["stats"][idx] = long_statistics(split["run"], LONG_BATCHES)
+    acc["lyap"][idx] = (split["lyap1"], split["lyap1_low"], split["lyap1_high"], split["lyap1_time"])
+    acc["source"][idx] = f"long run of {long_impacts} impacts" + {
+        "aperiodic": "", "settles": " (it settles: the estimate over the orbit it settles on)",
+        "stuck": " (it comes to rest for good)"}.get(split["status"], f" ({split['status']})")
+    if split["status"] == "stuck":  # at rest on the bottom for good: exact
+        acc["lyap"][idx] = -np.inf
+
+
+def _with_settled(ds, acc, long_impacts):
+    """``ds`` with what :func:`settle_attractors` found, described."""
+    edims = (*ds["status"].dims, "cycle")
+    pdims = ds["status"].dims
+    ds["label"] = (pdims, acc["labels"].astype(str), ds["label"].attrs | {
+        "long_name": "motion: n:m impacts per period and period, or (no period within the cap) chaotic, "
+                     "quasi-periodic or unsettled by the largest Lyapunov exponent of its long run"})
+    ds["settled"] = (pdims, acc["settled"], {"units": "1", "long_name": "the attractor's values are well-posed: a Newton-solved or sticking (exact) cycle"})
+    ds["settle_status"] = (pdims, acc["status"].astype(str), {"units": "1", "long_name": "how the cycle was settled, or why not"})
+    names = {"t": ("time from the cycle's canonical first event", "1"), "wall": ("wall (1 bottom, -1 top)", "1"),
+             "v_minus": ("pre-impact velocity Zdot-", "1"), "phase": ("forcing phase", "rad"), "kind": ("event kind", "1")}
+    for v, (text, unit) in names.items():
+        ds[f"cycle_{v}"] = (edims, acc["cycle"][v], {"units": unit, "long_name": f"attractor cycle (exact where settled): {text}"})
+    ds["long_status"] = (pdims, acc["long_status"].astype(str), {"units": "1", "long_name": "long run of a motion with no period: aperiodic, settles (a longer transient), stuck"})
+    ds["long_phi"] = (pdims, acc["long_start"][..., 0], {"units": "rad", "long_name": "long run: phase of its first bottom impact"})
+    ds["long_v0"] = (pdims, acc["long_start"][..., 1], {"units": "1", "long_name": "long run: pre-impact velocity of its first bottom impact"})
+    ds["abs_v_mean"] = (pdims, acc["stats"][..., 0], {"units": "1", "long_name": "long run: mean |Zdot-| over its impacts (batch means)"})
+    ds["abs_v_se"] = (pdims, acc["stats"][..., 1], {"units": "1", "long_name": "long run: standard error of abs_v_mean (batch means)"})
+    level = "95 % confidence interval (batch means over the long run; the exact value twice for a solved cycle)"
+    ds["lyap1"] = (pdims, acc["lyap"][..., 0], {"units": "1", "long_name": "largest Lyapunov exponent lambda_1, per impact"})
+    ds["lyap1_low"] = (pdims, acc["lyap"][..., 1], {"units": "1", "long_name": f"lambda_1 per impact: lower end of its {level}"})
+    ds["lyap1_high"] = (pdims, acc["lyap"][..., 2], {"units": "1", "long_name": f"lambda_1 per impact: upper end of its {level}"})
+    ds["lyap1_time"] = (pdims, acc["lyap"][..., 3], {"units": "1", "long_name": "largest Lyapunov exponent lambda_1, per unit of non-dimensional time"})
+    ds["lyap1_sensitivity"] = (pdims, acc["sens"], {"units": "1", "long_name": "exact lambda_1 (a solved cycle): its change per unit of relative perturbation of the monodromy matrix's entries (componentwise condition of the largest multiplier, over the period's impacts)"})
+    ds["lyap1_source"] = (pdims, acc["source"].astype(str), {"units": "1", "long_name": "how lambda_1 was obtained"})
+    ds.attrs.update(long_impacts=long_impacts, long_batches=LONG_BATCHES)
+    return ds

@@ -158,7 +158,8 @@ def sweep_benchmark(n_points: int = 1000, max_periods: float = 200) -> xr.Datase
     """Time a sweep of d through s at beta = pi/3 over the range of the paper's Figure 2 (1:1, period
     doubling, chaos, 2:1, 3:1), up and down: ``2 n_points`` attractors, each with up to
     ``max_periods`` forcing periods of transient."""
-    from ..analysis.sweeps import no_period, sweep
+    from ..analysis.motions import no_period
+    from ..analysis.sweeps import sweep
 
     values = np.linspace(0.19, 0.72, n_points)
     sweep("s", values[:5], beta=math.pi / 3, max_periods=max_periods)  # compile outside the timing

@@ -384,7 +384,8 @@ def analytics_accuracy(*, steps=(2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4), poin
 
     from ..analysis.continuation import continue_orbit
     from ..analysis.orbits import find_orbit
-    from ..analysis.sweeps import locate_transitions, sweep
+    from ..analysis.sweeps import sweep
+    from ..analysis.transitions import locate_transitions
 
     p = Params.from_physical(s=0.184 / 0.6225, beta=math.pi / 3)
     orbit = find_orbit(p, "BBT", 1.21, 0.2164)

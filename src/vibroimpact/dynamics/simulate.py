@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
@@ -15,7 +14,7 @@ from . import kernels as K
 from .flight import INV_PI2, PI, TWO_PI, displacement, velocity
 from .params import Params
 
-__all__ = ["simulate", "simulate_batch", "trajectory", "identify_attractor", "Attractor"]
+__all__ = ["simulate", "simulate_batch", "trajectory"]
 
 _KIND_ATTRS = {
     "flag_values": np.arange(len(K.KIND_NAMES), dtype=np.int8),
@@ -374,160 +373,3 @@ def trajectory(ds: xr.Dataset, times) -> xr.Dataset:
                      coords={"time": times})
     out.attrs.update({k: ds.attrs[k] for k in ("d", "gbar", "r", "phi") if k in ds.attrs})
     return annotate(out)
-
-
-# ---------------------------------------------------------------------------------------------
-# Attractor identification
-# ---------------------------------------------------------------------------------------------
-
-
-@njit(cache=True)
-def _detect(t, wall, vm, phase, kind, tol, pmax):
-    counts = np.zeros(pmax + 1, dtype=np.int64)
-    for i in range(t.shape[0]):
-        lag = K.period_update(i, t, wall, vm, phase, kind, counts, tol)
-        if lag > 0:
-            return i, lag
-    return -1, 0
-
-
-def chatter_bounces(wall, kind):
-    """Where the events of one cycle (repeated end to start) are the bounces of a chattering sequence
-    that ends in sticking: the impacts and grazing contacts after the first of an unbroken run on the
-    wall the ball then sticks to.  The model has infinitely many of them; how many the simulator
-    resolves before it sums the rest (:mod:`vibroimpact.dynamics.kernels`) depends on ``v_chatter``."""
-    wall, kind = np.asarray(wall), np.asarray(kind)
-    n = kind.size
-    is_hit = K.hits(kind)
-    out = np.zeros(n, dtype=bool)
-    for s in np.flatnonzero(kind == K.STICK):
-        run = []
-        for j in range(1, n):  # back from the stick, around the cycle
-            i = (s - j) % n
-            if not (is_hit[i] and wall[i] == wall[s]):
-                break
-            run.append(i)
-        out[run[:-1]] = True  # all but the run's first impact (the landing)
-    return out
-
-
-def cycle_class(wall, kind, t_span):
-    """``(k, n_bottom, n_top, sticking, label)`` of one cycle of events lasting ``t_span``.
-
-    ``k`` is the period in forcing periods; ``n_bottom``, ``n_top`` count the resolved impacts and
-    grazing contacts per wall.  The label is the paper's name, e.g. ``"2:1 period-2"``,
-    ``"1:1 period-4"``, ``"n:m over k forcing periods"`` where the counts are not multiples of ``k``,
-    with ``" with sticking"``; in it a chattering sequence that ends in sticking counts as one impact
-    (its landing, :func:`chatter_bounces`), so that one motion has one name whatever the number of
-    bounces resolved: the ball released from the bottom that lands there again, chatters to rest
-    and sticks until the forcing releases it, once every two forcing periods, is
-    ``"1:0 over 2 forcing periods with sticking"``.
-    """
-    k = int(round(t_span / 2.0))
-    is_hit = K.hits(kind)
-    nb = int(((wall == 1) & is_hit).sum())
-    nt = int(((wall == -1) & is_hit).sum())
-    sticking = bool((kind == K.STICK).any())
-    counted = is_hit & ~chatter_bounces(wall, kind)
-    cb, ct = int(((wall == 1) & counted).sum()), int(((wall == -1) & counted).sum())
-    if cb % k == 0 and ct % k == 0:
-        label = f"{cb // k}:{ct // k} period-{2 * k}"
-    else:
-        label = f"{cb}:{ct} over {k} forcing periods"
-    if sticking:
-        label += " with sticking"
-    return k, nb, nt, sticking, label
-
-
-# a record a call returns: its fields are Attributes, not Parameters (no one constructs it)
-@dataclass(frozen=True)
-class Attractor:  # numpydoc ignore=PR01
-    """What a run settled on (:func:`identify_attractor`).
-
-    Attributes
-    ----------
-    periodic : bool
-        False when no period up to ``max_period_events`` repeated within the run.
-    period : int
-        Period in forcing periods (period 2 in t each).
-    events : int
-        Events per period.
-    n_bottom, n_top : int
-        Impacts (grazing contacts included) on one period, per wall.
-    sticking : bool
-        Whether the cycle sticks to a wall.
-    label : str
-        The paper's name, e.g. ``"2:1 period-2"`` or ``"1:1 period-4"``.
-    t_settled : float
-        Time from which the motion repeats.
-    t_identified : float
-        Time at which the period was identified.
-    cycle : xarray.Dataset or None
-        The events of one period.
-
-    Examples
-    --------
-    The 2:1 motion of Figure 7 (a): two bottom impacts and one top impact per forcing period (2 time units):
-
-    >>> import math, vibroimpact as vi
-    >>> p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)
-    >>> a = vi.identify_attractor(vi.simulate(p, phi=1.015, v0=0.1924, n_impacts=200))
-    >>> a.periodic, a.label, a.period, a.events, a.n_bottom, a.n_top, a.sticking
-    (True, '2:1 period-2', 1, 3, 2, 1, False)
-    >>> sorted(a.cycle.wall.values.tolist()), a.t_settled < a.t_identified     # walls: 1 bottom, -1 top
-    ([-1, 1, 1], True)
-    """
-
-    periodic: bool
-    period: int = 0
-    events: int = 0
-    n_bottom: int = 0
-    n_top: int = 0
-    sticking: bool = False
-    label: str = "not periodic"
-    t_settled: float = math.nan
-    t_identified: float = math.nan
-    cycle: xr.Dataset | None = None
-
-
-def identify_attractor(ds: xr.Dataset, tol: float = 1e-9, max_period_events: int = 64) -> Attractor:
-    """Decide from a run after how long the motion is periodic, and which motion it is.
-
-    A period is declared only after two full cycles repeat to ``tol``, so a slowly converging orbit with an
-    eigenvalue near -1 is not mistaken for a period-doubled one.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        One run of :func:`~vibroimpact.simulate`.
-    tol : float
-        Periodicity tolerance on impact velocities and phases.
-    max_period_events : int
-        Longest period looked for, in events.
-
-    Returns
-    -------
-    Attractor
-        The motion: periodic or not, its period in forcing periods, impacts per period on each wall, its
-        label (e.g. ``"2:1 period-2"``), when it settled and the events of one cycle.
-
-    Examples
-    --------
-    >>> import math, vibroimpact as vi
-    >>> p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)
-    >>> vi.identify_attractor(vi.simulate(p, phi=1.015, v0=0.1924, n_impacts=200)).label
-    '2:1 period-2'
-    """
-    if "run" in ds.dims:
-        raise ValueError("identify_attractor takes one run; select one with ds.isel(run=k)")
-    i, p = _detect(ds["t"].values, ds["wall"].values, ds["v_minus"].values, ds["phase"].values,
-                   ds["kind"].values, float(tol), int(max_period_events))
-    if p == 0:
-        return Attractor(periodic=False)
-    # settled from the first event of the matched stretch; the cycle is the last full period seen
-    first = max(i - 3 * p + 1, 0)
-    cyc = ds.isel(impact=slice(i - p + 1, i + 1))
-    k, nb, nt, sticking, label = cycle_class(cyc["wall"].values, cyc["kind"].values,
-                                             float(ds["t"][i]) - float(ds["t"][i - p]))
-    return Attractor(periodic=True, period=k, events=p, n_bottom=nb, n_top=nt, sticking=sticking,
-                     label=label, t_settled=float(ds["t"][first]), t_identified=float(ds["t"][i]), cycle=cyc)

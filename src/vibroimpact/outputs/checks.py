@@ -200,12 +200,16 @@ def _fold_of(table1: pd.DataFrame, beta: float) -> float:
     return float(table1.d_fold.values[sel][0]) if sel.any() else math.nan
 
 
-def _is_n_to_n(label):
-    head = str(label).split(" ")[0]
-    return "period-" in str(label) and head.split(":")[0] == head.split(":")[1]
+def _is_n_to_n(motion):
+    """An n:n motion: as many impacts on each wall per forcing period."""
+    nm = motion.per_period
+    return nm is not None and nm[0] == nm[1]
 
 
-def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], sweeps: list[xr.Dataset]) -> list[dict]:
+def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], sweeps: list[xr.Dataset],
+                down_motions: list) -> list[dict]:
+    """The energy claims' rows: ``sweeps`` the energy of each sweep, ``down_motions`` the motion of each point of
+    its down direction (:func:`vibroimpact.analysis.windows.window_motions` of the sweep)."""
     rows = []
     # U_I = U_T for 1:1 period-2 (two impacts per two time units), on the simulated sweeps: U_T divides
     # by the period the simulated events measure, U_I by their number of impacts
@@ -219,14 +223,16 @@ def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], swee
                                                           "in the sweeps; ") + "tolerance: the attractors' identification tolerance"))
     # 1:1 -> 2:1 and 2:1 -> 3:1 jumps along every sweep's down direction
     n11, ok11_i, ok11_t, n23, ok23_i, ok23_t = 0, 0, 0, 0, 0, 0
-    for e in sweeps:
+    for e, motions in zip(sweeps, down_motions, strict=True):
         dn = e.sel(direction="down")
         lab, d = dn.label.values, dn.d.values
+        if [m.label for m in motions] != [str(x) for x in lab]:
+            raise ValueError("down_motions: not the motions of the sweep's points (their labels differ)")
         i21 = [i for i in range(len(d)) if lab[i] == "2:1 period-2"]
         if not i21:
             continue
         top = max(i21, key=lambda i: d[i])
-        above = [i for i in range(len(d)) if d[i] > d[top] and _is_n_to_n(lab[i])]
+        above = [i for i in range(len(d)) if d[i] > d[top] and _is_n_to_n(motions[i])]
         if above:
             j = min(above, key=lambda i: d[i])
             n11 += 1
@@ -234,7 +240,7 @@ def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], swee
             ok11_t += bool(dn.U_T.values[top] > dn.U_T.values[j])
         for i in range(len(d) - 1):
             if {str(lab[i]), str(lab[i + 1])} == {"2:1 period-2", "3:1 period-2"}:
-                three, two = (i, i + 1) if str(lab[i]).startswith("3") else (i + 1, i)
+                three, two = (i, i + 1) if str(lab[i]) == "3:1 period-2" else (i + 1, i)
                 n23 += 1
                 ok23_i += bool(dn.U_I.values[three] < dn.U_I.values[two])
                 ok23_t += bool(dn.U_T.values[three] > dn.U_T.values[two])

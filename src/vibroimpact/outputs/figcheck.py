@@ -47,7 +47,7 @@ import math
 
 import numpy as np
 
-from ..analysis.sweeps import no_period
+from ..analysis.motions import no_period
 
 __all__ = ["Z_CRIT", "RULES", "compare_artist", "strict_close", "artist_base"]
 

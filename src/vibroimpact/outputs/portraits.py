@@ -7,9 +7,10 @@ from dataclasses import replace
 import numpy as np
 import xarray as xr
 
+from ..analysis.motions import identify_attractor
 from ..datasets import annotate
 from ..dynamics.params import Params
-from ..dynamics.simulate import identify_attractor, simulate, trajectory
+from ..dynamics.simulate import simulate, trajectory
 from .paper import caption_figure
 
 __all__ = ["add_located_grazing", "bistability_dataset", "caption_summary", "orbit_dataset", "summary_markdown"]

@@ -480,11 +480,11 @@ def design_cost_markdown(maps: dict[str, tuple[int, int]], seconds: dict[str, fl
 
 
 def chaotic_windows(named: dict[str, xr.Dataset]) -> pd.DataFrame:
-    """The windows of d where a sweep's motion is chaotic (:data:`vibroimpact.analysis.sweeps.CHAOTIC`: the
+    """The windows of d where a sweep's motion is chaotic (:data:`vibroimpact.analysis.motions.CHAOTIC`: the
     95 % interval of its largest Lyapunov exponent lies above 0), per sweep and direction: maximal runs of
     consecutive chaotic points, their ends (each known to one grid step), the swept parameter there, and
     lambda_1 over the window (median, range, the lowest lower interval end), per impact and per unit time."""
-    from ..analysis.sweeps import CHAOTIC
+    from ..analysis.motions import CHAOTIC
 
     rows = []
     for name, sw in named.items():
@@ -519,8 +519,8 @@ def chaotic_outputs(named: dict[str, xr.Dataset]) -> pd.DataFrame:
     long run's, with its 95 % interval (batch means, Student's t), and their difference in volts and in
     the long run's standard errors."""
     from ..analysis.lyapunov import t_quantile
+    from ..analysis.motions import CHAOTIC
     from ..analysis.settled import LONG_BATCHES
-    from ..analysis.sweeps import CHAOTIC
 
     crit = t_quantile(0.975, LONG_BATCHES - 1)
     rows = []

@@ -149,8 +149,8 @@ def motion_color(label: str) -> str:
     Parameters
     ----------
     label : str
-        A motion's label (:func:`vibroimpact.dynamics.simulate.cycle_class`, the no-period labels of
-        :mod:`vibroimpact.analysis.sweeps`, or ``"other"``).
+        A motion's label (:attr:`vibroimpact.analysis.motions.Motion.label`, the no-period labels of
+        :mod:`vibroimpact.analysis.motions`, or ``"other"``).
 
     Returns
     -------

@@ -78,8 +78,8 @@ def _lyapunov_points(ax, sw, direction, marker):
     from matplotlib.markers import MarkerStyle
 
     from ...analysis.lyapunov import t_quantile
+    from ...analysis.motions import no_period
     from ...analysis.settled import LONG_BATCHES
-    from ...analysis.sweeps import no_period
 
     s = sw.sel(direction=direction)
     idx = np.arange(s.sizes["point"])

@@ -70,7 +70,7 @@ def motion_blocks(labels, min_share=0.07):
     reaches ``min_share``, is named by what dominates it: "chaotic" (with ", periodic windows" where
     periodic points interrupt it) where most of its points have no period and most of those are chaotic,
     "aperiodic" where most have no period, else "periodic windows"."""
-    from ...analysis.sweeps import CHAOTIC, no_period
+    from ...analysis.motions import CHAOTIC, no_period
 
     lab = np.asarray(labels).astype(str)
     nop = no_period(lab)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ...analysis.sweeps import NO_PERIOD_LABELS, no_period
+from ...analysis.motions import NO_PERIOD_LABELS, no_period
 from ._common import BOTTOM, TOP, branch_line, motion_color, use_style, wellposed
 
 #: the statistic of a motion with no period that each drawn quantity is compared by (the long run's)

@@ -133,6 +133,59 @@ def test_no_module_imports_another_module_s_private_name():
     assert not bad, bad
 
 
+#: the only imports a function may hold: optional parts and what only one rarely used path needs
+LAZY_IMPORTS = {
+    "heyoka": "the optional peer (tools/probe_heyoka.py)",
+    "imagehash": "the image check only", "PIL": "the image check only",
+    "yaml": "the perturbed regeneration only (a Snakemake config)",
+    "tqdm": "a progress bar, only when one is shown",
+}
+
+
+def test_no_import_hides_in_a_function():
+    """Imports sit at the top of each module, so that an import cycle fails at import (as
+    test_every_module_imports_alone_in_a_fresh_interpreter checks) rather than hiding in a late import: a
+    function imports only the optional parts of :data:`LAZY_IMPORTS`."""
+    import ast
+
+    pkg = ROOT / "src" / "vibroimpact"
+    bad = []
+    for f in pkg.rglob("*.py"):
+        for fn in ast.walk(ast.parse(f.read_text())):
+            if not isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            for node in ast.walk(fn):
+                if isinstance(node, ast.Import):
+                    tops = [a.name.split(".")[0] for a in node.names]
+                elif isinstance(node, ast.ImportFrom):
+                    tops = ["." * node.level + (node.module or "")] if node.level else [node.module.split(".")[0]]
+                else:
+                    continue
+                if any(t not in LAZY_IMPORTS for t in tops):
+                    bad.append(f"{f.relative_to(pkg)}:{node.lineno} ({fn.name}): {ast.unparse(node)}")
+    assert not bad, bad
+
+
+def test_every_module_imports_alone_in_a_fresh_interpreter():
+    """No import cycle: each module of the package imports first, alone, with nothing of the package loaded."""
+    code = ("import importlib, pkgutil, sys, vibroimpact\n"
+            "mods = sorted(m.name for m in pkgutil.walk_packages(vibroimpact.__path__, 'vibroimpact.'))\n"
+            "bad = []\n"
+            "for m in mods:\n"
+            "    for k in [k for k in sys.modules if k.startswith('vibroimpact')]:\n"
+            "        del sys.modules[k]\n"
+            "    try:\n"
+            "        importlib.import_module(m)\n"
+            "    except ImportError as e:\n"
+            "        bad.append(f'{m}: {e}')\n"
+            "print(len(mods)); print(bad)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env={**os.environ,
+                         "MPLBACKEND": "Agg"})
+    assert out.returncode == 0, out.stderr[-2000:]
+    n, bad = out.stdout.split("\n")[:2]
+    assert int(n) > 50 and bad == "[]", out.stdout
+
+
 def test_importing_the_plots_leaves_the_user_s_backend():
     """The package draws with whatever matplotlib backend its user chose (the workflow chooses Agg for its
     jobs): importing every plotting module changes none."""

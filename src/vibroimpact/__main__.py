@@ -8,7 +8,9 @@ import os
 import sys
 from pathlib import Path
 
+from . import _numba_cache
 from ._version import __version__
+from .benchmarks.peer_siconos import available
 
 REPOSITORY = "the vibroimpact source repository (git clone; the workflow is not part of the wheel)"
 
@@ -46,7 +48,6 @@ def _have(module: str) -> bool:
 
 
 def report(start: Path | None = None) -> str:
-    from . import _numba_cache
 
     wf = find_workflow(start)
     lines = [
@@ -64,7 +65,6 @@ def report(start: Path | None = None) -> str:
                   "  targets besides the default: " + ", ".join(t for t in TARGETS if t != "all")]
     siconos = "unknown"
     try:
-        from .benchmarks.peer_siconos import available
 
         siconos = "available" if available() else "not installed (tools/install_siconos.sh, root)"
     except Exception as err:  # the probe itself failed: say so, do not fail the report

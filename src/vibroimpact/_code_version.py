@@ -28,6 +28,7 @@ the function it changed is not called); every approximation errs towards rerunni
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import os
 from functools import cache
@@ -200,7 +201,6 @@ class _Found:
 def _imports(source: bytes, name: str | None, is_package: bool, top: str) -> _Found:
     """The imports of one source (module ``name`` of package ``top``, or a script when None), cached by
     content."""
-    import ast  # here, not at the top: ``import vibroimpact`` imports this module (the numba cache's key)
 
     tree = ast.parse(source)
     found = _Found()
@@ -248,7 +248,6 @@ def _imports(source: bytes, name: str | None, is_package: bool, top: str) -> _Fo
 def _public_names(init: bytes) -> dict[str, str] | None:
     """The package's table of public names -> defining module (``_WHERE`` in its ``__init__.py``), None
     where it has no such literal table."""
-    import ast
 
     for node in ast.parse(init).body:
         if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "_WHERE" for t in node.targets):

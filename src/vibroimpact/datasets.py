@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import datetime as _dt
 import json
+import os
+import tempfile
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -201,9 +204,6 @@ def write_netcdf(ds: xr.Dataset, path, *, fmt: str = "NETCDF4") -> None:
     dataset read back).  NETCDF4 files are written by the netCDF4 engine.  A dataset with more than one
     empty dimension (a figure that draws nothing in some panels) is written as NETCDF4: the classic format
     reads a zero length as its one unlimited dimension, and the netCDF library refuses a file with several."""
-    import os
-    import tempfile
-    from pathlib import Path
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

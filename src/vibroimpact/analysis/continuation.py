@@ -29,6 +29,8 @@ from scipy.optimize import brentq
 from .._progress import Progress
 from ..datasets import VARIABLES, annotate
 from ..dynamics.params import Params, length_factor
+from ..dynamics.simulate import simulate
+from .motions import identify_attractor
 from .orbits import Orbit, OrbitError, find_orbit, orbit_from_vector, parse_word, residual_and_jacobian
 
 __all__ = ["PARAMETERS", "ParameterMap", "branch_from_simulation", "branch_parameters", "continue_orbit", "simulate_along"]
@@ -504,8 +506,6 @@ def branch_from_simulation(params: Params, word: str, *, k: int = 1, vary: str, 
     >>> bt.attrs["status"], bt.attrs["reason"], bt.sizes["point"]
     ('failed', "the attractor at d=0.16 is 2:1 period-2 (BTB), not 'BT'", 0)
     """
-    from ..dynamics.simulate import simulate
-    from .motions import identify_attractor
 
     try:
         att = identify_attractor(simulate(params, phi, v0, n_impacts=n_impacts, stop_when_periodic=True))
@@ -574,8 +574,6 @@ def simulate_along(branch: xr.Dataset, n: int, *, tol: float = 1e-11, n_impacts:
     >>> sims.motion.values.tolist(), sims.status.values.tolist(), bool(sims.max_dev.max() < 1e-9)
     (['2:1 period-2', '2:1 period-2'], ['compared', 'compared'], True)
     """
-    from ..dynamics.simulate import simulate
-    from .motions import identify_attractor
 
     ok = np.flatnonzero((branch.stable & branch.admissible).values) if branch.sizes["point"] else np.array([], int)
     word, k = branch.attrs["word"], int(branch.attrs["k"])

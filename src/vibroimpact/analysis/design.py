@@ -36,10 +36,10 @@ from .._progress import Progress, interactive
 from ..datasets import annotate
 from ..dynamics import kernels as K
 from ..dynamics.device import Device
-from .energy import window_averages
+from .energy import LONG_BATCHES, batch_averages, voltage_gain, window_averages
 from .grids import held_values, plane_params
 from .motions import APERIODIC, no_period
-from .settled import split_no_period
+from .settled import LONG_IMPACTS, STICK_REL, polish_cycle, split_no_period
 from .windows import attractor_batch, last_bottom_impact
 
 __all__ = ["DISTRIBUTIONS", "MIN_STARTS", "AT_REST", "start_states", "design_map",
@@ -158,8 +158,6 @@ def _settle_attractor(att, events, lag, d, gbar, r, F, device):
     (continued from one of its runs: the window of a run is one sample of the motion, and the runs of one
     attractor need not be independent samples: starts at rest all leave the wall at the release phase),
     or keeps its runs' mean with no standard error where the long run settles after all."""
-    from .energy import LONG_BATCHES, batch_averages, voltage_gain
-    from .settled import LONG_IMPACTS, STICK_REL, polish_cycle
 
     att["settled"], att["U_T_se"], att["U_I_se"] = False, math.nan, math.nan
     if att["label"] == AT_REST:

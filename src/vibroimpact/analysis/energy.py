@@ -26,7 +26,7 @@ import xarray as xr
 from ..datasets import annotate
 from ..dynamics import kernels as K
 from ..dynamics.device import PAPER, Device, Membrane, speed_si
-from .settled import LONG_BATCHES
+from .settled import LONG_BATCHES, STICK_REL, long_run
 
 __all__ = ["Membrane", "voltage_gain", "speed_si", "averages", "window_averages", "orbit_energy", "branch_energy", "sweep_energy",
            "delivered"]
@@ -257,7 +257,6 @@ def window_averages(t, v_minus, kind, status, period_events, F, device: Device =
 def _settled_energy(sw, F, device):
     """Gains and averages of each attractor's exact cycle (:func:`vibroimpact.analysis.settled.settle_attractors`), and the
     long-run averages (batch means, with standard errors) of each motion with no period."""
-    from .settled import long_run
 
     shape = sw["status"].shape
     vm, kind = sw["cycle_v_minus"].values, sw["cycle_kind"].values
@@ -347,7 +346,6 @@ def delivered(en: xr.Dataset, q: str = "U_T"):
         raise ValueError(f"q = {q!r}; allowed: 'U_T' or 'U_I'")
     if "settled" not in en:
         return en[q].values, np.full(en[q].shape, np.nan)
-    from .settled import STICK_REL
 
     settled = en["settled"].values
     sticking = np.char.find(en["label"].values.astype(str), "with sticking") >= 0

@@ -29,6 +29,7 @@ from ..dynamics import kernels as K
 from ..dynamics.params import Params
 from ..dynamics.simulate import simulate
 from .grazing import interior_clearance
+from .grids import plane_params
 from .motions import identify_attractor
 
 #: An exit is a grazing when the last attractor in the family comes closer to a wall than this
@@ -269,7 +270,6 @@ def d_graz_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, dev
     >>> str(c.d_graz_kind.values[0]), round(float(c.at[0]), 3)    # the cylinder length s at d_graz (m)
     ('grazing', 0.339)
     """
-    from .grids import plane_params
 
     fam = {k: kw.pop(k) for k in ("impacts", "transient", "xtol", "max_trials") if k in kw}
     along, other, values = ((x_name, y_name, ys) if x_name in _ALONG_D else

@@ -31,10 +31,12 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
+from scipy.special import stdtrit
 
 from ..dynamics import kernels as K
 from ..dynamics.flight import step_jacobian
 from ..dynamics.params import Params
+from ..dynamics.simulate import simulate
 
 __all__ = ["Lyapunov", "lyapunov", "tangent_pass", "exponents_of_run", "multiplier_sensitivity", "MIN_PER_BATCH"]
 
@@ -184,7 +186,6 @@ class Lyapunov:  # numpydoc ignore=PR01
 def t_quantile(p: float, df: int) -> float:
     """Student's t quantile ``p`` with ``df`` degrees of freedom, for the batch-means intervals: scipy's
     ``stdtrit``, which ``scipy.stats.t.ppf`` calls (importing ``scipy.stats`` costs about a second a process)."""
-    from scipy.special import stdtrit
 
     return float(stdtrit(df, p))
 
@@ -295,7 +296,6 @@ def lyapunov(params: Params, phi: float, v0: float, n_impacts: int = 20_000, *, 
     >>> lam.per_impact[0] < 0 and lam.status
     'ok'
     """
-    from ..dynamics.simulate import simulate
 
     if isinstance(n_impacts, bool) or not isinstance(n_impacts, (int, np.integer)) or n_impacts < 1:
         raise ValueError(f"n_impacts = {n_impacts!r}; allowed: an integer >= 1")

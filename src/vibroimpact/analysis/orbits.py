@@ -29,6 +29,8 @@ from ..dynamics.flight import (
     step_jacobian,
 )
 from ..dynamics.params import Params
+from ..dynamics.simulate import events_dataset, simulate
+from .grazing import admissibility
 
 __all__ = ["Orbit", "OrbitError", "find_orbit", "parse_word", "solve_orbit"]
 
@@ -311,7 +313,6 @@ def _assemble(params, word, k, z):
     # an impact at exactly zero speed (on a grazing curve) makes the map's Jacobian infinite (it grows as
     # 1 / v): no eigenvalues there, NaN rather than an error
     ev = np.linalg.eigvals(J) if np.all(np.isfinite(J)) else np.full(2, complex(math.nan, math.nan))
-    from .grazing import admissibility  # late import: grazing builds on this module
 
     ok, reason, clearance = admissibility(z, walls, params.d, params.gbar, params.r)
     return Orbit(params=params, word=word, k=k, z=z, jacobian=J, eigenvalues=ev, admissible=ok,
@@ -356,7 +357,6 @@ def orbit_run(orbit: Orbit, periods: int = 1):
     >>> run.z.values.round(9).tolist()[:3], bool(abs(run.v_minus[3] - run.v_minus[0]) < 1e-9)
     ([0.07, 0.07, -0.07], True)
     """
-    from ..dynamics.simulate import events_dataset
 
     if int(periods) < 1:
         raise ValueError(f"periods = {periods!r}; allowed: an integer >= 1")
@@ -420,7 +420,6 @@ def find_orbit(params: Params, word: str, phi: float, v0: float, *, k: int = 1) 
     OrbitError
         The guess does not follow the word, or Newton's method fails.
     """
-    from ..dynamics.simulate import simulate
 
     walls = parse_word(word)
     if int(k) != k or k < 1:

@@ -7,20 +7,33 @@ from the same post-impact states.
 
 from __future__ import annotations
 
+import json
 import math
+import os
+import subprocess
+import sys
 import time
+import types
 from functools import partial
 
+import numba
 import numpy as np
 import xarray as xr
 
+from ..analysis.bifurcation import follow_point
+from ..analysis.continuation import continue_orbit
 from ..analysis.lyapunov import lyapunov
+from ..analysis.motions import no_period
+from ..analysis.orbits import find_orbit
+from ..analysis.sweeps import sweep
 from ..datasets import annotate
+from ..dynamics import events, flight
 from ..dynamics.device import PAPER
 from ..dynamics.events import next_impact
 from ..dynamics.params import Params
 from ..dynamics.reference import first_impact
 from ..dynamics.simulate import simulate, simulate_batch
+from . import peer_heyoka
 from .methods import ivp_flight, run_ivp
 
 #: Benchmark scene: beta = pi/3, d = 0.235 lies in the chaotic window (paper Figure 2): every kind of flight.
@@ -109,8 +122,6 @@ def report(ds: xr.Dataset) -> str:
 def branch_benchmark(n_points: int = 1000) -> xr.Dataset:
     """Time a continuation of the beta = pi/3 2:1 branch with about ``n_points`` points, stability
     classification, admissibility and located critical points included."""
-    from ..analysis.continuation import continue_orbit
-    from ..analysis.orbits import find_orbit
 
     p = Params.from_physical(s=0.184 / 0.6225, beta=math.pi / 3)
     orbit = find_orbit(p, "BBT", 1.21, 0.2164)
@@ -135,8 +146,6 @@ def curve_benchmark(n_points: int = 200) -> xr.Dataset:
     beta = pi/6, located from an orbit near it and followed in (s, beta) over the paper's s range and
     0.35 < beta < 0.75, with the events along it and why each end stops
     (:func:`~vibroimpact.analysis.bifurcation.follow_point`)."""
-    from ..analysis.bifurcation import follow_point
-    from ..analysis.orbits import find_orbit
 
     p = Params.from_physical(s=0.1385 / Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
     orbit = find_orbit(p, "BBT", 5.855, 0.4185)
@@ -158,8 +167,6 @@ def sweep_benchmark(n_points: int = 1000, max_periods: float = 200) -> xr.Datase
     """Time a sweep of d through s at beta = pi/3 over the range of the paper's Figure 2 (1:1, period
     doubling, chaos, 2:1, 3:1), up and down: ``2 n_points`` attractors, each with up to
     ``max_periods`` forcing periods of transient."""
-    from ..analysis.motions import no_period
-    from ..analysis.sweeps import sweep
 
     values = np.linspace(0.19, 0.72, n_points)
     sweep("s", values[:5], beta=math.pi / 3, max_periods=max_periods)  # compile outside the timing
@@ -184,10 +191,7 @@ KERNEL_SCENES = {"2:1": (math.pi / 6, 0.16, 1.015, 0.1924), "chaotic": (math.pi 
 def _count_worker(args: str) -> None:
     """Run in a fresh interpreter with numba's JIT disabled: count, per impact, the sine/cosine calls
     and the point evaluations of the event finder over a stretch of each scene's flights."""
-    import json
-    import types
 
-    from ..dynamics import events, flight
 
     a = json.loads(args)
     counts = {"trig": 0, "points": 0, "roots": 0}
@@ -235,7 +239,6 @@ REPEATS = 9
 
 def _seconds(run, threads=None) -> float:
     """Seconds of one call of ``run()`` (on ``threads`` numba threads if given)."""
-    import numba
 
     if threads is not None:
         numba.set_num_threads(threads)
@@ -264,18 +267,12 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: i
     stepping cost per impact at tol = eps (:func:`~vibroimpact.benchmarks.peer_heyoka.stepping_cost`, over
     ``n_heyoka`` impacts), NaN where heyoka is not installed.  Every timing is the fastest of
     ``repeats`` runs (:data:`REPEATS`), taken in rounds over both scenes and all methods."""
-    import json
-    import os
-    import subprocess
-    import sys
 
-    import numba
 
     env = dict(os.environ, NUMBA_DISABLE_JIT="1")
     res = subprocess.run([sys.executable, "-m", "vibroimpact.benchmarks.bench", json.dumps({"n": n_counted})], env=env,
                          capture_output=True, text=True, check=True)
     counts = json.loads(res.stdout)
-    from . import peer_heyoka
 
     names = list(KERNEL_SCENES)
     cores = numba.config.NUMBA_NUM_THREADS

@@ -28,6 +28,7 @@ from scipy.integrate import solve_ivp
 
 from ..dynamics import kernels as K
 from ..dynamics.params import Params
+from ..dynamics.simulate import simulate
 
 OK, STALLED, NO_IMPACT, CRASHED = "ok", "stalled", "no impact", "crashed"
 
@@ -47,7 +48,6 @@ class Run:
 
 
 def run_exact(p: Params, phi, v0, n, t_end=math.inf):
-    from ..dynamics.simulate import simulate
 
     simulate(p, phi, v0, n_impacts=3)  # compiled outside the timing
     start = time.perf_counter()
@@ -76,7 +76,6 @@ def run_python_many(cases, timeout=600):
 
 
 def _python_worker(args):
-    from ..dynamics.simulate import simulate
 
     out = []
     for a in json.loads(args):

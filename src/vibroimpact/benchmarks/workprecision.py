@@ -9,17 +9,25 @@ from __future__ import annotations
 
 import math
 import subprocess
+import time
 
 import numpy as np
 import xarray as xr
 
 from .._progress import Progress
+from ..analysis.continuation import continue_orbit
+from ..analysis.orbits import find_orbit
+from ..analysis.sweeps import sweep
+from ..analysis.transitions import locate_transitions
 from ..datasets import annotate
 from ..dynamics.device import PAPER
 from ..dynamics.events import next_impact
 from ..dynamics.params import Params
 from ..dynamics.reference import bounce_by_bounce, first_impact, grazing_state, trajectory
 from . import methods as M
+from . import peer_heyoka, peer_siconos
+from .peer_heyoka import compile_seconds, heyoka_flight, run_heyoka
+from .peer_siconos import SiconosPeerError, run_siconos, siconos_flights
 
 #: Scenes from the paper's captions and its chaotic window: (beta, d, phi, v0)
 SCENES = {
@@ -37,7 +45,6 @@ def _params(beta, d, r=PAPER.r):
 
 def peer_status() -> dict[str, str]:
     """For each peer library: its version, or why it is absent (recorded in the datasets)."""
-    from . import peer_heyoka, peer_siconos
 
     out = {"heyoka": peer_heyoka.heyoka_version() or "not installed (pip install heyoka: the 'peers' extra)"}
     out["siconos"] = (peer_siconos.version() if peer_siconos.available()
@@ -48,7 +55,6 @@ def peer_status() -> dict[str, str]:
 def method_ladder(ivp_methods, ivp_tols, rk4_steps, heyoka_tols=(), siconos_tols=(), siconos_steps=()):
     """(family, setting, label) of every method configuration; the peers' only where installed
     (:func:`peer_status`)."""
-    from . import peer_heyoka, peer_siconos
 
     out = [("exact", math.nan, "exact (numba)"), ("python", math.nan, "same algorithm, plain Python")]
     out += [(f"ivp-{m}", tol, f"solve_ivp {m} rtol={tol:g}") for m in ivp_methods for tol in ivp_tols]
@@ -75,11 +81,9 @@ def _run(family, setting, p, phi, v0, n, t_end=math.inf, max_seconds=30.0, max_e
         return M.run_ivp(p, phi, v0, n, method=family[4:], rtol=setting, atol=setting * 1e-2, t_end=t_end,
                          max_seconds=max_seconds if max_evals is None else IVP_SAFETY_SECONDS, max_evals=max_evals)
     if family == "heyoka":
-        from .peer_heyoka import run_heyoka
 
         return run_heyoka(p, phi, v0, n, tol=setting, t_end=t_end, max_seconds=max_seconds)
     if family.startswith("siconos"):
-        from .peer_siconos import run_siconos
 
         kw = {"tol": setting} if family == "siconos-ed" else {"h": setting}
         method = "event-driven" if family == "siconos-ed" else "moreau-jean"
@@ -158,7 +162,6 @@ def work_precision(*, n_err=20, n_cost=None, ivp_methods=("RK45", "DOP853", "LSO
 
 def _compile_seconds(family, setting):
     if family == "heyoka":
-        from .peer_heyoka import compile_seconds
 
         return compile_seconds(setting)
     return math.nan
@@ -212,7 +215,6 @@ def _flight(family, setting, theta, z0, u, d, gbar):
         tau, w, _ = M.ivp_flight(theta, z0, u, d, gbar, setting, setting * 1e-2, family[4:])
         return tau, w
     if family == "heyoka":
-        from .peer_heyoka import heyoka_flight
 
         tau, w, _ = heyoka_flight(theta, z0, u, d, gbar, setting)
         return tau, w
@@ -223,7 +225,6 @@ def _flight(family, setting, theta, z0, u, d, gbar):
 def _flights(family, setting, states, d, gbar):
     """(tau, wall) of each flight; Siconos in one call of its peer process (a crash: no impacts)."""
     if family.startswith("siconos"):
-        from .peer_siconos import SiconosPeerError, siconos_flights
 
         method = "event-driven" if family == "siconos-ed" else "moreau-jean"
         kw = {"tol": setting} if family == "siconos-ed" else {"h": setting}
@@ -380,12 +381,7 @@ def analytics_accuracy(*, steps=(2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4), poin
     and G2 from the grid alone (middle of the interval where the motion changes) and located
     (followed attractor, xtol 1e-9), against the analytic points ``g1``, ``g2``.
     """
-    import time
 
-    from ..analysis.continuation import continue_orbit
-    from ..analysis.orbits import find_orbit
-    from ..analysis.sweeps import sweep
-    from ..analysis.transitions import locate_transitions
 
     p = Params.from_physical(s=0.184 / 0.6225, beta=math.pi / 3)
     orbit = find_orbit(p, "BBT", 1.21, 0.2164)

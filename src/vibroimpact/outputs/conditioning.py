@@ -14,6 +14,7 @@ references (``conditioning.csv``).
 
 from __future__ import annotations
 
+import copy
 import math
 import os
 import shutil
@@ -24,6 +25,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import xarray as xr
+
+from .figdata import hash_distance
 
 __all__ = ["PERTURBATIONS", "LIBM_SWITCH", "libm_switch_works", "spreads", "ill_conditioned", "perturbed_config",
            "regenerate"]
@@ -51,7 +54,6 @@ def libm_switch_works(python: str = sys.executable) -> bool:
 
 def perturbed_config(cfg: dict, ulps: int) -> dict:
     """A copy of the workflow config with the ball's mass ``M`` moved by ``ulps`` units in the last place."""
-    import copy
 
     out = copy.deepcopy(cfg)
     m = float(out["physics"]["M"])
@@ -130,7 +132,6 @@ def spreads(reference: xr.Dataset, perturbed: dict[str, xr.Dataset], *, rtol: fl
 
 def image_spread(reference: xr.Dataset, perturbed: dict[str, xr.Dataset]) -> int:
     """Largest perceptual-hash distance (bits) of the perturbed copies' images from the reference's."""
-    from .figdata import hash_distance
 
     a = reference.attrs.get("png_phash")
     return max((hash_distance(a, ds.attrs["png_phash"]) for ds in perturbed.values()

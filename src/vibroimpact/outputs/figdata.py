@@ -16,6 +16,9 @@ import pandas as pd
 import xarray as xr
 from matplotlib.collections import QuadMesh
 
+from . import figcheck as fc
+from .checks import IMAGE_ROW
+
 
 def _units(label: str) -> str:
     """Units from an axis label ending in "(unit)", else "1" (non-dimensional)."""
@@ -125,7 +128,6 @@ def compare(new: xr.Dataset, ref: xr.Dataset, *, rtol: float, atol: float, exclu
     in the new data (e.g. timings, which are not results).  Variables only in ``new`` are reported as
     ``new`` (a figure that gained an artist fails until the reference is updated).
     """
-    from . import figcheck as fc
 
     rows = []
     pats = [p.lower() for p in exclude]
@@ -245,7 +247,6 @@ def compare_image(new: xr.Dataset, ref: xr.Dataset, *, max_distance: int, draws_
     """The image row of the regeneration check: the perceptual hashes stored with the new and the
     reference data (``png_phash``) differ in at most ``max_distance`` bits.  A figure that draws
     timings is ``excluded``: its markers move with the machine's speed, as its timing arrays do."""
-    from .checks import IMAGE_ROW
 
     row = {"variable": IMAGE_ROW, "axes": "", "axis_label": "rendered PNG", "max_difference": np.nan}
     a, b = new.attrs.get("png_phash"), ref.attrs.get("png_phash")
@@ -270,7 +271,6 @@ def image_allowance(conditioning, figure: str, default: int) -> tuple[int, str]:
     differ at rounding level can move an antialiased edge by one grey level, and ill-conditioned points
     legitimately move: twice the largest distance measured under the conditioning's perturbations, and at
     least :data:`ONE_POINT_BITS` (``default`` where no conditioning was measured)."""
-    from .checks import IMAGE_ROW
 
     if conditioning is None or not len(conditioning):
         return default, f"image: <= {default} bits (no conditioning measured)"

@@ -21,9 +21,12 @@ figure's saved data (:func:`vibroimpact.outputs.figdata.figure_data`): axes ``a<
 from __future__ import annotations
 
 import json
+import sys
 from contextlib import contextmanager
+from pathlib import Path
 
 import numpy as np
+import xarray as xr
 from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection, PathCollection
 from matplotlib.legend import Legend
@@ -376,9 +379,7 @@ def from_attribute(ds) -> list[str] | None:
 def check_results(results_dir) -> dict[str, list[str]]:
     """The recorded layout problems of every figure whose data is in ``results_dir``/figures/data, by
     figure; a figure saved without a verdict gets the problem 'no layout verdict recorded'."""
-    from pathlib import Path
 
-    import xarray as xr
 
     out = {}
     for nc in sorted(Path(results_dir, "figures", "data").glob("*.nc")):
@@ -391,7 +392,6 @@ def check_results(results_dir) -> dict[str, list[str]]:
 def main(argv=None) -> int:
     """``python -m vibroimpact.outputs.layout [results]``: print each figure's recorded layout problems;
     exit status 1 if there are any, or no figure data at all."""
-    import sys
 
     argv = sys.argv[1:] if argv is None else argv
     found = check_results(argv[0] if argv else "results")

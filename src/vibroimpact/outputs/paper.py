@@ -125,3 +125,15 @@ CURVE_ORDER = {
     ("fig5", "U_k"): {math.pi / 2: "P3, P2, P1", math.pi / 3: "P3, P2, P1", math.pi / 4: "P3, P2, P1",
                        math.pi / 6: "P2, P3, P1"},
 }
+
+
+def pi_tex(x, fmt=".4g"):
+    """``x`` in TeX as a fraction of pi when it is one (``\\pi/6``, ``5\\pi``), else formatted with ``fmt``."""
+
+    for den in (1, 2, 3, 4, 6, 12):
+        num = x * den / math.pi
+        if abs(num - round(num)) < 1e-9 and round(num):
+            n = int(round(num))
+            top = r"\pi" if n == 1 else f"{n}\\pi"
+            return top if den == 1 else f"{top}/{den}"
+    return format(x, fmt)

@@ -7,11 +7,13 @@ from dataclasses import replace
 import numpy as np
 import xarray as xr
 
+from ..analysis.continuation import continue_orbit
 from ..analysis.motions import identify_attractor
+from ..analysis.orbits import OrbitError, find_orbit, orbit_from_vector, orbit_run, parse_word, solve_orbit
 from ..datasets import annotate
 from ..dynamics.params import Params
 from ..dynamics.simulate import simulate, trajectory
-from .paper import caption_figure
+from .paper import caption_figure, printed_unit
 
 __all__ = ["add_located_grazing", "bistability_dataset", "caption_summary", "orbit_dataset", "summary_markdown"]
 
@@ -58,8 +60,6 @@ def orbit_dataset(
         ds.attrs.update(v_attractor=float(bottom.v_minus.values[j]), phase_attractor=float(bottom.phase.values[j]),
                         dv=float(bottom.v_minus.values[j] - v0), dphase=float(dphase[j]))
         # the same impact on the periodic orbit solved by Newton's method (independent of the run)
-        from ..analysis.orbits import OrbitError, find_orbit
-        from .paper import printed_unit
 
         walls = cyc.wall.values
         start = int(np.flatnonzero(walls == 1)[j])
@@ -98,15 +98,6 @@ def add_located_grazing(ds: xr.Dataset, params: Params, *, window: float = 0.01,
     nearest to the caption's d is the d where the orbit's loop touches a wall.  Added: ``grazing_d``,
     ``grazing_clearance`` (of the orbit solved there) and ``grazing_Z``, ``grazing_Zdot`` over one
     period from its first bottom impact, or ``grazing_status`` with the reason none was found."""
-    from ..analysis.continuation import continue_orbit
-    from ..analysis.orbits import (
-        OrbitError,
-        find_orbit,
-        orbit_from_vector,
-        orbit_run,
-        parse_word,
-        solve_orbit,
-    )
 
     if ds.attrs.get("orbit_status") != "solved":
         ds.attrs["grazing_status"] = f"no Newton orbit to continue ({ds.attrs.get('orbit_status')})"
@@ -208,7 +199,6 @@ def bistability_dataset(branch21: xr.Dataset, branch31: xr.Dataset, g1: float, g
     ``missing`` says why; attribute ``G_missing``), a failed branch, no admissible orbit of its branch, Newton failing, or an orbit
     that crosses a wall (not a motion of the device).  The others are drawn (``status`` ``"drawn"``).
     """
-    from ..analysis.orbits import OrbitError
 
     ref = next((b for b in (branch21, branch31) if b.sizes.get("point", 0)), None)
     gbar = float(ref.gbar.values[0]) if ref is not None else np.nan
@@ -257,7 +247,6 @@ def bistability_dataset(branch21: xr.Dataset, branch31: xr.Dataset, g1: float, g
 
 def _panel_orbit(br: xr.Dataset, name: str, d: float, gbar: float, r: float, missing: str):
     """The admissible orbit of branch ``br`` at ``d`` for the portrait ``name``; ``OrbitError`` says why none."""
-    from ..analysis.orbits import OrbitError, find_orbit
 
     word = str(br.attrs.get("word", "?"))
     if br.attrs.get("status") == "failed":

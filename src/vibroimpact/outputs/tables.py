@@ -3,12 +3,19 @@
 from __future__ import annotations
 
 import math
+import re
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import xarray as xr
 
-from .paper import paper_stable
+from ..analysis.energy import delivered
+from ..analysis.lyapunov import t_quantile
+from ..analysis.motions import CHAOTIC
+from ..analysis.settled import LONG_BATCHES
+from ..benchmarks.workprecision import OUTCOMES
+from .paper import paper_stable, pi_tex
 
 
 def stable_interval(branch: xr.Dataset):
@@ -252,7 +259,6 @@ def design_table(energies: list[xr.Dataset]) -> pd.DataFrame:
     the motion there (both sweep directions considered).  The outputs compared are what the device
     delivers (:func:`vibroimpact.analysis.energy.delivered`): the exact cycle's where the motion is periodic, the
     long run's where it is not (``U_T_se``, ``U_I_se``: their standard errors)."""
-    from ..analysis.energy import delivered
 
     rows = []
     for e in energies:
@@ -293,7 +299,6 @@ def design_markdown(df: pd.DataFrame) -> str:
 
 def failure_markdown(fm: xr.Dataset) -> str:
     """Counts of outcomes per method, and what happened in the chattering and chaotic cases."""
-    from ..benchmarks.workprecision import OUTCOMES
 
     grazing = [c for c in fm.case.values if " by " in str(c)]
     head = "| method | " + " | ".join(OUTCOMES) + " | chattering into sticking | long chaotic run |"
@@ -360,7 +365,6 @@ RULE_OF_BENCHMARK = (
 
 def rule_of_benchmark(path: str) -> str:
     """The rule whose ``benchmark:`` file is ``path`` (relative to the benchmarks directory)."""
-    import re
 
     for pattern, rule in RULE_OF_BENCHMARK:
         m = re.match(pattern, path)
@@ -372,7 +376,6 @@ def rule_of_benchmark(path: str) -> str:
 def workflow_cost(bench_dir) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Wall-clock seconds of every benchmarked job (from Snakemake ``benchmark:`` files) with its rule,
     and per figure.  A job feeding several figures counts in each."""
-    from pathlib import Path
 
     bench_dir = Path(bench_dir)
     jobs = []
@@ -426,7 +429,6 @@ def matched_accuracy_markdown(ma: xr.Dataset) -> str:
 
 
 def _pi_name(x: float) -> str:
-    from .plots._common import pi_tex
 
     return pi_tex(float(x)).replace("\\pi", "π")
 
@@ -484,7 +486,6 @@ def chaotic_windows(named: dict[str, xr.Dataset]) -> pd.DataFrame:
     95 % interval of its largest Lyapunov exponent lies above 0), per sweep and direction: maximal runs of
     consecutive chaotic points, their ends (each known to one grid step), the swept parameter there, and
     lambda_1 over the window (median, range, the lowest lower interval end), per impact and per unit time."""
-    from ..analysis.motions import CHAOTIC
 
     rows = []
     for name, sw in named.items():
@@ -518,9 +519,6 @@ def chaotic_outputs(named: dict[str, xr.Dataset]) -> pd.DataFrame:
     and U_I of the paper's fixed window (``window_time`` units of time after the transient) beside the
     long run's, with its 95 % interval (batch means, Student's t), and their difference in volts and in
     the long run's standard errors."""
-    from ..analysis.lyapunov import t_quantile
-    from ..analysis.motions import CHAOTIC
-    from ..analysis.settled import LONG_BATCHES
 
     crit = t_quantile(0.975, LONG_BATCHES - 1)
     rows = []

@@ -11,7 +11,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from ..analysis.design import DESIGN_AXES, DISTRIBUTIONS, MIN_STARTS, RELATIVE, start_states
 from ..dynamics.device import Device
+from .checks import item_names
 
 __all__ = ["ConfigError", "WorkflowConfig", "check", "check_design", "figure_names"]
 
@@ -287,7 +289,6 @@ def _lift(config, device: Device):
 
 
 def _known(config):
-    from .checks import item_names
 
     betas = sorted({b for sc in config["branch_scenes"].values() for b in sc["betas"]})
     items = item_names(list(config["captions"]), betas)
@@ -310,7 +311,6 @@ def check_design(design: dict, presets: dict, maps: dict) -> None:
     ``design``: the config's ``design`` section; ``presets``: each quality preset's ``design`` entry
     (``grid``, ``starts``, ``chunks``); ``maps``: the regime maps whose planes the design maps share.
     """
-    from ..analysis.design import DESIGN_AXES, DISTRIBUTIONS, MIN_STARTS, RELATIVE, start_states
 
     st = design["starts"]
     if st["distribution"] not in DISTRIBUTIONS:

@@ -7,16 +7,24 @@ points as open markers, the bottom wall blue and the top wall green as in the pa
 from __future__ import annotations
 
 import logging
+import zlib
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
+
+from ...datasets import write_netcdf
+from .. import layout
+from ..figdata import figure_data, image_hash
+from ..paper import pi_tex
 
 #: the one matplotlib style file of all figures
 STYLE_FILE = Path(__file__).with_name("vibroimpact.mplstyle")
 
 BOTTOM = "tab:blue"
 TOP = "tab:green"
+#: d_graz's colour in every figure that marks it
+D_GRAZ_COLOR = "tab:purple"
 BALL = "tab:red"
 
 
@@ -33,9 +41,6 @@ def save(fig, stem, *, data=None, attrs=None, formats=("png", "pdf")) -> list[Pa
     figure draws (netCDF, :func:`vibroimpact.outputs.figdata.figure_data`, with ``attrs`` such as the config)
     and its layout verdict (attribute ``layout_problems``, :mod:`vibroimpact.outputs.layout`: recorded and
     logged, never fatal, so the figure is always written; the tests fail on it); returns the paths."""
-    from ...datasets import write_netcdf
-    from .. import layout
-    from ..figdata import figure_data, image_hash
 
     bad = [f for f in formats if f not in FORMATS]
     if bad or "png" not in formats:
@@ -85,19 +90,6 @@ def wellposed(artist, rule: str, **fields):
     """
     artist._vi_wellposed = {"rule": rule, **fields}
     return artist
-
-
-def pi_tex(x, fmt=".4g"):
-    """``x`` in TeX as a fraction of pi when it is one (``\\pi/6``, ``5\\pi``), else formatted with ``fmt``."""
-    import math
-
-    for den in (1, 2, 3, 4, 6, 12):
-        num = x * den / math.pi
-        if abs(num - round(num)) < 1e-9 and round(num):
-            n = int(round(num))
-            top = r"\pi" if n == 1 else f"{n}\\pi"
-            return top if den == 1 else f"{top}/{den}"
-    return format(x, fmt)
 
 
 def pi_label(x, unit=""):
@@ -159,7 +151,6 @@ def motion_color(label: str) -> str:
         ``EXTRA_COLORS``, chosen by the label's CRC-32, so the same on every run and machine.  Two unlisted
         motions can share one: a figure that names motions names only the more frequent of them.
     """
-    import zlib
 
     label = str(label)
     if label in MOTION_COLORS:

@@ -2,9 +2,16 @@
 
 from __future__ import annotations
 
+import ast
+import re
+
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.colors import ListedColormap
+from matplotlib.patches import Patch
+from matplotlib.ticker import NullFormatter
 
+from ...benchmarks.workprecision import OUTCOMES
 from ..layout import AROUND, place_labels
 from ._common import use_style
 
@@ -25,8 +32,6 @@ FAMILY_STYLE = {
 def _peers_note(ds):
     """'peers: heyoka 7.13.2; Siconos not installed' from a benchmark dataset's record (a version, or the reason
     a peer is absent, which the dataset keeps in full)."""
-    import ast
-    import re
 
     peers = ds.attrs.get("peers")
     if not peers:
@@ -100,10 +105,7 @@ def fig_work_precision(wp):
 def fig_failure_map(fm):
     """Outcome of every method (rows) on every hard case (columns), colour-blind-safe colours with a
     glyph per outcome; the thresholds that decide the outcomes are stated under the map."""
-    from matplotlib.colors import ListedColormap
-    from matplotlib.patches import Patch
 
-    from ...benchmarks.workprecision import OUTCOMES
 
     use_style()
     colors = [OUTCOME_STYLE[o][0] for o in OUTCOMES]
@@ -187,7 +189,6 @@ def fig_analytics_accuracy(a):
     ax.set_ylabel("|d − d(analytic branch)|")
     ax.set_title(r"(b) grazing G1 and fold G2 from sweeps, $\beta=\pi/6$, by sweep points")
     ax.legend(fontsize=6)
-    from matplotlib.ticker import NullFormatter
 
     for ax in axes:  # decades only: the minor labels of a short log axis overlap
         ax.xaxis.set_minor_formatter(NullFormatter())

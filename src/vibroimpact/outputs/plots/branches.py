@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+import textwrap
+
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.lines import Line2D
 
 from ..checks import transition_name
+from ..layout import AROUND, place_labels
 from ._common import BOTTOM, TOP, beta_label, branch_line, use_style, wellposed
+from .sweeps import word_ratio
 
 
 def _scene_mask(br, d_lo, d_hi):
@@ -16,7 +21,6 @@ def _scene_mask(br, d_lo, d_hi):
 def _missing(br, d_lo, d_hi) -> str:
     """Why a row of a branch figure has nothing to draw ("" where it has): a failed branch, or none of its
     admissible points in the row's d range (another device maps the row's s range to other d)."""
-    from .sweeps import word_ratio
 
     name = f"{word_ratio(str(br.attrs.get('word', '')))} branch"
     if br.attrs.get("status") == "failed" or not br.sizes.get("point", 0):
@@ -31,7 +35,6 @@ def _missing(br, d_lo, d_hi) -> str:
 
 def _not_drawn(row, labels, br, why):
     """A row of panels with nothing to draw: titled as the others, its axes off, why across the middle one."""
-    import textwrap
 
     for ax in row:
         ax.set_title(f"({next(labels)}) {beta_label(br.attrs['beta'])}")
@@ -89,7 +92,6 @@ CRITICAL_NAMES = {"A": r"A1, A2, ...: node $\leftrightarrow$ focus ($\Delta=0$)"
 
 def _branch_legend(fig, grazing=None):
     """One legend for all panels, below them: every line, marker and name the panels use."""
-    from matplotlib.lines import Line2D
 
     blank = dict(color="none", ls="", marker="")
     handles = [Line2D([], [], color=BOTTOM, label="bottom impacts"), Line2D([], [], color=TOP, label="top impacts"),
@@ -108,7 +110,6 @@ def fig2(branches, sims, d_ranges, grazing=None):
     """2:1 branches: Zdot_k, Delta t_j / 2, phi_k vs d for each incline (rows).  Every name is set where it
     overprints nothing (:func:`vibroimpact.outputs.layout.place_labels`); a critical point on a grazing line
     is named by the line."""
-    from ..layout import AROUND, place_labels
 
     use_style()
     n = len(branches)
@@ -182,9 +183,7 @@ def fig3(branches, d_ranges):
     real eigenvalues blue and green (thin), the real part of a complex pair green (thick).  Stable stretches
     solid, unstable dashed, stretches that cross a wall (not admissible) grey; A (node <-> focus,
     Delta = 0) and B (lambda = -1) marked and named, the legend below the panels."""
-    from matplotlib.lines import Line2D
 
-    from ..layout import AROUND, place_labels
 
     use_style()
     n = len(branches)

@@ -5,7 +5,12 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.lines import Line2D
+from matplotlib.markers import MarkerStyle
 
+from ...analysis.lyapunov import t_quantile
+from ...analysis.motions import no_period
+from ...analysis.settled import LONG_BATCHES
 from ._common import wellposed
 from .energy import (
     grazing_handles,
@@ -75,11 +80,7 @@ def _lyapunov_points(ax, sw, direction, marker):
     motion changes under rounding stays the same point for the check): exact on Newton-solved cycles, the
     long runs' estimates with their 95 % intervals (a collection of bars), coloured by motion; -inf as a
     triangle at :func:`minus_inf_level` (open for d decreasing, filled for d increasing)."""
-    from matplotlib.markers import MarkerStyle
 
-    from ...analysis.lyapunov import t_quantile
-    from ...analysis.motions import no_period
-    from ...analysis.settled import LONG_BATCHES
 
     s = sw.sel(direction=direction)
     idx = np.arange(s.sizes["point"])
@@ -125,7 +126,6 @@ def fig_lyapunov(sweeps, orbit_sets, transitions=None, *, ncols=3):
     (red chaotic, orange quasi-periodic, grey unsettled), -inf (sticking, at rest) as triangles at the foot.
     B, folds and G1 of the continued 1:1 and 2:1 branches (``orbit_sets``) and d_graz of each sweep's located
     ``transitions`` are marked."""
-    from matplotlib.lines import Line2D
 
     use_style()
     n = len(sweeps)

@@ -2,11 +2,18 @@
 
 from __future__ import annotations
 
+import textwrap
+
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.lines import Line2D
+from matplotlib.transforms import blended_transform_factory
 
-from ._common import BOTTOM, TOP, beta_label, branch_line, use_style, wellposed
-from .sweeps import last_events, point_info
+from ...analysis.energy import delivered
+from ...analysis.motions import CHAOTIC, no_period
+from ..tables import stable_interval
+from ._common import BOTTOM, D_GRAZ_COLOR, TOP, beta_label, branch_line, use_style, wellposed
+from .sweeps import last_events, point_info, word_ratio
 
 U_I_COLOR = "tab:red"
 U_T_COLOR = "tab:cyan"
@@ -33,9 +40,6 @@ def _analytic(ax, branches, var, *, averages=False, scale=1.0):
             branch_line(ax, d, y, st, BOTTOM if br.wall.values[j] == 1 else TOP, zorder=4)
 
 
-#: d_graz's colour in every figure that marks it
-D_GRAZ_COLOR = "tab:purple"
-
 
 def grazing_marks(orbit_branches, transitions=None):
     """The grazing points Figs 0 and 5 mark: d_graz, where the 1:1 motion followed with d decreasing
@@ -43,7 +47,6 @@ def grazing_marks(orbit_branches, transitions=None):
     grazing, or a jump where ``d_graz_kind`` says "no grazing"), and G1, the lower end of the 2:1
     orbit's stable interval when a grazing ends it (the 3:1 orbit is born), from the continued
     branches.  ``[(name, d)]``, name ``"d_graz"``, ``"d_graz, no grazing"`` or ``"G1"``."""
-    from ..tables import stable_interval
 
     marks = []
     if transitions is not None and "d_graz" in transitions and np.isfinite(float(transitions.d_graz)):
@@ -70,7 +73,6 @@ def motion_blocks(labels, min_share=0.07):
     reaches ``min_share``, is named by what dominates it: "chaotic" (with ", periodic windows" where
     periodic points interrupt it) where most of its points have no period and most of those are chaotic,
     "aperiodic" where most have no period, else "periodic windows"."""
-    from ...analysis.motions import CHAOTIC, no_period
 
     lab = np.asarray(labels).astype(str)
     nop = no_period(lab)
@@ -111,7 +113,6 @@ def motion_runs(ax, sw, direction="down", min_share=0.07):
     """The motion identified along the sweep, written over the top of the panel where it holds for
     at least ``min_share`` of the points (:func:`motion_blocks`), so every cloud of points can be read
     against it."""
-    from matplotlib.transforms import blended_transform_factory
 
     d = sw.d.values
     tr = blended_transform_factory(ax.transData, ax.transAxes)
@@ -231,7 +232,6 @@ def mark_grazing(ax, marks, step=0.0):
 
 def grazing_handles(names):
     """Legend entries of the marks drawn (:func:`grazing_marks`' names)."""
-    from matplotlib.lines import Line2D
 
     h = []
     if "d_graz" in names:
@@ -246,7 +246,6 @@ def grazing_handles(names):
 
 
 def _energy_legend(fig, velocities, note=None, names=()):
-    from matplotlib.lines import Line2D
 
     h = [Line2D([], [], color=BOTTOM, label="analytic, bottom impacts"),
          Line2D([], [], color=TOP, label="analytic, top impacts"),
@@ -270,7 +269,6 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
     over each panel; d_graz from each sweep's located ``transitions`` and G1 of the continued 2:1 branch
     (``orbit_sets``) are marked.  An analytic branch that failed (another device may not have it) is not drawn,
     and the note under the figure says which, in which panels, and why."""
-    from .sweeps import word_ratio
 
     use_style()
     n = len(panels)
@@ -327,7 +325,6 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
                 "(T = its period in t).").format(h=a["membrane_h"], K=a["membrane_K"], R=a["membrane_R"],
                                                 rb=a["membrane_r_b"], U=a["membrane_U_in"], m=a["membrane_m"])
     if missing:
-        import textwrap
 
         width = 150 if velocities or n > 1 else 90
         note = (note + "\n" if note else "") + "Not drawn:\n" + "\n".join(
@@ -342,9 +339,7 @@ def fig_design(s_sets, F_sets, table):
     the motion is periodic, the long run's where it is not; a gap where a transient outlasts the cap)
     against s at fixed force and against F at fixed s, per incline, U_T solid and U_I dashed (kV), with the
     maxima of the design table marked; one legend below both panels says what each line and mark is."""
-    from matplotlib.lines import Line2D
 
-    from ...analysis.energy import delivered
 
     use_style()
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.4))

@@ -2,11 +2,31 @@
 
 from __future__ import annotations
 
+import json
+import math
+import textwrap
+
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.colors import BoundaryNorm, ListedColormap
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 
 from ...analysis.motions import NO_PERIOD_LABELS, no_period
-from ._common import BOTTOM, TOP, branch_line, motion_color, use_style, wellposed
+from ...dynamics import kernels as K
+from ...dynamics.params import Params
+from ...dynamics.simulate import simulate
+from ._common import (
+    BOTTOM,
+    D_GRAZ_COLOR,
+    TOP,
+    beta_label,
+    branch_line,
+    motion_color,
+    pi_label,
+    use_style,
+    wellposed,
+)
 
 #: the statistic of a motion with no period that each drawn quantity is compared by (the long run's)
 _LONG_STAT = {"v_minus": ("abs_v_mean", "abs_v_se"), "gain": ("U_I_long", "U_I_long_se"),
@@ -117,9 +137,6 @@ def fold_evidence(branch, near: float) -> dict:
 def _portrait_impacts(p, gbar, r):
     """Wall and pre-impact velocity of every impact of one portrait's closed period-2 orbit over its period
     (from its bottom impact at t0, exactly)."""
-    from ...dynamics import kernels as K
-    from ...dynamics.params import Params
-    from ...dynamics.simulate import simulate
 
     run = simulate(Params(d=float(p.d), gbar=gbar, r=r), float(p.phi), float(p.v0), t_end=2.5)
     one = (run.t.values < 2.0 - 1e-6) & K.hits(run.kind.values)
@@ -156,10 +173,7 @@ def fig_bis(sw, transitions, portraits, branches):
     speed there.  What another device lacks (a failed branch, no G1 or G2, a portrait not drawn: the
     portraits' ``status``) is left out and said under the legend and in the portrait's panel.
     """
-    import textwrap
 
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
 
     use_style()
     fig = plt.figure(figsize=(12, 7.4))
@@ -306,8 +320,6 @@ def _shown_classes(legend, n_show=9):
 def _class_image(ax, da, x, y, legend, n_show=9, *, key=True):
     """Draw integer attractor codes (indices into ``legend``) with a discrete colormap, named as
     :func:`_shown_classes` says.  Returns the legend handles (drawn beside the axes with ``key``)."""
-    from matplotlib.colors import BoundaryNorm, ListedColormap
-    from matplotlib.patches import Patch
 
     names, lut = _shown_classes(list(legend), n_show)
     codes = lut[np.asarray(da.values, dtype=int)]
@@ -329,9 +341,7 @@ def fig_basins(b):
     """Basins of attraction (:func:`vibroimpact.analysis.sweeps.basins`): the motion reached from each first
     bottom impact, in the motions' colours of every figure; the title gives the incline and the device
     (length, force, mass, frequency) where the dataset records them, and d, gbar."""
-    import json
 
-    from ._common import beta_label, pi_label
 
     use_style()
     fig, ax = plt.subplots(figsize=(7.4, 4.2))
@@ -368,9 +378,7 @@ def _scan_lines(m, xdim, ydim, scans):
 
 def pi_ticks(ax, lo, hi):
     """Ticks of an angle axis at the fractions of pi inside [lo, hi]."""
-    import math
 
-    from ._common import pi_label
 
     ticks = [f * math.pi for f in (1 / 12, 1 / 6, 1 / 4, 1 / 3, 5 / 12, 1 / 2) if lo <= f * math.pi <= hi]
     ax.set_yticks(ticks, [pi_label(t) for t in ticks])
@@ -380,7 +388,6 @@ def fig_regime_map(maps, scans=None):
     """Regime maps side by side, one colour per motion across all panels, one legend (with what the
     labels mean); the paper's sweeps that lie in a map's plane drawn over it as lines (``scans``: the
     sweep scenes of the config)."""
-    from ._common import pi_label
 
     use_style()
     labels, counts = np.unique(np.concatenate([m.label.values.ravel() for m in maps]), return_counts=True)
@@ -418,7 +425,6 @@ def fig_regime_map(maps, scans=None):
         if outside:
             ax.annotate("outside this map: " + ", ".join(outside), (0.0, -0.16), xycoords="axes fraction", fontsize=6,
                         va="top")
-    from matplotlib.lines import Line2D
 
     if scans:
         handles = [*handles, Line2D([], [], color="k", lw=1.6, label="the paper's sweeps (config names)")]
@@ -453,9 +459,7 @@ def curve_pieces(curves, xname, yname):
 def _d_graz_curve(ax, c, xname, handles):
     """The paper's d_graz over the plane (:func:`vibroimpact.d_graz_curve`): where the 1:1 motion, followed
     with d decreasing along each line, leaves the 1:1 family; filled where it grazes, open where it jumps."""
-    from matplotlib.lines import Line2D
 
-    from .energy import D_GRAZ_COLOR
 
     if not c.sizes.get("line", 0):
         return
@@ -484,7 +488,6 @@ def fig_bifurcation_set(m, curves, boundaries=None, d_graz=None):
     With ``boundaries`` (:func:`vibroimpact.analysis.bifurcation.map_boundaries`), the simulated boundaries on no
     curve are marked by their cause, and the footnote counts them; with ``d_graz``
     (:func:`vibroimpact.d_graz_curve`), the paper's d_graz is drawn as a curve of the plane."""
-    from matplotlib.lines import Line2D
 
     fig = fig_regime_map([m])
     fig.set_size_inches(10.5, 6.2)
@@ -538,7 +541,6 @@ def fig_bifurcation_set(m, curves, boundaries=None, d_graz=None):
             for part in curves.attrs["coincide"].split("; "))
     if failed:
         note += "; not followed (see the dataset's curve_reason): " + ", ".join(failed)
-    import textwrap
 
     # wrapped: a footnote wider than the map would make the layout shrink the map to fit it
     foot = "\n".join(textwrap.fill(line, 140) for line in (counts + note).splitlines())

@@ -108,7 +108,7 @@ def test_a_grazing_orbit_newton_cannot_solve_is_recorded_with_why(monkeypatch):
             raise orbits.OrbitError("Newton did not converge in 50 iterations (residual 1e-3)")
         return solve(z0, walls, d_, *args, **kw)
 
-    monkeypatch.setattr(orbits, "solve_orbit", fails_elsewhere)
+    monkeypatch.setattr(portraits, "solve_orbit", fails_elsewhere)
     ds = portraits.add_located_grazing(ds, p, samples_per_unit=50)
     assert ds.attrs["grazing_status"].startswith("Newton failed at the located grazing d=0.1376")
     assert ds.attrs["grazing_status"].endswith("Newton did not converge in 50 iterations (residual 1e-3)")

@@ -237,3 +237,83 @@ def test_the_package_page_names_every_module_of_each_layer():
         files |= {p.name for p in (ROOT / "src" / "vibroimpact" / layer).iterdir()
                   if p.is_dir() and not p.name.startswith("_")}
         assert files <= named, f"{layer}/ modules the page does not name: {sorted(files - named)}"
+
+
+def test_no_function_outside_the_numba_kernels_exceeds_100_lines():
+    """A function longer than a screenful does several jobs: outside the compiled kernels (one loop each, which
+    numba compiles as a whole) every function, its docstring included, fits in 100 lines."""
+    import ast
+
+    long = []
+    for f in (ROOT / "src" / "vibroimpact").rglob("*.py"):
+        for node in ast.walk(ast.parse(f.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                compiled = any("njit" in ast.unparse(d) for d in node.decorator_list)
+                if node.end_lineno - node.lineno + 1 > 100 and not compiled:
+                    long.append(f"{f.relative_to(ROOT)}:{node.lineno} {node.name} "
+                                f"({node.end_lineno - node.lineno + 1} lines)")
+    assert not long, long
+
+
+def _line_shapes(path):
+    """``(line, shape)`` of each line of code of a module: its tokens with every name (not keyword), number and
+    string replaced by one symbol; a doctest line as written.  Left out: imports and decorators, comments, prose
+    and rows of literals only (a table's data, not code)."""
+    import io
+    import keyword
+    import tokenize
+    from collections import defaultdict
+
+    literal = {"S", "0", ",", ":", "(", ")", "[", "]", "{", "}", "-", "+"}
+    out, toks = {}, defaultdict(list)
+    for tok in tokenize.generate_tokens(io.StringIO(path.read_text()).readline):
+        if tok.type in (tokenize.COMMENT, tokenize.NL, tokenize.NEWLINE, tokenize.INDENT, tokenize.DEDENT,
+                        tokenize.ENDMARKER):
+            continue
+        if tok.type == tokenize.STRING and tok.start[0] != tok.end[0]:  # a docstring: its doctest lines
+            for k, line in enumerate(tok.string.split("\n")):
+                if line.strip().startswith((">>> ", "... ")):
+                    out[tok.start[0] + k] = line.strip()
+            continue
+        if tok.type == tokenize.NAME:
+            toks[tok.start[0]].append(tok.string if keyword.iskeyword(tok.string) else "N")
+        else:
+            toks[tok.start[0]].append({tokenize.NUMBER: "0", tokenize.STRING: "S"}.get(tok.type, tok.string))
+    for line, t in toks.items():
+        if not set(t) <= literal and t[0] not in ("import", "from", "@"):
+            out[line] = " ".join(t)
+    return sorted(out.items())
+
+
+def repeated_shapes(files, n=6):
+    """Pairs of places sharing ``n`` consecutive lines of code of the same shape (:func:`_line_shapes`), leaving
+    out idioms (a run in more than 8 places) and thin runs (fewer than 3 lines of 6 tokens or more)."""
+    from collections import defaultdict
+
+    places = defaultdict(list)
+    for f in files:
+        rows = _line_shapes(f)
+        for i in range(len(rows) - n + 1):
+            places[tuple(s for _, s in rows[i:i + n])].append((f, rows[i][0], rows[i + n - 1][0]))
+    pairs = []
+    for run, where in places.items():
+        if len(where) > 8 or sum(len(s.split()) >= 6 for s in run) < 3:
+            continue
+        pairs += [(a, b) for i, a in enumerate(where) for b in where[i + 1:]
+                  if a[0] != b[0] or a[2] < b[1] or b[2] < a[1]]
+    return pairs
+
+
+def test_no_two_places_in_the_package_share_six_lines_of_the_same_shape(tmp_path):
+    """One home for each piece of logic: no run of six lines of code stands twice in src/ (with other names,
+    numbers or strings); the checker itself finds a copied block with renamed variables."""
+    pairs = repeated_shapes(sorted((ROOT / "src" / "vibroimpact").rglob("*.py")))
+    assert not pairs, [f"{a[0].relative_to(ROOT)}:{a[1]}-{a[2]} ~ {b[0].relative_to(ROOT)}:{b[1]}-{b[2]}"
+                       for a, b in pairs]
+    block = ("def f(a, b):\n    x = a + 2 * b\n    if x > 3:\n        y = g(x, a)\n    else:\n"
+             "        y = h(x, b)\n    return y + x * a\n\n\n")
+    (tmp_path / "one.py").write_text(block)
+    (tmp_path / "two.py").write_text(block.replace("a", "p").replace("b", "q").replace("3", "7"))
+    (tmp_path / "three.py").write_text(block.replace("    else:\n", "    elif x < 0:\n"))
+    assert repeated_shapes([tmp_path / "one.py", tmp_path / "two.py"])  # renamed: the same shape
+    assert not repeated_shapes([tmp_path / "one.py", tmp_path / "three.py"])  # another branch: another shape

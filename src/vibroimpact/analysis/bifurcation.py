@@ -25,7 +25,7 @@ import xarray as xr
 from .._progress import Progress
 from ..datasets import annotate
 from ..dynamics.params import Params
-from .continuation import PARAMETERS, TESTS, bifurcation_functions, null_tangent
+from .continuation import PARAMETERS, TESTS, OutOfRange, bifurcation_functions, follow_curve, null_tangent
 from .grazing import admissibility
 from .motions import NO_PERIOD_LABELS
 from .orbits import Orbit, OrbitError, map_jacobian, orbit_from_vector, parse_word, residual_and_jacobian
@@ -234,43 +234,38 @@ def follow_point(orbit: Orbit, kind: str, *, params, ranges, step: float = 2e-3,
     t0 = null_tangent(J0)
     halves, stops = [], []
     for sign in (+1.0, -1.0):
-        Xs, t, h, X, J = [X0], sign * t0, step, X0, J0
-        stop = f"max_points ({max_points}) reached"
-        while len(Xs) < max_points:
-            try:
-                Xp = X + h * t
-                if not pm.valid(Xp[-2:]):
-                    raise _Edge
-                Xn = _newton(Xp, walls, orbit, pm, kind, row=t, target=t @ Xp, J=J)
-                if not pm.valid(Xn[-2:]):
-                    raise _Edge
-            except _Edge:
-                h *= 0.5
-                if h < 1e-9:
-                    stop = f"reached the edge of the model's range (d > 0, 0 <= beta <= pi/2, ...) at {_where(params, X)}"
-                    break
-                continue
-            except (OrbitError, np.linalg.LinAlgError, ValueError) as err:
-                h *= 0.5
-                if h < 1e-9:
-                    stop = f"corrector failed down to a step of 1e-9 at {_where(params, X)} ({err})"
-                    break
-                continue
-            if np.any(Xn[1:1 + len(walls)] <= 0):
-                stop = f"a flight time reached zero at {_where(params, Xn)}: the word {orbit.word} degenerates"
-                break
-            _, J = _system(Xn, walls, orbit, pm, kind)
-            t = null_tangent(J, t)
-            X = Xn
-            Xs.append(X)
-            h = min(step, 2 * h)
-            if not (np.all(box[:, 0] <= X[-2:]) and np.all(X[-2:] <= box[:, 1])):
-                stop = f"left the box at {_where(params, X)}"
-                break
+        Xs, stop = _half_curve(X0, J0, sign * t0, walls, orbit, pm, kind, params, box, step, max_points)
         halves.append(Xs)
         stops.append(stop)
     Xs = halves[1][::-1] + halves[0][1:]
     return _curve_dataset(Xs, orbit, pm, kind, params, stops, box[:, 1] - box[:, 0])
+
+def _half_curve(X0, J0, t, walls, orbit, pm, kind, params, box, step, max_points):
+    """One direction of :func:`follow_point` from ``X0`` along the tangent ``t`` (:func:`follow_curve`): its points
+    and why it stopped."""
+    J = [J0]  # the last accepted point's Jacobian, the corrector's first
+
+    def correct(X, h, t):
+        Xp = X + h * t
+        if not pm.valid(Xp[-2:]):
+            raise OutOfRange
+        Xn = _newton(Xp, walls, orbit, pm, kind, row=t, target=t @ Xp, J=J[0])
+        if not pm.valid(Xn[-2:]):
+            raise OutOfRange
+        return Xn
+
+    def tangent(X, t):
+        _, J[0] = _system(X, walls, orbit, pm, kind)
+        return null_tangent(J[0], t)
+
+    return follow_curve(
+        X0, t, step=step, max_points=max_points, correct=correct, tangent=tangent,
+        degenerate=lambda X: (f"a flight time reached zero at {_where(params, X)}: the word {orbit.word} degenerates"
+                              if np.any(X[1:1 + len(walls)] <= 0) else ""),
+        outside=lambda X: ("" if np.all(box[:, 0] <= X[-2:]) and np.all(X[-2:] <= box[:, 1])
+                           else f"left the box at {_where(params, X)}"),
+        where=lambda X: _where(params, X),
+        edge=lambda X: f"reached the edge of the model's range (d > 0, 0 <= beta <= pi/2, ...) at {_where(params, X)}")
 
 
 def plane_cusps(lam, scale=(1.0, 1.0)) -> np.ndarray:
@@ -355,10 +350,6 @@ def curve_crossings(curves: xr.Dataset) -> xr.Dataset:
     ds.attrs["coincide"] = "; ".join(f"{name(a)} = {name(b)} from ({p[0]:.6g}, {p[1]:.6g}) to ({q[0]:.6g}, {q[1]:.6g})"
                                      for a, b, p, q in coincide)
     return annotate(ds)
-
-
-class _Edge(Exception):
-    """A step would leave the model's parameter range."""
 
 
 def _where(params, X):
@@ -505,8 +496,18 @@ def curve_set(branches, params, ranges, *, kinds=("B", "fold", "grazing"), step=
                                float(c[f"event_{params[1]}"][e])))
             rows.append(row)
     bar.close()
+    ds = _curves_dataset(pts, events, rows, params)
+    ds.attrs.update(params=" ".join(params), ranges=str(ranges), kinds=" ".join(kinds), step=step)
+    cross = curve_crossings(ds)
+    ds = xr.merge([ds, cross], combine_attrs="override")
+    ds.attrs["coincide"] = cross.attrs["coincide"]
+    return annotate(ds)
+
+
+def _curves_dataset(pts, events, rows, params):
+    """:func:`curve_set`'s curves: their points ``pts``, the events along them and one row per curve."""
     cat = (lambda i: np.concatenate([p[i] for p in pts]) if pts else np.array([]))
-    ds = xr.Dataset(
+    return xr.Dataset(
         {
             "curve_index": ("point", cat(0).astype(int), {"long_name": "the curve a point belongs to"}),
             params[0]: ("point", cat(1).astype(float)),
@@ -529,11 +530,6 @@ def curve_set(branches, params, ranges, *, kinds=("B", "fold", "grazing"), step=
         },
         coords={"point": np.arange(len(cat(0))), "curve": np.arange(len(rows)), "event": np.arange(len(events))},
     )
-    ds.attrs.update(params=" ".join(params), ranges=str(ranges), kinds=" ".join(kinds), step=step)
-    cross = curve_crossings(ds)
-    ds = xr.merge([ds, cross], combine_attrs="override")
-    ds.attrs["coincide"] = cross.attrs["coincide"]
-    return annotate(ds)
 
 
 def curve_values(curves: xr.Dataset, index: int, at, along: str) -> np.ndarray:

@@ -33,7 +33,7 @@ from ..dynamics.simulate import simulate
 from .motions import identify_attractor
 from .orbits import Orbit, OrbitError, find_orbit, orbit_from_vector, parse_word, residual_and_jacobian
 
-__all__ = ["PARAMETERS", "ParameterMap", "branch_from_simulation", "branch_parameters", "continue_orbit", "simulate_along"]
+__all__ = ["follow_curve", "OutOfRange", "PARAMETERS", "ParameterMap", "branch_from_simulation", "branch_parameters", "continue_orbit", "simulate_along"]
 
 TESTS = ("B", "fold", "A", "NS", "grazing")
 
@@ -298,35 +298,7 @@ def continue_orbit(
     bar = Progress(1000, f"continue {orbit.word} in {vary}", progress, unit="‰ of the interval")
     seen = [float(Y0[-1]), float(Y0[-1])]
     for sign in (+1.0, -1.0):
-        Ys = [Y0]
-        t = sign * t0
-        h = step
-        Y = Y0
-        stop = f"max_points ({max_points}) reached"
-        while len(Ys) < max_points:
-            try:
-                Yn = _correct(Y + h * t, t, walls, k, pm)
-                if not pm.valid(Yn[-1]):
-                    raise OrbitError(f"{vary} = {pm.value(Yn[-1]):.10g} is outside the model's range")
-            except (OrbitError, np.linalg.LinAlgError, ValueError) as err:
-                h *= 0.5
-                if h < 1e-9:
-                    stop = f"corrector failed down to a step of 1e-9 at {pm.label} = {Y[-1]:.10g} ({err})"
-                    break
-                continue
-            if np.any(Yn[1:1 + len(walls)] <= 0):  # a flight time reached zero: the word degenerates
-                stop = f"a flight time reached zero near {pm.label} = {Yn[-1]:.10g}: the word {orbit.word} degenerates"
-                break
-            _, J = _augmented(Yn, walls, k, pm)
-            t = null_tangent(J, t)
-            Y = Yn
-            Ys.append(Y)
-            seen = [min(seen[0], max(float(Y[-1]), lo)), max(seen[1], min(float(Y[-1]), hi))]
-            bar.update(max(0, int(1000 * (seen[1] - seen[0]) / (hi - lo)) - bar.n))
-            h = min(step, 2 * h)
-            if not lo <= Y[-1] <= hi:
-                stop = f"left {'d_range' if pm.line else 'value_range'} at {pm.label} = {Y[-1]:.10g}"
-                break
+        Ys, stop, seen = _half_branch(Y0, sign * t0, walls, k, pm, (step, max_points, lo, hi), bar, seen, orbit.word)
         halves.append(Ys)
         stops.append(stop)
     bar.close()
@@ -339,6 +311,86 @@ def continue_orbit(
     inside = (lams >= lo) & (lams <= hi)
     ds = ds.isel(point=np.flatnonzero(inside))
     crit = [c for c in crit if lo <= c[1] <= hi]
+    ds = _with_critical(ds, crit, pm, vary)
+    ds.attrs.update(word=orbit.word, k=k, r=r, vary=vary, step=step, stop_increasing=stops[0],
+                    stop_decreasing=stops[1])
+    if pm.line:
+        ds.attrs.update(gbar_intercept=pm.g_int, gbar_slope=pm.g_slope)
+    return ds
+
+class OutOfRange(Exception):
+    """A step of :func:`follow_curve` would leave the model's parameter range."""
+
+
+def follow_curve(X0, t, *, step, max_points, correct, tangent, degenerate, outside, where, edge):
+    """One direction of a pseudo-arclength continuation (a branch in one parameter, a curve of critical points in
+    two): from ``X0`` along the tangent ``t``, each step predicted along the tangent and corrected
+    (``correct(X, h, t)``, which raises :class:`OutOfRange` or a numerical error, and the step halves), its
+    length doubling back up to ``step`` after each accepted point.  Returns the points and why it stopped: a
+    degenerate point (``degenerate(X)``: a message or ""), a point outside the interval or box
+    (``outside(X)``, after it is kept), a step halved below 1e-9 (``edge(X)`` or the corrector's error, at
+    ``where(X)``) or ``max_points``.  ``tangent(X, t)``: the new tangent at an accepted point."""
+    Xs, h, X = [X0], step, X0
+    stop = f"max_points ({max_points}) reached"
+    while len(Xs) < max_points:
+        try:
+            Xn = correct(X, h, t)
+        except OutOfRange:
+            h *= 0.5
+            if h < 1e-9:
+                stop = edge(X)
+                break
+            continue
+        except (OrbitError, np.linalg.LinAlgError, ValueError) as err:
+            h *= 0.5
+            if h < 1e-9:
+                stop = f"corrector failed down to a step of 1e-9 at {where(X)} ({err})"
+                break
+            continue
+        stop = degenerate(Xn)
+        if stop:
+            break
+        t = tangent(Xn, t)
+        X = Xn
+        Xs.append(X)
+        h = min(step, 2 * h)
+        stop = outside(X)
+        if stop:
+            break
+    else:
+        stop = f"max_points ({max_points}) reached"
+    return Xs, stop
+
+
+def _half_branch(Y0, t, walls, k, pm, limits, bar, seen, word):
+    """One direction of :func:`continue_orbit` from ``Y0`` along the tangent ``t`` (:func:`follow_curve`): its
+    points, why it stopped, and the interval of the parameter ``seen`` so far (for the bar).  ``limits``:
+    ``(step, max_points, lo, hi)``."""
+    step, max_points, lo, hi = limits
+    seen = list(seen)
+
+    def correct(Y, h, t):
+        Yn = _correct(Y + h * t, t, walls, k, pm)
+        if not pm.valid(Yn[-1]):
+            raise OrbitError(f"{pm.vary} = {pm.value(Yn[-1]):.10g} is outside the model's range")
+        return Yn
+
+    def outside(Y):
+        seen[:] = [min(seen[0], max(float(Y[-1]), lo)), max(seen[1], min(float(Y[-1]), hi))]
+        bar.update(max(0, int(1000 * (seen[1] - seen[0]) / (hi - lo)) - bar.n))
+        return "" if lo <= Y[-1] <= hi else f"left {'d_range' if pm.line else 'value_range'} at {pm.label} = {Y[-1]:.10g}"
+
+    Ys, stop = follow_curve(
+        Y0, t, step=step, max_points=max_points, correct=correct,
+        tangent=lambda Y, t: null_tangent(_augmented(Y, walls, k, pm)[1], t),
+        degenerate=lambda Y: (f"a flight time reached zero near {pm.label} = {Y[-1]:.10g}: the word {word} degenerates"
+                              if np.any(Y[1:1 + len(walls)] <= 0) else ""),
+        outside=outside, where=lambda Y: f"{pm.label} = {Y[-1]:.10g}", edge=None)
+    return Ys, stop, seen
+
+
+def _with_critical(ds, crit, pm, vary):
+    """A branch dataset with its critical points ``crit`` (``(kind, lambda, admissible, refined, note)``)."""
     ds = ds.assign_coords(critical=np.arange(len(crit)))
     ds["critical_kind"] = ("critical", np.array([c[0] for c in crit], dtype=object).astype(str))
     ds["critical_d"] = ("critical", np.array([pm.at(c[1])[0] for c in crit], dtype=float))
@@ -351,11 +403,8 @@ def continue_orbit(
                            {"long_name": "why a point could not be refined (empty when it was)"})
     for key in pm.physical(pm.lam0):
         ds[f"critical_{key}"] = ("critical", np.array([pm.physical(c[1])[key] for c in crit], dtype=float))
-    ds.attrs.update(word=orbit.word, k=k, r=r, vary=vary, step=step, stop_increasing=stops[0],
-                    stop_decreasing=stops[1])
-    if pm.line:
-        ds.attrs.update(gbar_intercept=pm.g_int, gbar_slope=pm.g_slope)
     return ds
+
 
 
 def _lam_range(pm: ParameterMap, orbit: Orbit, d_range, value_range):

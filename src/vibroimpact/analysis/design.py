@@ -293,32 +293,41 @@ def design_map(x_name: str, xs, y_name: str, ys, *, phi, v0, device: Device | No
             rep = lambda v, sl=sl: np.repeat(v.ravel()[sl], n_st)
             runs = attractor_batch(rep(d), rep(gbar), rep(r), np.tile(phi, b - a), np.tile(v0, b - a),
                                    max_periods=max_periods, tol=tol, window=window, progress=False)
-            st = runs["status"].values
-            _, _, u_i, u_t, _, _ = window_averages(
-                runs["t"].values, runs["v_minus"].values, runs["kind"].values, st, runs["period_events"].values,
-                rep(F), device, window_time=window_time)
-            labels = np.where(st == K.STUCK_FOREVER, AT_REST, runs["label"].values)
             total += int(runs["n_events"].values.sum())
-            ev = [runs[v].values for v in ("t", "wall", "v_minus", "phase", "kind")]
-            nw = np.isfinite(ev[0]).sum(axis=1)
-            lags = runs["period_events"].values
-            for j in range(b - a):
-                rs = slice(j * n_st, (j + 1) * n_st)
-                atts = _point_attractors(labels[rs], u_t[rs], u_i[rs], confidence)
-                pt = a + j
-                for att in atts:
-                    k = rs.start + int(att["runs"][0])
-                    last = last_bottom_impact(*(e[k] for e in ev), int(nw[k]))
-                    att["impact"] = last if last is not None else (math.nan, math.nan)
-                    for v in ("period", "n_bottom", "n_top"):
-                        att[v] = int(runs[v].values[k])
-                    _settle_attractor(att, [e[k][:int(nw[k])] for e in ev], int(lags[k]), d.flat[pt], gbar.flat[pt],
-                                      r.flat[pt], F.flat[pt], device)
-                points.append((atts, int(runs["n_events"].values[rs].sum())))
+            points += _block_points(runs, range(a, b), n_st, (d, gbar, r, F), rep(F), device, window_time, confidence)
             bar.update(b - a)
     return _assemble(points, shape, x_name, xs, y_name, ys, d, gbar, fixed, n_st, total,
                      dict(max_periods=max_periods, tol=tol, window=window, window_time=window_time,
                           min_share=min_share, confidence=confidence))
+
+def _block_points(runs, pts, n_st, grid, forces, device, window_time, confidence):
+    """The attractors of the points ``pts`` of a design map from their ``n_st`` runs each (one
+    :func:`~vibroimpact.analysis.windows.attractor_batch`, ``forces`` per run): per point, its attractors (each
+    settled, :func:`_settle_attractor`) and its events simulated.  ``grid``: the map's ``(d, gbar, r, F)``."""
+    d, gbar, r, F = grid
+    st = runs["status"].values
+    _, _, u_i, u_t, _, _ = window_averages(
+        runs["t"].values, runs["v_minus"].values, runs["kind"].values, st, runs["period_events"].values,
+        forces, device, window_time=window_time)
+    labels = np.where(st == K.STUCK_FOREVER, AT_REST, runs["label"].values)
+    ev = [runs[v].values for v in ("t", "wall", "v_minus", "phase", "kind")]
+    nw = np.isfinite(ev[0]).sum(axis=1)
+    lags = runs["period_events"].values
+    points = []
+    for j, pt in enumerate(pts):
+        rs = slice(j * n_st, (j + 1) * n_st)
+        atts = _point_attractors(labels[rs], u_t[rs], u_i[rs], confidence)
+        for att in atts:
+            k = rs.start + int(att["runs"][0])
+            last = last_bottom_impact(*(e[k] for e in ev), int(nw[k]))
+            att["impact"] = last if last is not None else (math.nan, math.nan)
+            for v in ("period", "n_bottom", "n_top"):
+                att[v] = int(runs[v].values[k])
+            _settle_attractor(att, [e[k][:int(nw[k])] for e in ev], int(lags[k]), d.flat[pt], gbar.flat[pt],
+                              r.flat[pt], F.flat[pt], device)
+        points.append((atts, int(runs["n_events"].values[rs].sum())))
+    return points
+
 
 
 def _assemble(points, shape, x_name, xs, y_name, ys, d, gbar, fixed, n_st, total, settings):
@@ -644,16 +653,15 @@ def best_designs(ds: xr.Dataset, budget: dict, per: str | None = None) -> list[d
     best robust design whose box lies inside the grid is s = 0.2355 m, on the 2:1 motion alone:
 
     >>> import math, vibroimpact as vi
-    >>> dev = vi.Device()
-    >>> b21 = vi.continue_orbit(vi.find_orbit(dev.params(0.2249, math.pi / 6), "BBT", 5.855, 0.4185),
-    ...                         vary="s", d_range=(0.13, 0.16), step=2e-3)
-    >>> b31 = vi.continue_orbit(vi.find_orbit(dev.params(0.2249, math.pi / 6), "BBBT", 5.88, 0.3967),
-    ...                         vary="s", d_range=(0.13, 0.16), step=2e-3)
-    >>> b21.attrs["status"] = b31.attrs["status"] = "ok"
-    >>> curves = vi.curve_set([b21, b31], ("s", "beta"), ((0.2, 0.25), (0.5, 0.55)),
-    ...                       kinds=("fold", "grazing"), step=1e-2, physics={"beta": math.pi / 6})
+    >>> p0, pi6 = vi.Device().params(0.2249, math.pi / 6), math.pi / 6    # the 2:1 and 3:1 branches, then
+    >>> branches = [vi.continue_orbit(vi.find_orbit(p0, word, *start), vary="s", d_range=(0.13, 0.16), step=2e-3)
+    ...             for word, start in (("BBT", (5.855, 0.4185)), ("BBBT", (5.88, 0.3967)))]
+    >>> for br in branches:                                          # G1 and G2 in (s, beta)
+    ...     br.attrs["status"] = "ok"
+    >>> curves = vi.curve_set(branches, ("s", "beta"), ((0.2, 0.25), (0.5, 0.55)), kinds=("fold", "grazing"),
+    ...                       step=1e-2, physics={"beta": pi6})
     >>> phi, v0 = vi.start_states(8, distribution="box", seed=0)
-    >>> dm = vi.design_map("s", [0.2245, 0.23, 0.2355, 0.241], "beta", [math.pi / 6], phi=phi, v0=v0)
+    >>> dm = vi.design_map("s", [0.2245, 0.23, 0.2355, 0.241], "beta", [pi6], phi=phi, v0=v0)
     >>> best = vi.best_designs(vi.tolerance_analysis(dm, curves, {"s": 0.01}), {"s": 0.24}, per="beta")
     >>> [(b["found"], b["s"], b["motion"], round(b["margin"], 2)) for b in best]
     [(True, 0.2355, '2:1 period-2 (100%)', 3.17)]

@@ -139,31 +139,7 @@ def family_exit(d, gbar, r: float, phi: float, v0: float, *, n: int = 1, impacts
         last, i = tail, i + 1
     if i + 1 == d.size:
         return out | {"status": f"not located: the attractor stays {n}:1 down to the line's smallest d = {d[-1]:.6g}"}
-    x, y, beyond = d[i], d[i + 1], tail
-    h_grid = x - y
-    h = 0.5 * h_grid
-    y_checked = False  # y re-run from an attractor of the family close to it
-    for _ in range(max_trials):  # adaptive continuation of the family's attractor, as in locate_transitions
-        if x - y <= max(1e-3 * h_grid, 4 * xtol) and not y_checked:
-            # a run that left the family far from where its start was an attractor may have jumped out of
-            # a thin basin (near a grazing point): y is judged again from close by
-            ok, tail = run(y, _last_bottom(last) or start)
-            y_checked = True
-            if ok:
-                x, last, y, y_checked = y, tail, max(y - h_grid, d[-1]), False
-                h = 0.5 * (x - y)
-                continue
-            beyond = tail
-        if x - y <= xtol:
-            break
-        trial = x - min(h, 0.5 * (x - y))
-        ok, tail = run(trial, _last_bottom(last) or start)
-        if ok:
-            x, last = trial, tail
-            h = min(2 * h, h_grid)
-        else:
-            y, beyond, y_checked = trial, tail, False
-            h = 0.5 * h
+    x, y, last, beyond = _refine_exit(run, d[i], d[i + 1], last, tail, start, d[-1], xtol, max_trials)
     refined = x - y <= xtol
     clearance = _clearance(last, x, g_at(x), r)
     att = identify_attractor(beyond)
@@ -178,6 +154,37 @@ def family_exit(d, gbar, r: float, phi: float, v0: float, *, n: int = 1, impacts
         # the clearance of a motion with no period is the least over its judged events: a statistic
         "sampled": not identify_attractor(last).periodic,
     }
+
+def _refine_exit(run, x, y, last, beyond, start, d_min, xtol, max_trials):
+    """Narrow ``[y, x]`` (``x`` the smallest d seen in the family, its run ``last``; ``y`` the largest out of it, its
+    run ``beyond``) by the adaptive continuation of the family's attractor, as in
+    :func:`vibroimpact.analysis.transitions.locate_transitions`: ``(x, y, last, beyond)``."""
+    h_grid = x - y
+    h = 0.5 * h_grid
+    y_checked = False  # y re-run from an attractor of the family close to it
+    for _ in range(max_trials):
+        if x - y <= max(1e-3 * h_grid, 4 * xtol) and not y_checked:
+            # a run that left the family far from where its start was an attractor may have jumped out of
+            # a thin basin (near a grazing point): y is judged again from close by
+            ok, tail = run(y, _last_bottom(last) or start)
+            y_checked = True
+            if ok:
+                x, last, y, y_checked = y, tail, max(y - h_grid, d_min), False
+                h = 0.5 * (x - y)
+                continue
+            beyond = tail
+        if x - y <= xtol:
+            break
+        trial = x - min(h, 0.5 * (x - y))
+        ok, tail = run(trial, _last_bottom(last) or start)
+        if ok:
+            x, last = trial, tail
+            h = min(2 * h, h_grid)
+        else:
+            y, beyond, y_checked = trial, tail, False
+            h = 0.5 * h
+    return x, y, last, beyond
+
 
 
 def sweep_d_graz(sw: xr.Dataset, **kw) -> xr.Dataset:

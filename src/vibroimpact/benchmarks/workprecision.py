@@ -26,8 +26,6 @@ from ..dynamics.params import Params
 from ..dynamics.reference import bounce_by_bounce, first_impact, grazing_state, trajectory
 from . import methods as M
 from . import peer_heyoka, peer_siconos
-from .peer_heyoka import compile_seconds, heyoka_flight, run_heyoka
-from .peer_siconos import SiconosPeerError, run_siconos, siconos_flights
 
 #: Scenes from the paper's captions and its chaotic window: (beta, d, phi, v0)
 SCENES = {
@@ -82,13 +80,13 @@ def _run(family, setting, p, phi, v0, n, t_end=math.inf, max_seconds=30.0, max_e
                          max_seconds=max_seconds if max_evals is None else IVP_SAFETY_SECONDS, max_evals=max_evals)
     if family == "heyoka":
 
-        return run_heyoka(p, phi, v0, n, tol=setting, t_end=t_end, max_seconds=max_seconds)
+        return peer_heyoka.run_heyoka(p, phi, v0, n, tol=setting, t_end=t_end, max_seconds=max_seconds)
     if family.startswith("siconos"):
 
         kw = {"tol": setting} if family == "siconos-ed" else {"h": setting}
         method = "event-driven" if family == "siconos-ed" else "moreau-jean"
         # a peer process that dies or outlives its time is recorded by run_siconos ("crashed", "stalled")
-        return run_siconos(p, phi, v0, n, method=method, t_end=t_end, max_seconds=max_seconds, **kw)
+        return peer_siconos.run_siconos(p, phi, v0, n, method=method, t_end=t_end, max_seconds=max_seconds, **kw)
     return M.run_rk4(p, phi, v0, n, h=setting, t_end=t_end)
 
 
@@ -163,7 +161,7 @@ def work_precision(*, n_err=20, n_cost=None, ivp_methods=("RK45", "DOP853", "LSO
 def _compile_seconds(family, setting):
     if family == "heyoka":
 
-        return compile_seconds(setting)
+        return peer_heyoka.compile_seconds(setting)
     return math.nan
 
 
@@ -216,7 +214,7 @@ def _flight(family, setting, theta, z0, u, d, gbar):
         return tau, w
     if family == "heyoka":
 
-        tau, w, _ = heyoka_flight(theta, z0, u, d, gbar, setting)
+        tau, w, _ = peer_heyoka.heyoka_flight(theta, z0, u, d, gbar, setting)
         return tau, w
     tau, w, _, _ = M.rk4_flight(theta, z0, u, d, gbar, setting, 50.0, 10_000_000)
     return tau, w
@@ -229,8 +227,8 @@ def _flights(family, setting, states, d, gbar):
         method = "event-driven" if family == "siconos-ed" else "moreau-jean"
         kw = {"tol": setting} if family == "siconos-ed" else {"h": setting}
         try:
-            res = siconos_flights([(*s, d, gbar) for s in states], method, **kw)
-        except (SiconosPeerError, subprocess.TimeoutExpired):  # the peer process died or hung: no impacts
+            res = peer_siconos.siconos_flights([(*s, d, gbar) for s in states], method, **kw)
+        except (peer_siconos.SiconosPeerError, subprocess.TimeoutExpired):  # the peer process died or hung: no impacts
             return [(math.inf, 0)] * len(states)
         return [(r.tau, r.wall) for r in res]
     return [_flight(family, setting, *s, d, gbar) for s in states]
@@ -267,23 +265,7 @@ def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=
     ladder = [m for m in method_ladder(ivp_methods, ivp_tols, rk4_steps, heyoka_tols, siconos_tols, siconos_steps)
               if m[0] != "python"]
     d, gbar = 0.3, 0.2
-    cases, outcome, detail = [], [], []
-    rng = np.random.default_rng(7)
-    grazing = []
-    for wall in (1, -1):
-        for eps in epsilons:
-            for side in ("miss", "hit"):
-                # an extremum at tau = 0.6 with |Z''| > 0.2: the whole excursion past the wall lies
-                # inside the flight, and the flight starts strictly inside the cylinder
-                while True:
-                    theta_e = rng.uniform(0, 2 * np.pi)
-                    if wall * (math.cos(theta_e) + gbar) >= -0.2:
-                        continue
-                    state = grazing_state(theta_e, 0.6, d, gbar, wall, eps if side == "miss" else -eps)
-                    ref_tau, ref_wall, clearance = first_impact(*state, d, gbar)
-                    if abs(state[1]) < 0.45 * d and (side == "miss" or abs(float(ref_tau) - 0.6) < 0.5):
-                        break
-                grazing.append((f"{'B' if wall == 1 else 'T'} {side} by {eps:.0e}", state, float(ref_tau), ref_wall, side, wall))
+    grazing = _grazing_cases(epsilons, d, gbar)
     cases = [g[0] for g in grazing] + ["chattering into sticking", f"chaotic run ({chaos_impacts} impacts)"]
     outcome = np.empty((len(ladder), len(cases)), dtype=object)
     detail = np.empty((len(ladder), len(cases)), dtype=object)
@@ -311,24 +293,7 @@ def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=
         p = Params(d=0.3, gbar=0.9, r=0.5)
         run = _run(family, setting, p, 0.3, 0.5, 200_000, t_end=chatter_t_end, max_seconds=max_seconds,
                    max_evals=chatter_max_evals)
-        j = len(grazing)
-        fast = np.abs(run.v) > CHATTER_V
-        st, sw = run.t[fast], run.wall[fast]
-        n = min(len(st), len(chat_t))
-        bad = np.flatnonzero((sw[:n] != chat_w[:n]) | (np.abs(st[:n] - chat_t[:n]) > TIME_RTOL * np.maximum(1.0, chat_t[:n])))
-        followed = int(bad[0]) if bad.size else n
-        if run.status.startswith(M.CRASHED):
-            outcome[i, j] = "crashed"
-        elif followed == len(chat_t):
-            outcome[i, j] = "correct"
-        elif followed == n and run.status == M.NO_IMPACT:
-            outcome[i, j] = "missed impact"  # the ball left through the wall: no further impact found
-        elif followed == n and run.status != M.OK:
-            outcome[i, j] = "stalled"
-        else:
-            outcome[i, j] = "wrong sequence"
-        detail[i, j] = (f"follows the reference's {len(chat_t)} impacts faster than {CHATTER_V:.0e} for {followed}, "
-                        f"to t={run.t[-1] if len(run.t) else 0:.6g} in {run.seconds:.3g} s ({run.status})")
+        outcome[i, len(grazing)], detail[i, len(grazing)] = _chatter_outcome(run, chat_t, chat_w)
     # long chaotic run against the reference
     beta, dc, phi, v0 = SCENES["chaotic"]
     pc = _params(beta, dc)
@@ -338,19 +303,7 @@ def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=
     for i, (family, setting, _) in enumerate(ladder):
         bar.update()
         run = _run(family, setting, pc, phi, v0, chaos_impacts, max_seconds=max_seconds, max_evals=chaos_max_evals)
-        n = min(len(run.t), len(rt))
-        bad = np.flatnonzero((run.wall[:n] != rw[:n]) | (np.abs(run.t[:n] - rt[:n]) > CHAOS_ATOL))
-        followed = int(bad[0]) if bad.size else n
-        j = len(grazing) + 1
-        if followed == len(rt):
-            outcome[i, j] = "correct"
-        elif run.status.startswith(M.CRASHED):
-            outcome[i, j] = "crashed"
-        elif followed == n and run.status != M.OK:
-            outcome[i, j] = "stalled"  # right so far, but out of time (max_seconds) before the last impact
-        else:
-            outcome[i, j] = "wrong sequence"
-        detail[i, j] = f"follows the reference for {followed} of {len(rt)} impacts ({run.status}, {run.seconds:.3g} s)"
+        outcome[i, len(grazing) + 1], detail[i, len(grazing) + 1] = _chaos_outcome(run, rt, rw)
     bar.close()
     ds = xr.Dataset(
         {
@@ -363,6 +316,66 @@ def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=
     )
     ds.attrs.update(d=d, gbar=gbar, **failure_thresholds(), peers=str(peer_status()), note="the plain-Python run of the exact algorithm takes the same decisions as the compiled one")
     return ds
+
+
+def _grazing_cases(epsilons, d, gbar):
+    """The failure map's near-grazing flights: ``(name, state, reference time, reference wall, side, wall)``,
+    an extremum passing ``eps`` inside each wall (``"miss"``) or crossing it by ``eps`` (``"hit"``)."""
+    rng = np.random.default_rng(7)
+    grazing = []
+    for wall in (1, -1):
+        for eps in epsilons:
+            for side in ("miss", "hit"):
+                # an extremum at tau = 0.6 with |Z''| > 0.2: the whole excursion past the wall lies
+                # inside the flight, and the flight starts strictly inside the cylinder
+                while True:
+                    theta_e = rng.uniform(0, 2 * np.pi)
+                    if wall * (math.cos(theta_e) + gbar) >= -0.2:
+                        continue
+                    state = grazing_state(theta_e, 0.6, d, gbar, wall, eps if side == "miss" else -eps)
+                    ref_tau, ref_wall, clearance = first_impact(*state, d, gbar)
+                    if abs(state[1]) < 0.45 * d and (side == "miss" or abs(float(ref_tau) - 0.6) < 0.5):
+                        break
+                grazing.append((f"{'B' if wall == 1 else 'T'} {side} by {eps:.0e}", state, float(ref_tau), ref_wall, side, wall))
+    return grazing
+
+
+def _chatter_outcome(run, chat_t, chat_w):
+    """Outcome and detail of a run chattering into sticking: its impacts faster than CHATTER_V (those after each
+    release, which follow from the stick and release times) against the bounce-by-bounce reference's."""
+    fast = np.abs(run.v) > CHATTER_V
+    st, sw = run.t[fast], run.wall[fast]
+    n = min(len(st), len(chat_t))
+    bad = np.flatnonzero((sw[:n] != chat_w[:n]) | (np.abs(st[:n] - chat_t[:n]) > TIME_RTOL * np.maximum(1.0, chat_t[:n])))
+    followed = int(bad[0]) if bad.size else n
+    if run.status.startswith(M.CRASHED):
+        out = "crashed"
+    elif followed == len(chat_t):
+        out = "correct"
+    elif followed == n and run.status == M.NO_IMPACT:
+        out = "missed impact"  # the ball left through the wall: no further impact found
+    elif followed == n and run.status != M.OK:
+        out = "stalled"
+    else:
+        out = "wrong sequence"
+    return out, (f"follows the reference's {len(chat_t)} impacts faster than {CHATTER_V:.0e} for {followed}, "
+                 f"to t={run.t[-1] if len(run.t) else 0:.6g} in {run.seconds:.3g} s ({run.status})")
+
+
+def _chaos_outcome(run, rt, rw):
+    """Outcome and detail of a long chaotic run against the reference's impact times ``rt`` and walls ``rw``."""
+    n = min(len(run.t), len(rt))
+    bad = np.flatnonzero((run.wall[:n] != rw[:n]) | (np.abs(run.t[:n] - rt[:n]) > CHAOS_ATOL))
+    followed = int(bad[0]) if bad.size else n
+    if followed == len(rt):
+        out = "correct"
+    elif run.status.startswith(M.CRASHED):
+        out = "crashed"
+    elif followed == n and run.status != M.OK:
+        out = "stalled"  # right so far, but out of time (max_seconds) before the last impact
+    else:
+        out = "wrong sequence"
+    return out, f"follows the reference for {followed} of {len(rt)} impacts ({run.status}, {run.seconds:.3g} s)"
 
 
 # ---------------------------------------------------------------------------------------------

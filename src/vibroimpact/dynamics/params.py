@@ -155,7 +155,9 @@ class Params:
         Raises
         ------
         ValueError
-            A value out of its range, naming it and the range allowed.
+            A physical value that is not a number or out of its range (``s``, ``M``, ``F``, ``omega`` positive,
+            ``0 <= beta <= pi/2``, ``g >= 0``), or a model parameter it gives out of the model's
+            (:class:`Params`), naming it and the range allowed.
 
         Examples
         --------

@@ -36,6 +36,25 @@ def _finite(name, x):
     return x
 
 
+def _start(params, phi, v0, t0, Z0):
+    """The checked start of a run: ``phi, v0, t0, Z0`` and the kernels' first event ``(kind, z, wall)``, a
+    bottom impact (``Z0`` None) or a flight from ``Z0``."""
+    if not isinstance(params, Params):
+        raise TypeError(f"params must be a vibroimpact.Params, got {type(params).__name__}")
+    phi, v0, t0 = _finite("phi", phi), _finite("v0", v0), _finite("t0", t0)
+    half = 0.5 * params.d
+    if Z0 is None:
+        if v0 < 0:
+            raise ValueError(
+                f"v0 = {v0!r}: the pre-impact velocity of a bottom impact points into the wall; allowed: v0 >= 0"
+            )
+        return phi, v0, t0, Z0, (K.IMPACT, half, 1)
+    Z0 = _finite("Z0", Z0)
+    if abs(Z0) > half:
+        raise ValueError(f"Z0 = {Z0!r} is outside the cylinder; allowed: |Z0| <= d/2 = {half!r}")
+    return phi, v0, t0, Z0, (K.START, Z0, 0)
+
+
 def _limits(n_impacts, t_end, stop_when_periodic, max_events):
     if n_impacts is None and t_end is None and not stop_when_periodic:
         raise ValueError("give n_impacts, t_end or stop_when_periodic=True: the run needs an end")
@@ -112,27 +131,10 @@ def simulate(
     >>> run.sizes["impact"], run.attrs["status"]
     (200, 'n_events')
     """
-    if not isinstance(params, Params):
-        raise TypeError(f"params must be a vibroimpact.Params, got {type(params).__name__}")
-    phi = _finite("phi", phi)
-    v0 = _finite("v0", v0)
-    t0 = _finite("t0", t0)
+    phi, v0, t0, Z0, (kind0, z0, wall0) = _start(params, phi, v0, t0, Z0)
     cap_total, t_end = _limits(n_impacts, t_end, stop_when_periodic, max_events)
     if t_end <= t0:
         raise ValueError(f"t_end = {t_end!r} must be later than t0 = {t0!r}")
-    half = 0.5 * params.d
-    if Z0 is None:
-        if v0 < 0:
-            raise ValueError(
-                f"v0 = {v0!r}: the pre-impact velocity of a bottom impact points into the wall; allowed: v0 >= 0"
-            )
-        kind0, z0, wall0 = K.IMPACT, half, 1
-    else:
-        Z0 = _finite("Z0", Z0)
-        if abs(Z0) > half:
-            raise ValueError(f"Z0 = {Z0!r} is outside the cylinder; allowed: |Z0| <= d/2 = {half!r}")
-        kind0, z0, wall0 = K.START, Z0, 0
-
     theta0 = (PI * t0 + phi) % TWO_PI
     counts = np.zeros(int(max_period_events) + 1, dtype=np.int64)
     cap = min(cap_total, 4096) if n_impacts is None else cap_total

@@ -49,14 +49,13 @@ import numpy as np
 
 from ..analysis.motions import no_period
 
-__all__ = ["Z_CRIT", "RULES", "compare_artist", "strict_close", "artist_base"]
+__all__ = ["Z_CRIT", "RULES", "judge", "motion_flips", "strict_close", "artist_base"]
 
 
 #: two estimates of one statistic differ by more than this many combined standard errors with
 #: probability 1e-6 (Student's t with 19 degrees of freedom: the long runs' 20 batch means); a full
 #: check makes about a thousand such comparisons, so a false alarm once in a thousand checks
 Z_CRIT = 7.07
-RULES = ("strict", "motions", "run", "located", "curve", "on curve", "boundary")
 
 
 def artist_base(name: str) -> str:
@@ -370,10 +369,59 @@ def boundary(new, ref, base, flipped, spacing, *, rtol, atol):
                                 if bad else f"{len(odd)} markers differ, each beside a cell whose motion changed")
 
 
-def compare_artist(rule, new, ref, base, **kw):
-    """Dispatch for rules evaluated per artist (``motions``, ``curve``)."""
-    if rule == "motions":
-        return motions(new, ref, base, **kw)[:3]
-    if rule == "curve":
-        return curve(new, ref, base, **kw)
-    raise ValueError(f"rule {rule!r}; allowed: motions, curve")
+def motion_flips(new, ref, axes, *, rtol, atol):
+    """Cells whose motion differs on the map of ``axes`` (its artist recorded with the ``motions`` rule), and the
+    map's grid steps (None where the axes hold no map)."""
+    for name in ref.data_vars:
+        if (name.startswith(axes + "_points") and ref[name].attrs.get("wellposed") == "motions"
+                and name.endswith("_c") and (artist_base(name) + "_c") in new):
+            base = artist_base(name)
+            flipped = motions(new, ref, base, rtol=rtol, atol=atol)[3]
+            keys = np.column_stack([ref[base + "_x"].values, ref[base + "_y"].values])
+            steps = [np.min(np.diff(np.unique(k))) if np.unique(k).size > 1 else 0.0 for k in keys.T]
+            return flipped, np.array(steps)
+    return np.zeros((0, 2)), None
+
+
+def _on_curve(new, ref, name, *, rtol, atol):
+    axes = name.split("_", 1)[0]
+    curves = sorted({artist_base(v) for v in ref.data_vars
+                     if v.startswith(axes + "_") and ref[v].attrs.get("wellposed") == "curve"})
+    return on_curve(new, ref, artist_base(name), curves, rtol=rtol, atol=atol)
+
+
+def _boundary(new, ref, name, *, rtol, atol):
+    flipped, steps = motion_flips(new, ref, name.split("_", 1)[0], rtol=rtol, atol=atol)
+    return boundary(new, ref, artist_base(name), flipped, steps, rtol=rtol, atol=atol)[:3]
+
+
+#: every rule but ``strict`` (pointwise, :func:`strict_close`), the one place a rule's name meets its
+#: comparison: ``(new, ref, name, *, rtol, atol) -> (ok, max difference, detail)`` for a variable ``name``
+#: of the reference; all but ``located`` judge the variable's whole artist at once
+RULES = {
+    "motions": lambda new, ref, name, **kw: motions(new, ref, artist_base(name), **kw)[:3],
+    "run": run_text,
+    "located": located,
+    "curve": lambda new, ref, name, **kw: curve(new, ref, artist_base(name), **kw),
+    "on curve": _on_curve,
+    "boundary": _boundary,
+}
+
+
+def judge(rule, new, ref, name, *, rtol, atol, cache=None):
+    """``(ok, max difference, detail)`` of the variable ``name`` by its recorded ``rule`` (:data:`RULES`); a
+    variable or artist missing from ``new`` fails, naming it.  ``cache``: a dict the results of one comparison
+    of two figures share (a rule judging a whole artist runs once for its variables)."""
+    key = (rule, name if rule == "located" else artist_base(name))
+    if cache is not None and key in cache:
+        return cache[key]
+    if rule not in RULES:
+        out = (False, math.nan, f"unknown rule {rule!r}; allowed: strict, {', '.join(RULES)}")
+    else:
+        try:
+            out = RULES[rule](new, ref, name, rtol=rtol, atol=atol)
+        except KeyError as err:
+            out = (False, math.nan, f"missing {err}")
+    if cache is not None:
+        cache[key] = out
+    return out

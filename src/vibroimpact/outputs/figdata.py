@@ -10,6 +10,7 @@ regenerated data against a committed reference (the figure regeneration check).
 from __future__ import annotations
 
 import re
+import weakref
 
 import numpy as np
 import pandas as pd
@@ -18,6 +19,17 @@ from matplotlib.collections import QuadMesh
 
 from . import figcheck as fc
 from .checks import IMAGE_ROW
+
+#: what each drawn artist records for the check (:func:`record_wellposed`), kept beside the figure rather than on
+#: matplotlib's objects; an artist's entry goes with the artist
+WELLPOSED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def record_wellposed(artist, rule: str, **fields):
+    """Record what is well-posed about ``artist``'s arrays (``rule``, one of :data:`vibroimpact.outputs.figcheck.RULES`,
+    and its fields): :func:`figure_data` saves it beside them.  Returns the artist."""
+    WELLPOSED[artist] = {"rule": rule, **fields}
+    return artist
 
 
 def _units(label: str) -> str:
@@ -57,7 +69,7 @@ def figure_data(fig, attrs: dict | None = None) -> xr.Dataset:
         def wellposed(artist, base, names):
             """What the artist carries for the check (:func:`vibroimpact.outputs.plots._common.wellposed`): the rule
             on its variables ``names``, per-element fields as ``<base>_wp_<field>``, scalars as attributes."""
-            wp = getattr(artist, "_vi_wellposed", None)
+            wp = WELLPOSED.get(artist)
             if not wp:
                 return
             scalars = {f"wp_{k}": v for k, v in wp.items() if np.ndim(v) == 0 and k != "rule"}
@@ -142,46 +154,6 @@ def compare(new: xr.Dataset, ref: xr.Dataset, *, rtol: float, atol: float, exclu
     def aux(var):
         return var.attrs.get("role") == "wellposed"
 
-    def motion_flips(axes):
-        """Cells whose motion differs on the axes' map, and the map's grid steps."""
-        for name in ref.data_vars:
-            if (name.startswith(axes + "_points") and ref[name].attrs.get("wellposed") == "motions"
-                    and name.endswith("_c") and (fc.artist_base(name) + "_c") in new):
-                base = fc.artist_base(name)
-                ok, _, _, flipped = fc.motions(new, ref, base, rtol=rtol, atol=atol)
-                keys = np.column_stack([ref[base + "_x"].values, ref[base + "_y"].values])
-                steps = [np.min(np.diff(np.unique(k))) if np.unique(k).size > 1 else 0.0 for k in keys.T]
-                return flipped, np.array(steps)
-        return np.zeros((0, 2)), None
-
-    def judge(name, rule):
-        base = fc.artist_base(name)
-        kw = dict(rtol=rtol, atol=atol)
-        key = (rule, name if rule == "located" else base)
-        if key in cache:
-            return cache[key]
-        try:
-            if rule in ("motions", "curve"):
-                out = fc.compare_artist(rule, new, ref, base, **kw)
-            elif rule == "run":
-                out = fc.run_text(new, ref, name, **kw)
-            elif rule == "located":
-                out = fc.located(new, ref, name, **kw)
-            elif rule == "on curve":
-                axes = name.split("_", 1)[0]
-                curves = sorted({fc.artist_base(v) for v in ref.data_vars
-                                 if v.startswith(axes + "_") and ref[v].attrs.get("wellposed") == "curve"})
-                out = fc.on_curve(new, ref, base, curves, **kw)
-            elif rule == "boundary":
-                flipped, steps = motion_flips(name.split("_", 1)[0])
-                out = fc.boundary(new, ref, base, flipped, steps, **kw)[:3]
-            else:
-                out = (False, np.nan, f"unknown rule {rule!r}")
-        except KeyError as err:
-            out = (False, np.nan, f"missing {err}")
-        cache[key] = out
-        return out
-
     for name in ref.data_vars:
         r = ref[name]
         if aux(r):
@@ -196,7 +168,7 @@ def compare(new: xr.Dataset, ref: xr.Dataset, *, rtol: float, atol: float, exclu
             continue
         rule = r.attrs.get("wellposed", "strict") if name in ill else "strict"
         if rule != "strict":
-            ok, diff, detail = judge(name, rule)
+            ok, diff, detail = fc.judge(rule, new, ref, name, rtol=rtol, atol=atol, cache=cache)
             rows.append(row | {"rule": rule, "max_difference": diff, "detail": detail,
                                "status": "pass" if ok else "fail"})
             continue

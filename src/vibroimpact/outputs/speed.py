@@ -45,105 +45,58 @@ def _row(rows: list, name: str, quantity: str, value: str, source: str) -> None:
     rows.append({"row": name, "quantity": quantity, "value": value, "source": source})
 
 
+def _rows_of(rows: list, src: str, specs) -> None:
+    """One row per ``(row name, variable, quantity, value)`` of ``specs`` whose value is not None, its source the
+    variable of the dataset ``src``."""
+    for name, var, quantity, value in specs:
+        if value is not None:
+            _row(rows, name, quantity, value, f"{src}: `{var}`")
+
+
 def _kernel_rows(rows: list, kp: xr.Dataset) -> None:
-    src = "results/bench/kernel.nc"
-    _row(
-        rows,
-        "kernel_us_per_impact",
-        "exact simulator (`simulate`, one thread, dataset included): µs per impact",
-        _per_scene(kp, "us_per_impact", 2, " µs"),
-        f"{src}: `us_per_impact`",
-    )
-    _row(
-        rows,
-        "kernel_points_per_impact",
-        "points of a flight evaluated per impact",
-        _per_scene(kp, "points_per_impact", 2),
-        f"{src}: `points_per_impact`",
-    )
-    _row(
-        rows,
-        "kernel_trig_per_impact",
-        "sine and cosine calls per impact",
-        _per_scene(kp, "trig_per_impact", 2),
-        f"{src}: `trig_per_impact`",
-    )
     hy = kp["heyoka_stepping_us_per_impact"].values
-    if np.isfinite(hy).any():
-        _row(
-            rows,
-            "heyoka_stepping_us_per_impact",
-            "heyoka at tol = eps, stepping alone (no events, no Python loop): µs per impact",
-            _per_scene(kp, "heyoka_stepping_us_per_impact", 2, " µs"),
-            f"{src}: `heyoka_stepping_us_per_impact`",
-        )
-        _row(
-            rows,
-            "heyoka_stepping_ratio",
-            "heyoka's stepping cost / the exact simulator's, same run",
-            _range(hy / kp["us_per_impact"].values, 2, "×"),
-            f"{src}: `heyoka_stepping_us_per_impact` / `us_per_impact`",
-        )
     cores = kp.attrs.get("cores", "all")
-    _row(
-        rows,
-        "impacts_per_second_1",
-        "`simulate_batch` on one core: million impacts per second",
-        _range(kp["impacts_per_second_1"].values / 1e6, 2),
-        f"{src}: `impacts_per_second_1`",
-    )
-    _row(
-        rows,
-        "impacts_per_second_all",
-        f"`simulate_batch` on {cores} cores: million impacts per second",
-        _range(kp["impacts_per_second_all"].values / 1e6, 2),
-        f"{src}: `impacts_per_second_all`",
-    )
+    _rows_of(rows, "results/bench/kernel.nc", [
+        ("kernel_us_per_impact", "us_per_impact",
+         "exact simulator (`simulate`, one thread, dataset included): µs per impact",
+         _per_scene(kp, "us_per_impact", 2, " µs")),
+        ("kernel_points_per_impact", "points_per_impact", "points of a flight evaluated per impact",
+         _per_scene(kp, "points_per_impact", 2)),
+        ("kernel_trig_per_impact", "trig_per_impact", "sine and cosine calls per impact",
+         _per_scene(kp, "trig_per_impact", 2)),
+        ("heyoka_stepping_us_per_impact", "heyoka_stepping_us_per_impact",
+         "heyoka at tol = eps, stepping alone (no events, no Python loop): µs per impact",
+         _per_scene(kp, "heyoka_stepping_us_per_impact", 2, " µs") if np.isfinite(hy).any() else None),
+        ("heyoka_stepping_ratio", "heyoka_stepping_us_per_impact` / `us_per_impact",
+         "heyoka's stepping cost / the exact simulator's, same run",
+         _range(hy / kp["us_per_impact"].values, 2, "×") if np.isfinite(hy).any() else None),
+        ("impacts_per_second_1", "impacts_per_second_1", "`simulate_batch` on one core: million impacts per second",
+         _range(kp["impacts_per_second_1"].values / 1e6, 2)),
+        ("impacts_per_second_all", "impacts_per_second_all",
+         f"`simulate_batch` on {cores} cores: million impacts per second",
+         _range(kp["impacts_per_second_all"].values / 1e6, 2)),
+    ])
 
 
 def _simulator_rows(rows: list, sim: xr.Dataset) -> None:
-    src = "results/bench/simulator.nc"
     v = {k: float(sim[k]) for k in sim.data_vars}
-    _row(
-        rows,
-        "simulator_speedup",
-        "solve_ivp DOP853 (rtol 1e-12) time per impact / the exact simulator's",
-        _g(v["speedup"], 3) + "×",
-        f"{src}: `speedup`",
-    )
-    if "lyapunov_ratio" in v:
-        _row(
-            rows,
-            "lyapunov_ratio",
-            "a run with both Lyapunov exponents / the plain run, time",
-            _g(v["lyapunov_ratio"], 3) + "×",
-            f"{src}: `lyapunov_ratio`",
-        )
-    if "branch_seconds" in v:
-        _row(
-            rows,
-            "branch_seconds",
-            f"continuation of the β = π/3 2:1 branch, {int(v['branch_points'])} points with "
-            "stability, admissibility and critical points: seconds",
-            _g(v["branch_seconds"], 2) + " s",
-            f"{src}: `branch_seconds`",
-        )
-    if "curve_seconds" in v:
-        _row(
-            rows,
-            "curve_seconds",
-            f"two-parameter curve of G1 in (s, β), {int(v['curve_points'])} points: seconds",
-            _g(v["curve_seconds"], 2) + " s",
-            f"{src}: `curve_seconds`",
-        )
-    if "sweep_seconds" in v:
-        _row(
-            rows,
-            "sweep_seconds",
-            f"sweep of d at β = π/3, {int(v['sweep_points'])} points each way, one core: " "seconds",
-            _g(v["sweep_seconds"], 3) + " s",
-            f"{src}: `sweep_seconds`",
-        )
+    has = lambda *names: all(n in v for n in names)  # noqa: E731
+    _rows_of(rows, "results/bench/simulator.nc", [
+        ("simulator_speedup", "speedup", "solve_ivp DOP853 (rtol 1e-12) time per impact / the exact simulator's",
+         _g(v["speedup"], 3) + "×"),
+        ("lyapunov_ratio", "lyapunov_ratio", "a run with both Lyapunov exponents / the plain run, time",
+         _g(v["lyapunov_ratio"], 3) + "×" if has("lyapunov_ratio") else None),
+        ("branch_seconds", "branch_seconds",
+         f"continuation of the β = π/3 2:1 branch, {int(v.get('branch_points', 0))} points with "
+         "stability, admissibility and critical points: seconds",
+         _g(v["branch_seconds"], 2) + " s" if has("branch_seconds") else None),
+        ("curve_seconds", "curve_seconds",
+         f"two-parameter curve of G1 in (s, β), {int(v.get('curve_points', 0))} points: seconds",
+         _g(v["curve_seconds"], 2) + " s" if has("curve_seconds") else None),
+        ("sweep_seconds", "sweep_seconds",
+         f"sweep of d at β = π/3, {int(v.get('sweep_points', 0))} points each way, one core: seconds",
+         _g(v["sweep_seconds"], 3) + " s" if has("sweep_seconds") else None),
+    ])
 
 
 def _cheapest(wp: xr.Dataset, family: str, target: float):

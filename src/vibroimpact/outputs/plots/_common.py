@@ -15,7 +15,7 @@ import numpy as np
 
 from ...datasets import write_netcdf
 from .. import layout
-from ..figdata import figure_data, image_hash
+from ..figdata import figure_data, image_hash, record_wellposed
 from ..paper import pi_tex
 
 #: the one matplotlib style file of all figures
@@ -71,7 +71,7 @@ def save_outputs(fig, output, *, data=None, attrs=None) -> list[Path]:
 
 
 def wellposed(artist, rule: str, **fields):
-    """Record on a drawn ``artist`` what is well-posed about its data, for the figure regeneration check
+    """Record for a drawn ``artist`` what is well-posed about its data, for the figure regeneration check
     (:mod:`vibroimpact.outputs.figcheck`, which applies it where the data's measured conditioning calls for it);
     :func:`vibroimpact.outputs.figdata.figure_data` saves it beside the artist's arrays.  ``rule``:
 
@@ -88,8 +88,7 @@ def wellposed(artist, rule: str, **fields):
     * ``"on curve"``: points located on sampled curves (events, crossings), known to within a segment;
     * ``"boundary"``: points between grid cells whose motions differ.
     """
-    artist._vi_wellposed = {"rule": rule, **fields}
-    return artist
+    return record_wellposed(artist, rule, **fields)
 
 
 def pi_label(x, unit=""):

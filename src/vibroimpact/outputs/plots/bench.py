@@ -164,27 +164,18 @@ def fig_analytics_accuracy(a):
     ax = axes[0]
     ref = {k: a.attrs[f"{k}_reference"] for k in ("B", "fold") if f"{k}_reference" in a.attrs}
     x = a.branch_seconds.values
-    for k, (kind, color) in enumerate((("B", "tab:blue"), ("fold", "tab:orange"))):
-        ax.loglog(x, a.branch_grid_err.values[:, k], "o--", color=color, mfc="none", label=f"{kind}: grid only")
-        ax.loglog(x[:-1], a.branch_located_err.values[:-1, k].clip(1e-17), "o-", color=color,
-                  label=f"{kind}: located" + (f" (reference d = {ref[kind]:.10f})" if kind in ref else ""))
-        if k == 0:
-            names += [(ax, f"h={h:g}", [((xi, y), off) for off in AROUND], dict(fontsize=6))
-                      for xi, h, y in zip(x, a.step.values, a.branch_grid_err.values[:, k], strict=True)]
+    names += _grid_and_located(ax, x, a.branch_grid_err.values, x[:-1], a.branch_located_err.values[:-1].clip(1e-17),
+                               (("B", "tab:blue"), ("fold", "tab:orange")), "o", [f"h={h:g}" for h in a.step.values],
+                               {k: f" (reference d = {v:.10f})" for k, v in ref.items()})
     ax.set_xlabel("continuation time (s)")
     ax.set_ylabel(f"|d − d(located at finest step h={a.step.values[-1]:g})|\n(zero drawn at 1e-17)")
     ax.set_title(r"(a) 2:1 branch, $\beta=\pi/3$: B and fold by arclength step h")
     ax.legend(fontsize=6)
     ax = axes[1]
     x = a.sweep_seconds.values.sum(axis=1)
-    for k, (kind, color) in enumerate((("G1", "k"), ("G2", "tab:red"))):
-        exact = a.attrs.get(kind)
-        ax.loglog(x, a.sweep_grid_err.values[:, k], "s--", color=color, mfc="none", label=f"{kind}: grid only")
-        ax.loglog(x, a.sweep_located_err.values[:, k], "s-", color=color,
-                  label=f"{kind}: located" + (f" (analytic d = {exact:.10f})" if exact is not None else ""))
-        if k == 0:
-            names += [(ax, f"{n} pts", [((xi, y), off) for off in AROUND], dict(fontsize=6))
-                      for xi, n, y in zip(x, a.points.values, a.sweep_grid_err.values[:, k], strict=True)]
+    names += _grid_and_located(ax, x, a.sweep_grid_err.values, x, a.sweep_located_err.values,
+                               (("G1", "k"), ("G2", "tab:red")), "s", [f"{n} pts" for n in a.points.values],
+                               {k: f" (analytic d = {a.attrs[k]:.10f})" for k in ("G1", "G2") if a.attrs.get(k) is not None})
     ax.set_xlabel("sweep + location time (s)")
     ax.set_ylabel("|d − d(analytic branch)|")
     ax.set_title(r"(b) grazing G1 and fold G2 from sweeps, $\beta=\pi/6$, by sweep points")
@@ -194,3 +185,14 @@ def fig_analytics_accuracy(a):
         ax.xaxis.set_minor_formatter(NullFormatter())
     place_labels(fig, names)
     return fig
+
+
+def _grid_and_located(ax, x, grid, x_located, located, kinds, marker, point_names, reference):
+    """One panel of the analytics' accuracy: per kind (its colour), the error of the grid alone (dashed) and of
+    the located point (solid) against the time; the names of the first kind's grid points, to place."""
+    for k, (kind, color) in enumerate(kinds):
+        ax.loglog(x, grid[:, k], f"{marker}--", color=color, mfc="none", label=f"{kind}: grid only")
+        ax.loglog(x_located, located[:, k], f"{marker}-", color=color,
+                  label=f"{kind}: located" + reference.get(kind, ""))
+    return [(ax, name, [((xi, y), off) for off in AROUND], dict(fontsize=6))
+            for xi, name, y in zip(x, point_names, grid[:, 0], strict=True)]

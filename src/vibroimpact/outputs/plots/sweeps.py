@@ -243,37 +243,42 @@ def fig_bis(sw, transitions, portraits, branches):
         key.text(0.5, 0.0, "\n".join(textwrap.fill("not drawn: " + m, 38) for m in missing), transform=key.transAxes,
                  ha="center", va="bottom", fontsize=6, color="tab:red")
     gbar, r = float(portraits.attrs["gbar"]), float(portraits.attrs["r"])
-    heads = {"G1": "grazing point G1", "G2": "G2, fold of 3:1"}
     for k in range(portraits.sizes["panel"]):
-        ax = fig.add_subplot(gs[1, k])
-        p = portraits.isel(panel=k)
-        d = float(p.d)
-        motion = f"{word_ratio(str(p.word.values))} period-2"
-        name = str(p.panel.values)
-        if status[k] != "drawn":
-            ax.axis("off")
-            ax.set_title(f"({'defg'[k]}) {heads.get(name, motion.split()[0] + ' motion')}", fontsize=8)
-            ax.text(0.5, 0.5, textwrap.fill(str(status[k]), 40), transform=ax.transAxes, ha="center", va="center",
-                    fontsize=7, color="tab:red")
-            continue
-        ax.plot(p.Z, p.Zdot, color="k", lw=0.8)
-        ax.axvspan(d / 2, d / 2 * 1.08, color=BOTTOM, alpha=0.25, lw=0)
-        ax.axvspan(-d / 2 * 1.08, -d / 2, color=TOP, alpha=0.25, lw=0)
-        wall, v = _portrait_impacts(p, gbar, r)
-        ax.plot(wall * d / 2, v, BIS_MARKERS.get(motion, "x"), mfc="none", color=motion_color(motion), ms=6, mew=1.2,
-                ls="none", label=f"_impacts of {motion}", zorder=4)
-        ax.set_xlim(-d / 2 * 1.08, d / 2 * 1.08)
-        head = f"({'defg'[k]}) {heads.get(name, motion.split()[0] + ' motion')}, d={d:.6f}"
-        head += "\n" + r"$\dot Z(t_0)$" + f"={float(p.v0):.4f}, " + r"$\varphi$" + f"={float(p.phi):.4f}"
-        if name == "G2" and fold is not None:
-            head += (f"\nfold at d={fold['d']:.6f}: multiplier\n{fold['lam_before']:.3f} to {fold['lam_after']:.3f}"
-                     + (", d turns back;" if fold["d_turns"] else ";") + "\nslowest impact " + r"$|\dot Z|$"
-                     + f"={fold['v_min']:.3f} > 0:\nno grazing")
-        ax.set_title(head, fontsize=8)
-        ax.set_xlabel("Z")
-        ax.set_ylabel(r"$\dot Z$")
-        ax.xaxis.set_major_locator(plt.MaxNLocator(5))
+        _bis_portrait(fig.add_subplot(gs[1, k]), portraits.isel(panel=k), "defg"[k], status[k], gbar, r, fold)
     return fig
+
+
+def _bis_portrait(ax, p, letter, status, gbar, r, fold):
+    """Panel (d)-(g) of Fig BiS: the closed orbit of ``p`` (a portrait) over one period, its impacts marked as in
+    (a)-(c), the walls shaded; at G2 the evidence that it is a fold (``fold``, :func:`fold_evidence`)."""
+    d = float(p.d)
+    ratio = word_ratio(str(p.word.values))
+    motion = f"{ratio} period-2"
+    name = str(p.panel.values)
+    heads = {"G1": "grazing point G1", "G2": "G2, fold of 3:1"}
+    if status != "drawn":
+        ax.axis("off")
+        ax.set_title(f"({letter}) {heads.get(name, ratio + ' motion')}", fontsize=8)
+        ax.text(0.5, 0.5, textwrap.fill(str(status), 40), transform=ax.transAxes, ha="center", va="center",
+                fontsize=7, color="tab:red")
+        return
+    ax.plot(p.Z, p.Zdot, color="k", lw=0.8)
+    ax.axvspan(d / 2, d / 2 * 1.08, color=BOTTOM, alpha=0.25, lw=0)
+    ax.axvspan(-d / 2 * 1.08, -d / 2, color=TOP, alpha=0.25, lw=0)
+    wall, v = _portrait_impacts(p, gbar, r)
+    ax.plot(wall * d / 2, v, BIS_MARKERS.get(motion, "x"), mfc="none", color=motion_color(motion), ms=6, mew=1.2,
+            ls="none", label=f"_impacts of {motion}", zorder=4)
+    ax.set_xlim(-d / 2 * 1.08, d / 2 * 1.08)
+    head = f"({letter}) {heads.get(name, ratio + ' motion')}, d={d:.6f}"
+    head += "\n" + r"$\dot Z(t_0)$" + f"={float(p.v0):.4f}, " + r"$\varphi$" + f"={float(p.phi):.4f}"
+    if name == "G2" and fold is not None:
+        head += (f"\nfold at d={fold['d']:.6f}: multiplier\n{fold['lam_before']:.3f} to {fold['lam_after']:.3f}"
+                 + (", d turns back;" if fold["d_turns"] else ";") + "\nslowest impact " + r"$|\dot Z|$"
+                 + f"={fold['v_min']:.3f} > 0:\nno grazing")
+    ax.set_title(head, fontsize=8)
+    ax.set_xlabel("Z")
+    ax.set_ylabel(r"$\dot Z$")
+    ax.xaxis.set_major_locator(plt.MaxNLocator(5))
 
 
 #: what the motion labels mean, printed with every legend of motions

@@ -170,7 +170,7 @@ def test_the_bouncing_balls_period_doubling_cascade_approaches_feigenbaums_const
     of successive intervals tend to Feigenbaum's 4.6692: each nearer than the one before, the third
     within 0.5 %."""
     from vibroimpact.analysis.motions import identify_attractor
-    from vibroimpact.dynamics.simulate import simulate
+    from vibroimpact.dynamics.runs import simulate
 
     r, feigenbaum = 0.5, 4.669201609
     points = [1 / _gamma_pd(r)]

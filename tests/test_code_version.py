@@ -41,7 +41,7 @@ def test_a_sweep_script_depends_on_the_dynamics_it_imports_and_not_on_the_plots(
     # the module, its package's __init__ files, what it imports at module level and inside functions
     assert {"__init__.py", "_numba_cache.py", "_version.py", "datasets.py", "analysis/__init__.py",
             "analysis/sweeps.py", "analysis/settled.py", "analysis/lyapunov.py", "dynamics/__init__.py",
-            "dynamics/kernels.py", "dynamics/params.py", "dynamics/simulate.py", "dynamics/flight.py"} <= found
+            "dynamics/kernels.py", "dynamics/params.py", "dynamics/runs.py", "dynamics/flight.py"} <= found
     assert not {f for f in found if f.startswith(("outputs/", "benchmarks/"))}, found
     assert "analysis/design.py" not in found
 

@@ -316,7 +316,7 @@ def test_the_longest_device_at_pi_3_mostly_switches_on_into_a_motion_that_never_
     """At beta = pi/3, s = 0.72 m (the sweeps' best design) most starts at rest settle on a motion with
     sticking that never hits the top membrane, beside the 1:1: the design point says so, and the event
     simulator (a second code path) run from the same starts over 2000 forcing periods agrees start by start."""
-    from vibroimpact.dynamics.simulate import simulate
+    from vibroimpact.dynamics.runs import simulate
 
     phi, v0 = start_states(16, seed=16)
     p = design_map("s", [0.72], "beta", [math.pi / 3], phi=phi, v0=v0, device=DEV, F=PH["F"], progress=False).isel(s=0, beta=0)
@@ -349,19 +349,20 @@ def test_a_chaotic_attractor_is_named_so_and_delivers_its_long_run_average():
     gets the long run's averages with standard errors, which agree with an independent long run from
     another start within Z_CRIT combined standard errors (a statistic of a chaotic motion, not a pointwise
     value)."""
-    from vibroimpact.analysis.design import _settle_attractor
+    from vibroimpact.analysis.design import PointAttractor, _settle_attractor
     from vibroimpact.analysis.energy import LONG_BATCHES, batch_averages
     from vibroimpact.analysis.motions import APERIODIC
     from vibroimpact.analysis.settled import LONG_IMPACTS, long_run
     from vibroimpact.outputs.figcheck import Z_CRIT
 
     gbar = PH["M"] * 9.8 * math.sin(math.pi / 3) / PH["F"]
-    att = {"label": APERIODIC, "impact": (0.42, 0.87), "period": 0}
+    att = PointAttractor(label=APERIODIC, runs=np.arange(1), count=1, share=1.0, low=0.0, high=1.0, U_T=math.nan,
+                         U_I=math.nan, u_t_runs=np.zeros(1), u_i_runs=np.zeros(1), impact=(0.42, 0.87), period=0)
     _settle_attractor(att, None, 0, 0.235, gbar, 0.5, PH["F"], DEV)
-    assert att["label"] == "chaotic" and not att["settled"]
-    assert att["U_T_se"] > 0 and att["U_I_se"] > 0
+    assert att.label == "chaotic" and not att.settled
+    assert att.U_T_se > 0 and att.U_I_se > 0
     other = long_run(0.235, gbar, 0.5, 0.0, 0.5, impacts=LONG_IMPACTS)
     u_i, se_i, u_t, se_t = batch_averages(other, PH["F"], DEV, batches=LONG_BATCHES)
-    assert abs(att["U_T"] - u_t) < Z_CRIT * math.hypot(att["U_T_se"], se_t)
-    assert abs(att["U_I"] - u_i) < Z_CRIT * math.hypot(att["U_I_se"], se_i)
-    assert abs(att["U_T"] - u_t) > 1e-9 * u_t  # two different runs: not the same numbers
+    assert abs(att.U_T - u_t) < Z_CRIT * math.hypot(att.U_T_se, se_t)
+    assert abs(att.U_I - u_i) < Z_CRIT * math.hypot(att.U_I_se, se_i)
+    assert abs(att.U_T - u_t) > 1e-9 * u_t  # two different runs: not the same numbers

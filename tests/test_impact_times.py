@@ -249,13 +249,13 @@ def test_a_short_step_propagates_the_state_as_the_closed_form():
     (``state_step``) instead of sines and cosines. From states at random phases, steps from 1e-12 up
     to the largest allowed (``NEAR_STEP``), both directions: displacement, velocity, acceleration and
     jerk against the 40-digit closed form, to TOL_T."""
-    from vibroimpact.dynamics.flight import NEAR_STEP, state3, state_step
+    from vibroimpact.dynamics.flight import NEAR_STEP, kinematics, state_step
 
     rng = np.random.default_rng(7)
     for _ in range(200):
         theta, u, gbar, tau = rng.uniform(0, 2 * np.pi), rng.uniform(-1, 1), rng.uniform(0, 1.2), rng.uniform(0, 2)
         h = rng.choice([-1, 1]) * min(10 ** rng.uniform(-12, 0), 0.999 * NEAR_STEP / np.pi)
-        got = state_step(h, *state3(tau, math.cos(theta), math.sin(theta), u, gbar), gbar)
+        got = state_step(h, *kinematics(tau, math.cos(theta), math.sin(theta), u, gbar), gbar)
         th, x = mp.mpf(theta), mp.pi * (mp.mpf(tau) + mp.mpf(h))
         ref = (u * (x / mp.pi) + gbar * (x / mp.pi) ** 2 / 2 - (mp.cos(th + x) - mp.cos(th) + x * mp.sin(th)) / mp.pi**2,
                u + gbar * x / mp.pi + (mp.sin(th + x) - mp.sin(th)) / mp.pi,

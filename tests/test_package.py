@@ -317,3 +317,17 @@ def test_no_two_places_in_the_package_share_six_lines_of_the_same_shape(tmp_path
     (tmp_path / "three.py").write_text(block.replace("    else:\n", "    elif x < 0:\n"))
     assert repeated_shapes([tmp_path / "one.py", tmp_path / "two.py"])  # renamed: the same shape
     assert not repeated_shapes([tmp_path / "one.py", tmp_path / "three.py"])  # another branch: another shape
+
+
+def test_every_public_name_is_what_it_names_after_every_module_is_imported():
+    """Importing a submodule never replaces a public name (a module named like a function would): after every
+    module of the package is imported, each name of ``__all__`` is still its function, class or value."""
+    code = ("import importlib, inspect, pkgutil, vibroimpact as vi\n"
+            "for m in pkgutil.walk_packages(vi.__path__, 'vibroimpact.'):\n"
+            "    importlib.import_module(m.name)\n"
+            "print([n for n in vi.__all__ if inspect.ismodule(getattr(vi, n))])\n"
+            "print(vi.simulate.__module__, vi.identify_attractor.__module__)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env={**os.environ, "MPLBACKEND": "Agg"})
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.split("\n")[:2] == ["[]", "vibroimpact.dynamics.runs vibroimpact.analysis.motions"], out.stdout

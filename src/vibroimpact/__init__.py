@@ -20,8 +20,6 @@ optimizers, numba's compiled kernels, ...).
 """
 
 import importlib
-import sys
-import types
 
 from . import _numba_cache  # noqa: F401  (first: the numba cache is keyed by the source)
 from ._version import __version__
@@ -31,7 +29,7 @@ _WHERE = {
     # dynamics
     "Params": "dynamics.params", "PhysicalScales": "dynamics.params",
     "Device": "dynamics.device", "Membrane": "dynamics.device",
-    "simulate": "dynamics.simulate", "simulate_batch": "dynamics.simulate", "trajectory": "dynamics.simulate",
+    "simulate": "dynamics.runs", "simulate_batch": "dynamics.runs", "trajectory": "dynamics.runs",
     # analysis: periodic orbits and their branches
     "Orbit": "analysis.orbits", "OrbitError": "analysis.orbits", "find_orbit": "analysis.orbits",
     "orbit_run": "analysis.orbits",
@@ -75,17 +73,3 @@ _LAYERS = ("dynamics", "analysis", "benchmarks", "outputs", "datasets")
 def __dir__():
     """The public names and the layers: no helper the package imports itself."""
     return sorted({*__all__, *_LAYERS})
-
-
-class _Package(types.ModuleType):
-    """The package, with one rule: the submodule :mod:`vibroimpact.dynamics.simulate` does not shadow the
-    function :func:`simulate` (importing a submodule sets it as the package's attribute; the eager
-    ``from .simulate import simulate`` used to rebind the name, which a lazy import never does)."""
-
-    def __setattr__(self, name, value):
-        if isinstance(value, types.ModuleType) and name in _WHERE:
-            return  # the submodule stays in sys.modules; the name resolves to the function on use
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package

@@ -29,7 +29,7 @@ from scipy.optimize import brentq
 from .._progress import Progress
 from ..datasets import VARIABLES, annotate
 from ..dynamics.params import Params, length_factor
-from ..dynamics.simulate import simulate
+from ..dynamics.runs import simulate
 from .motions import identify_attractor
 from .orbits import Orbit, OrbitError, find_orbit, orbit_from_vector, parse_word, residual_and_jacobian
 

@@ -26,6 +26,7 @@ uniform over a box of (phase, pre-impact velocity).  Both are drawn from a seede
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -159,21 +160,21 @@ def _settle_attractor(att, events, lag, d, gbar, r, F, device):
     attractor need not be independent samples: starts at rest all leave the wall at the release phase),
     or keeps its runs' mean with no standard error where the long run settles after all."""
 
-    att["settled"], att["U_T_se"], att["U_I_se"] = False, math.nan, math.nan
-    if att["label"] == AT_REST:
-        att["settled"] = True
+    att.settled, att.U_T_se, att.U_I_se = False, math.nan, math.nan
+    if att.label == AT_REST:
+        att.settled = True
         return
-    if att["label"] == APERIODIC:
-        phi, v0 = att["impact"]
+    if att.label == APERIODIC:
+        phi, v0 = att.impact
         if not (math.isfinite(phi) and math.isfinite(v0)):
             return
         split = split_no_period(d, gbar, r, phi, v0, impacts=LONG_IMPACTS)
-        att["label"] = split["label"]  # chaotic, quasi-periodic or unsettled, by its largest exponent
-        run = split["run"]
+        att.label = split.label  # chaotic, quasi-periodic or unsettled, by its largest exponent
+        run = split.run
         if run["status"] != "aperiodic":
             return
         u_i, se_i, u_t, se_t = batch_averages(run, F, device, batches=LONG_BATCHES)
-        att.update(U_I=float(u_i), U_I_se=float(se_i), U_T=float(u_t), U_T_se=float(se_t))
+        att.U_I, att.U_I_se, att.U_T, att.U_T_se = float(u_i), float(se_i), float(u_t), float(se_t)
         return
     t, wall, vm, phase, kind = events
     n = t.size
@@ -185,11 +186,55 @@ def _settle_attractor(att, events, lag, d, gbar, r, F, device):
         return
     hit = K.hits(res["kind"])
     gain = voltage_gain(device.speed_si(res["v_minus"][hit], F), device.membrane)
-    att["U_T"] = float(gain.sum() / (2.0 * att["period"])) if att["period"] else math.nan
-    att["U_I"] = float(gain.mean()) if gain.size else math.nan
-    att["settled"] = bool(res["settled"])
+    att.U_T = float(gain.sum() / (2.0 * att.period)) if att.period else math.nan
+    att.U_I = float(gain.mean()) if gain.size else math.nan
+    att.settled = bool(res["settled"])
     if res["status"] == "sticking":  # known to the accuracy of its summed chatter
-        att["U_T_se"], att["U_I_se"] = STICK_REL * abs(att["U_T"]), STICK_REL * abs(att["U_I"])
+        att.U_T_se, att.U_I_se = STICK_REL * abs(att.U_T), STICK_REL * abs(att.U_I)
+
+
+# a record of one point's attractor, filled in as it is settled: its fields are Attributes, not Parameters
+@dataclass
+class PointAttractor:  # numpydoc ignore=PR01
+    """One attractor of a design map's point (:func:`design_map`), from the runs that reach it.
+
+    Attributes
+    ----------
+    label : str
+        Its motion (with no period: chaotic, quasi-periodic or unsettled once its long run has said so).
+    runs : numpy.ndarray
+        The point's runs that reach it.
+    count, share, low, high : int, float, float, float
+        How many starts reach it, their share and the share's confidence interval.
+    U_T, U_I, U_T_se, U_I_se : float
+        Its output per unit time and per impact and their standard errors (NaN where exact or unknown).
+    u_t_runs, u_i_runs : numpy.ndarray
+        Each run's window averages.
+    impact : tuple of float
+        Phase and pre-impact speed of a bottom impact on it (a start of its long run).
+    period, n_bottom, n_top : int
+        Its period in forcing periods and impacts per period on each wall.
+    settled : bool
+        Its outputs are exact (a Newton-solved or sticking cycle, or at rest).
+    """
+
+    label: str
+    runs: np.ndarray
+    count: int
+    share: float
+    low: float
+    high: float
+    U_T: float
+    U_I: float
+    u_t_runs: np.ndarray
+    u_i_runs: np.ndarray
+    U_T_se: float = math.nan
+    U_I_se: float = math.nan
+    impact: tuple = (math.nan, math.nan)
+    period: int = 0
+    n_bottom: int = 0
+    n_top: int = 0
+    settled: bool = False
 
 
 def _point_attractors(labels, u_t, u_i, confidence):
@@ -199,10 +244,11 @@ def _point_attractors(labels, u_t, u_i, confidence):
     for idx in _group(labels, u_t):
         k = idx.size
         low, high = share_interval(k, n, confidence)
-        out.append(dict(label=str(labels[idx[0]]), runs=idx, count=k, share=k / n, low=low, high=high,
-                        U_T=float(np.mean(u_t[idx])), U_I=float(np.mean(u_i[idx])) if np.isfinite(u_i[idx]).all()
-                        else math.nan, u_t_runs=u_t[idx], u_i_runs=u_i[idx]))
-    out.sort(key=lambda a: (-a["count"], a["label"], a["U_T"]))
+        out.append(PointAttractor(label=str(labels[idx[0]]), runs=idx, count=k, share=k / n, low=low, high=high,
+                                  U_T=float(np.mean(u_t[idx])),
+                                  U_I=float(np.mean(u_i[idx])) if np.isfinite(u_i[idx]).all() else math.nan,
+                                  u_t_runs=u_t[idx], u_i_runs=u_i[idx]))
+    out.sort(key=lambda a: (-a.count, a.label, a.U_T))
     return out
 
 
@@ -318,11 +364,10 @@ def _block_points(runs, pts, n_st, grid, forces, device, window_time, confidence
         rs = slice(j * n_st, (j + 1) * n_st)
         atts = _point_attractors(labels[rs], u_t[rs], u_i[rs], confidence)
         for att in atts:
-            k = rs.start + int(att["runs"][0])
+            k = rs.start + int(att.runs[0])
             last = last_bottom_impact(*(e[k] for e in ev), int(nw[k]))
-            att["impact"] = last if last is not None else (math.nan, math.nan)
-            for v in ("period", "n_bottom", "n_top"):
-                att[v] = int(runs[v].values[k])
+            att.impact = last if last is not None else (math.nan, math.nan)
+            att.period, att.n_bottom, att.n_top = (int(runs[v].values[k]) for v in ("period", "n_bottom", "n_top"))
             _settle_attractor(att, [e[k][:int(nw[k])] for e in ev], int(lags[k]), d.flat[pt], gbar.flat[pt],
                               r.flat[pt], F.flat[pt], device)
         points.append((atts, int(runs["n_events"].values[rs].sum())))
@@ -343,14 +388,14 @@ def _assemble(points, shape, x_name, xs, y_name, ys, d, gbar, fixed, n_st, total
         iy, ix = np.unravel_index(flat, shape)
         n_events[iy, ix] = nev
         for k, att in enumerate(atts):
-            label[iy, ix, k] = att["label"]
+            label[iy, ix, k] = att.label
             for v, key in (("share", "share"), ("share_low", "low"), ("share_high", "high"), ("U_T", "U_T"),
                            ("U_I", "U_I"), ("U_T_se", "U_T_se"), ("U_I_se", "U_I_se")):
-                arr[v][iy, ix, k] = att.get(key, math.nan)
-            settled[iy, ix, k] = att.get("settled", False)
-            arr["impact_phase"][iy, ix, k], arr["impact_v_minus"][iy, ix, k] = att["impact"]
+                arr[v][iy, ix, k] = getattr(att, key)
+            settled[iy, ix, k] = att.settled
+            arr["impact_phase"][iy, ix, k], arr["impact_v_minus"][iy, ix, k] = att.impact
             for v in ints:
-                ints[v][iy, ix, k] = att[v]
+                ints[v][iy, ix, k] = getattr(att, v)
     dims2, dims3 = (y_name, x_name), (y_name, x_name, "attractor")
     ds = xr.Dataset(
         {"label": (dims3, label.astype(str), {"units": "1", "long_name": "attractor: n:m impacts per period and "

@@ -27,7 +27,7 @@ import xarray as xr
 from ..datasets import VARIABLES, annotate
 from ..dynamics import kernels as K
 from ..dynamics.params import Params
-from ..dynamics.simulate import simulate
+from ..dynamics.runs import simulate
 from .grazing import interior_clearance
 from .grids import plane_params
 from .motions import identify_attractor

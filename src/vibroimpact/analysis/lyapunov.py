@@ -36,7 +36,7 @@ from scipy.special import stdtrit
 from ..dynamics import kernels as K
 from ..dynamics.flight import step_jacobian
 from ..dynamics.params import Params
-from ..dynamics.simulate import simulate
+from ..dynamics.runs import simulate
 
 __all__ = ["Lyapunov", "lyapunov", "tangent_pass", "exponents_of_run", "multiplier_sensitivity", "MIN_PER_BATCH"]
 

@@ -29,7 +29,7 @@ from ..dynamics.flight import (
     step_jacobian,
 )
 from ..dynamics.params import Params
-from ..dynamics.simulate import events_dataset, simulate
+from ..dynamics.runs import events_dataset, simulate
 from .grazing import admissibility
 
 __all__ = ["Orbit", "OrbitError", "find_orbit", "parse_word", "solve_orbit"]
@@ -365,8 +365,8 @@ def orbit_run(orbit: Orbit, periods: int = 1):
     t = np.concatenate([orbit.t + 2.0 * orbit.k * p for p in range(int(periods))] + [[2.0 * orbit.k * int(periods)]])
     walls = orbit.walls[idx]
     vm = orbit.v_minus[idx]
-    bufs = (t, walls.astype(np.int8), vm, -orbit.params.r * vm, orbit.phase[idx],
-            np.full(m, K.IMPACT, np.int8), 0.5 * orbit.params.d * walls)
+    bufs = K.EventBuffers(t=t, wall=walls.astype(np.int8), v_minus=vm, v_plus=-orbit.params.r * vm,
+                          phase=orbit.phase[idx], kind=np.full(m, K.IMPACT, np.int8), z=0.5 * orbit.params.d * walls)
     ds = events_dataset(bufs, m)
     ds.attrs.update(d=orbit.params.d, gbar=orbit.params.gbar, r=orbit.params.r, phi=orbit.phi,
                     v0=float(orbit.v_minus[0]), t0=0.0, start=f"periodic orbit {orbit.word} (k = {orbit.k})",

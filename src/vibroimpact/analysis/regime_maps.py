@@ -27,8 +27,8 @@ def _split_cells(ds, d, gbar, r, tol):
         if start is None:
             continue
         split = split_no_period(d[i], gbar[i], r[i], *start, tol=tol)
-        labels[i] = split["label"]
-        lyap[i] = split["lyap1"], split["lyap1_low"], split["lyap1_high"]
+        labels[i] = split.label
+        lyap[i] = split.lyap1, split.lyap1_low, split.lyap1_high
     return labels.astype(str), lyap
 
 

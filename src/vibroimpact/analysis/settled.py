@@ -20,19 +20,22 @@ batch means of what the figures draw, with their standard errors.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import xarray as xr
 
 from ..dynamics import kernels as K
 from ..dynamics.flight import TWO_PI
 from ..dynamics.params import Params
-from ..dynamics.simulate import simulate
+from ..dynamics.runs import simulate
 from .lyapunov import exponents_of_run, multiplier_sensitivity
 from .motions import no_period_label
 from .orbits import OrbitError, orbit_from_vector, parse_word, solve_orbit, step_jacobians
 from .windows import EVENT_VARS, last_bottom_impact
 
 __all__ = ["polish_cycle", "long_run", "long_statistics", "batch_means", "canonical_start", "split_no_period",
+           "NoPeriodSplit",
            "settle_attractors",
            "SETTLE_MATCH", "STICK_REL", "LONG_IMPACTS", "LONG_BATCHES"]
 
@@ -208,18 +211,44 @@ def long_statistics(events: dict, batches: int = LONG_BATCHES):
     return batch_means(np.abs(events["v_minus"][hit]), batches)
 
 
-def split_no_period(d, gbar, r, phi, v0, *, impacts: int | None = None, tol: float = 1e-9) -> dict:
+# a record a call returns: its fields are Attributes, not Parameters
+@dataclass(frozen=True)
+class NoPeriodSplit:  # numpydoc ignore=PR01
+    """What a motion with no period is, by its continuation (:func:`split_no_period`).
+
+    Attributes
+    ----------
+    label : str
+        Chaotic, quasi-periodic or unsettled (:func:`~vibroimpact.analysis.motions.no_period_label`).
+    status : str
+        Of the continuation (:func:`long_run`).
+    lyap1, lyap1_low, lyap1_high : float
+        Its largest Lyapunov exponent per impact and that exponent's confidence interval.
+    lyap1_time : float
+        The same exponent per unit time.
+    run : dict
+        The continuation itself (:func:`long_run`'s dict).
+    """
+
+    label: str
+    status: str
+    lyap1: float
+    lyap1_low: float
+    lyap1_high: float
+    lyap1_time: float
+    run: dict
+
+
+def split_no_period(d, gbar, r, phi, v0, *, impacts: int | None = None, tol: float = 1e-9) -> NoPeriodSplit:
     """Continue a motion with no period from a bottom impact ``(phi, v0)`` (e.g. the last of its window)
-    and say what it is: ``label`` (:func:`no_period_label`), ``status`` of the continuation, its largest
-    Lyapunov exponent ``lyap1`` per impact with the interval ``lyap1_low``, ``lyap1_high``, and per unit
-    time ``lyap1_time``, and the continuation itself (``run``, :func:`vibroimpact.long_run`'s dict)."""
+    and say what it is (:class:`NoPeriodSplit`)."""
     run = long_run(d, gbar, r, phi, v0, impacts=LONG_IMPACTS if impacts is None else int(impacts), tol=tol)
     lam = run["exponents"]
     nan = float("nan")
     lyap = (lam.per_impact[0], *lam.interval[0], lam.per_time[0]) if lam is not None else (nan,) * 4
     label = no_period_label(run["status"], lyap[1], lyap[2], lam.sticks if lam is not None else 0)
-    return dict(label=label, status=run["status"], lyap1=lyap[0], lyap1_low=lyap[1], lyap1_high=lyap[2],
-                lyap1_time=lyap[3], run=run)
+    return NoPeriodSplit(label=label, status=run["status"], lyap1=lyap[0], lyap1_low=lyap[1], lyap1_high=lyap[2],
+                         lyap1_time=lyap[3], run=run)
 
 
 def settle_attractors(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None,
@@ -310,14 +339,14 @@ def _settle_no_period(acc, idx, dgr, start, long_impacts, tol):
         return
     acc["long_start"][idx] = start
     split = split_no_period(*dgr, *start, impacts=long_impacts, tol=tol)
-    acc["long_status"][idx] = split["status"]
-    acc["labels"][idx] = split["label"]
-    acc["stats"][idx] = long_statistics(split["run"], LONG_BATCHES)
-    acc["lyap"][idx] = (split["lyap1"], split["lyap1_low"], split["lyap1_high"], split["lyap1_time"])
+    acc["long_status"][idx] = split.status
+    acc["labels"][idx] = split.label
+    acc["stats"][idx] = long_statistics(split.run, LONG_BATCHES)
+    acc["lyap"][idx] = (split.lyap1, split.lyap1_low, split.lyap1_high, split.lyap1_time)
     acc["source"][idx] = f"long run of {long_impacts} impacts" + {
         "aperiodic": "", "settles": " (it settles: the estimate over the orbit it settles on)",
-        "stuck": " (it comes to rest for good)"}.get(split["status"], f" ({split['status']})")
-    if split["status"] == "stuck":  # at rest on the bottom for good: exact
+        "stuck": " (it comes to rest for good)"}.get(split.status, f" ({split.status})")
+    if split.status == "stuck":  # at rest on the bottom for good: exact
         acc["lyap"][idx] = -np.inf
 
 

@@ -99,7 +99,7 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
             last_end = y
             if after.kind == APERIODIC and after_start is not None:  # what the motion beyond is: its long run says
                 after = motion_without_period(split_no_period(y, g0[i] + slope * (y - dvals[i]), r, *after_start,
-                                                              tol=tol)["label"])
+                                                              tol=tol).label)
             status = "refined" if refined else f"not refined: {max_trials} runs (max_trials) left a bracket of {abs(y - x):.1e}"
             rows.append((name, 0.5 * (x + y), abs(y - x), before.label, after.label, transition_kind(before, after),
                          status))

@@ -32,7 +32,7 @@ from ..dynamics.device import PAPER
 from ..dynamics.events import next_impact
 from ..dynamics.params import Params
 from ..dynamics.reference import first_impact
-from ..dynamics.simulate import simulate, simulate_batch
+from ..dynamics.runs import simulate, simulate_batch
 from . import peer_heyoka
 from .methods import ivp_flight, run_ivp
 
@@ -205,7 +205,7 @@ def _count_worker(args: str) -> None:
 
         setattr(events, name, g)
 
-    for name, key in (("state3", "points"), ("state_step", "points"), ("state_from_sc", "points"), ("rtsafe", "roots")):
+    for name, key in (("kinematics", "points"), ("state_step", "points"), ("state_from_sc", "points"), ("rtsafe", "roots")):
         counted(name, key)
     fm = types.SimpleNamespace(**{k: getattr(math, k) for k in dir(math) if not k.startswith("_")})
 

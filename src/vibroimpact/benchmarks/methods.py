@@ -28,7 +28,7 @@ from scipy.integrate import solve_ivp
 
 from ..dynamics import kernels as K
 from ..dynamics.params import Params
-from ..dynamics.simulate import simulate
+from ..dynamics.runs import simulate
 
 OK, STALLED, NO_IMPACT, CRASHED = "ok", "stalled", "no impact", "crashed"
 

@@ -1,2 +1,2 @@
 """The dynamics: parameters, the closed-form flight, impact location, the jitted event loop and
-:func:`~vibroimpact.dynamics.simulate.simulate`.  Imports nothing of the layers above it."""
+:func:`~vibroimpact.dynamics.runs.simulate`.  Imports nothing of the layers above it."""

@@ -23,7 +23,7 @@ tangents meet past the wall, the gap there is evaluated; past the wall by more t
 it brackets the hit without the extremum.
 
 Cost: every point is evaluated once for its displacement, velocity, acceleration and jerk from one
-sine and cosine of half the angle travelled (:func:`~vibroimpact.dynamics.flight.state3`); within a root
+sine and cosine of half the angle travelled (:func:`~vibroimpact.dynamics.flight.kinematics`); within a root
 search each new point within a short step of the last takes them from it by Taylor polynomials
 (:func:`~vibroimpact.dynamics.flight.state_step`, no trigonometric call); at a zero of the acceleration they
 follow from ``cos = -gbar`` by angle subtraction.  The event loop carries the phase's cosine and
@@ -42,7 +42,7 @@ from .flight import (
     PI,
     TWO_PI,
     gap_dd,
-    state3,
+    kinematics,
     state_from_sc,
     state_step,
     velocity,
@@ -135,7 +135,7 @@ def rtsafe(which, lo, hi, flo, fhi, dflo, dfhi, c, s, z0w, u, gbar):
     width of a few ulps), so no further evaluation is needed."""
     if flo == 0.0 or fhi == 0.0:
         x = lo if flo == 0.0 else hi
-        disp, vel, _, _ = state3(x, c, s, u, gbar)
+        disp, vel, _, _ = kinematics(x, c, s, u, gbar)
         return x, disp, vel
     # orient so that f(xl) < 0 < f(xh)
     if flo < 0.0:
@@ -148,7 +148,7 @@ def rtsafe(which, lo, hi, flo, fhi, dflo, dfhi, c, s, z0w, u, gbar):
         x = 0.5 * (lo + hi)
     dxold = abs(hi - lo)
     dx = dxold
-    disp, vel, acc, jerk = state3(x, c, s, u, gbar)
+    disp, vel, acc, jerk = kinematics(x, c, s, u, gbar)
     xe = x
     for _ in range(200):
         if which == 0:
@@ -189,7 +189,7 @@ def rtsafe(which, lo, hi, flo, fhi, dflo, dfhi, c, s, z0w, u, gbar):
         if abs(PI * h) < NEAR_STEP:
             disp, vel, acc, jerk = state_step(h, disp, vel, acc, jerk, gbar)
         else:
-            disp, vel, acc, jerk = state3(x, c, s, u, gbar)
+            disp, vel, acc, jerk = kinematics(x, c, s, u, gbar)
         xe = x
     return x, disp, vel
 
@@ -213,7 +213,7 @@ def _polish(tau, lo, hi, theta, c, s, z0w, u, gbar):
     ``g + v h + a h^2 / 2 = 0`` for the root nearest to ``tau``, which converges fast even where the
     impact is slow (a Newton step ``g / v`` only halves the error there once ``|h| > |v / a|``)."""
     for _ in range(6):
-        _, v, a, _ = state3(tau, c, s, u, gbar)
+        _, v, a, _ = kinematics(tau, c, s, u, gbar)
         g = gap_dd(tau, theta, z0w, u, gbar)
         disc = v * v - 2.0 * a * g
         if disc > 0.0 and v != 0.0:
@@ -234,8 +234,8 @@ def _polish(tau, lo, hi, theta, c, s, z0w, u, gbar):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _slow(t, v, lo, hi, theta, c, s, z0w, u, gbar, sg):
-    """``(t, wall, Zdot-)`` of a hit on the wall on side ``sg`` (+1 bottom) at ``t`` with velocity
+def _finish_hit(t, v, lo, hi, theta, c, s, z0w, u, gbar, sg):
+    """Finish a hit: ``(t, wall, Zdot-)`` of the hit on the wall on side ``sg`` (+1 bottom) at ``t`` with velocity
     ``v``, polished in double-double when the impact is slow (:func:`_polish`)."""
     if abs(v) < POLISH_SPEED:
         t = _polish(t, lo, hi, theta, c, s, z0w, u, gbar)
@@ -282,7 +282,7 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
     by the caller; returns ``(tau, wall, Zdot-)`` (``(inf, 0, nan)`` if no impact).
 
     Every point is evaluated once, for its displacement, velocity and acceleration together
-    (:func:`~vibroimpact.dynamics.flight.state3`)."""
+    (:func:`~vibroimpact.dynamics.flight.kinematics`)."""
     half = 0.5 * d
     has_zeros = gbar < 1.0
     sa = math.sqrt(1.0 - gbar * gbar) if has_zeros else 0.0  # sin(alpha)
@@ -317,7 +317,7 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
             cx = -gbar * c + sp * s
             db, vb, ab, jb = state_from_sc(tb, sp * c + gbar * s, 1.0 - cx, c, s, u, gbar)
         else:
-            db, vb, ab, jb = state3(tb, c, s, u, gbar)
+            db, vb, ab, jb = kinematics(tb, c, s, u, gbar)
         # split at the root of Zdot (Zdot is monotone on [ta, tb])
         n_sub = 1
         te = tb
@@ -338,21 +338,21 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
                 if -sg1 * db >= 0.0:
                     g1 = db / tb
                     t, _, v = rtsafe(2, 0.0, tb, u, g1, 0.5 * (c + gbar), (vb - g1) / tb, c, s, 0.0, u, gbar)
-                    return _slow(t, v, ta, tb, theta, c, s, z0w2, u, gbar, -sg1)
+                    return _finish_hit(t, v, ta, tb, theta, c, s, z0w2, u, gbar, -sg1)
             elif skip and sg1 * (z0w2 + da) > 0.0:
                 # a convex or concave gap of opposite signs at the ends has one root between them
                 if -sg1 * (z0w2 + db) >= 0.0:
                     t, _, v = rtsafe(1, ta, tb, z0w2 + da, z0w2 + db, va, vb, c, s, z0w2, u, gbar)
-                    return _slow(t, v, ta, tb, theta, c, s, z0w2, u, gbar, -sg1)
+                    return _finish_hit(t, v, ta, tb, theta, c, s, z0w2, u, gbar, -sg1)
             else:
                 skip = False
                 if ta <= ts and ts <= tb and sg1 * (z0w1 + da) < 0.0:
                     # the bound is inconclusive: look where the tangents meet; past the wall there,
                     # the gap (convex or concave, of opposite signs at ta and ts) has one root between
-                    ds_, vs_, _, _ = state3(ts, c, s, u, gbar)
+                    ds_, vs_, _, _ = kinematics(ts, c, s, u, gbar)
                     if sg1 * (z0w1 + ds_) > DD_MARGIN:
                         t, _, v = rtsafe(1, ta, ts, z0w1 + da, z0w1 + ds_, va, vs_, c, s, z0w1, u, gbar)
-                        return _slow(t, v, ta, ts, theta, c, s, z0w1, u, gbar, sg1)
+                        return _finish_hit(t, v, ta, ts, theta, c, s, z0w1, u, gbar, sg1)
             if skip:
                 n_sub = 0  # no piece can reach a wall: on to the next one
             else:
@@ -384,7 +384,7 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
                     if sgn * gp > 0.0:
                         gp = 0.0
                     t, _, v = rtsafe(1, p, q, gp, gq, vp, vq, c, s, z0w, u, gbar)
-                    return _slow(t, v, p, q, theta, c, s, z0w, u, gbar, sgn)
+                    return _finish_hit(t, v, p, q, theta, c, s, z0w, u, gbar, sgn)
             p = q
             vp = vq
             dp = dq

@@ -130,7 +130,7 @@ def state_from_half(tau, sh, ch, c, s, u, gbar):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def state3(tau, c, s, u, gbar):
+def kinematics(tau, c, s, u, gbar):
     """Displacement, velocity, acceleration and jerk at ``tau`` (:func:`state_from_half`) for one
     sine and one cosine, where separate formulas would take four to six trigonometric calls."""
     half = 0.5 * PI * tau

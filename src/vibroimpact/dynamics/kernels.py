@@ -1,6 +1,6 @@
 """The event loop: impacts, chattering, sticking and release, with in-loop period detection.
 
-All functions are numba-compiled and work on flat arrays; :mod:`vibroimpact.dynamics.simulate` wraps them.
+All functions are numba-compiled and work on flat arrays; :mod:`vibroimpact.dynamics.runs` wraps them.
 
 Chattering rule (documented in README): after an impact at wall ``w`` the relative acceleration
 into the wall is ``a = w Z''``.  If ``a > 0`` and the rebound speed ``|Zdot+| = r |Zdot-|`` is below
@@ -20,6 +20,7 @@ stuck on the bottom is never released, and the run ends with status ``STUCK_FORE
 """
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit, prange
@@ -157,20 +158,27 @@ def _accumulation_time(c, s, u, w, gbar, r, v_chatter):
     return tau
 
 
-@njit(cache=True, error_model="numpy")
-def run(d, gbar, r, t_start, theta_start, z_start, v_start, kind_start, wall_start,
-        i0, t_end, v_chatter, detect, tol, counts,
-        out_t, out_wall, out_vm, out_vp, out_phase, out_kind, out_z):
-    """Advance from an initial event and record events into ``out_*[i0:]``.
+#: the events a run records, one array each, indexed by event (the kernels' output buffers)
+EventBuffers = namedtuple("EventBuffers", ("t", "wall", "v_minus", "v_plus", "phase", "kind", "z"))
+#: where a run starts: time, forcing phase, position, velocity, kind and wall of its first event
+Start = namedtuple("Start", ("t", "theta", "z", "v", "kind", "wall"))
 
-    ``kind_start``: IMPACT (a wall impact with pre-impact velocity ``v_start``, recorded),
-    START (in flight at ``z_start`` with velocity ``v_start``, recorded), or one of RESUME,
+
+@njit(cache=True, error_model="numpy")
+def advance(d, gbar, r, start, i0, t_end, v_chatter, detect, tol, counts, out):
+    """Advance from an initial event ``start`` (:data:`Start`) and record events into ``out[i0:]``
+    (:data:`EventBuffers`).
+
+    ``start.kind``: IMPACT (a wall impact with pre-impact velocity ``start.v``, recorded),
+    START (in flight at ``start.z`` with velocity ``start.v``, recorded), or one of RESUME,
     RESUME_IMPACT, STICK to resume from the post-event state of an event already recorded at
-    ``i0 - 1`` (``v_start`` is then Zdot+ and ``wall_start`` its wall).
+    ``i0 - 1`` (``start.v`` is then Zdot+ and ``start.wall`` its wall).
 
     Returns ``(n, status, lag)``: events recorded up to index ``n``, the run status and, when
     ``detect``, the detected period in events (0 if none).
     """
+    t_start, theta_start, z_start, v_start, kind_start, wall_start = start
+    out_t, out_wall, out_vm, out_vp, out_phase, out_kind, out_z = out
     cap = out_t.shape[0]
     half = 0.5 * d
     has_release = gbar < 1.0
@@ -291,9 +299,10 @@ def run_batch(d, gbar, r, theta0, v0, n_events, t_end, v_chatter, detect, tol, p
     m = d.shape[0]
     for k in prange(m):
         counts = np.zeros(pmax + 1, dtype=np.int64)
-        n, status, lag = run(d[k], gbar[k], r[k], 0.0, theta0[k], 0.5 * d[k], v0[k], IMPACT, 1,
-                             0, t_end, v_chatter, detect, tol, counts,
-                             out_t[k], out_wall[k], out_vm[k], out_vp[k], out_phase[k], out_kind[k], out_z[k])
+        n, status, lag = advance(d[k], gbar[k], r[k], Start(0.0, theta0[k], 0.5 * d[k], v0[k], IMPACT, 1),
+                                 0, t_end, v_chatter, detect, tol, counts,
+                                 EventBuffers(out_t[k], out_wall[k], out_vm[k], out_vp[k], out_phase[k], out_kind[k],
+                                              out_z[k]))
         out_n[k] = n
         out_status[k] = status
         out_lag[k] = lag
@@ -340,11 +349,11 @@ def run_window(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, 
     bz = np.zeros(cap)
     counts = np.zeros(pmax + 1, dtype=np.int64)
     keep = 3 * pmax + 1
-    # a run-time flag, not the literal True: `run` is then the very specialisation `simulate` calls,
+    # a run-time flag, not the literal True: `advance` is then the very specialisation `simulate` calls,
     # compiled once, so the two give the same events to the last bit
     detect = tol == tol
-    n, status, lag = run(d, gbar, r, 0.0, theta0, 0.5 * d, v0, IMPACT, 1, 0, t_end, v_chatter, detect, tol,
-                         counts, bt, bw, bvm, bvp, bph, bk, bz)
+    n, status, lag = advance(d, gbar, r, Start(0.0, theta0, 0.5 * d, v0, IMPACT, 1), 0, t_end, v_chatter, detect,
+                             tol, counts, EventBuffers(bt, bw, bvm, bvp, bph, bk, bz))
     total = n
     while status == FULL and total < max_events:
         # slide: keep the last `keep` events (enough for the period test), continue after them
@@ -359,9 +368,10 @@ def run_window(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, 
             bz[j] = bz[j + shift]
         last = keep - 1
         room = min(cap, keep + max_events - total)
-        n, status, lag = run(d, gbar, r, bt[last], bph[last], bz[last], bvp[last], resume_code(bk[last]),
-                             bw[last], keep, t_end, v_chatter, detect, tol, counts,
-                             bt[:room], bw[:room], bvm[:room], bvp[:room], bph[:room], bk[:room], bz[:room])
+        n, status, lag = advance(d, gbar, r, Start(bt[last], bph[last], bz[last], bvp[last], resume_code(bk[last]),
+                                                   bw[last]), keep, t_end, v_chatter, detect, tol, counts,
+                                 EventBuffers(bt[:room], bw[:room], bvm[:room], bvp[:room], bph[:room], bk[:room],
+                                              bz[:room]))
         total += n - keep
     m = min(win_t.shape[0], n)
     for j in range(m):

@@ -12,7 +12,7 @@ from ..analysis.motions import identify_attractor
 from ..analysis.orbits import OrbitError, find_orbit, orbit_from_vector, orbit_run, parse_word, solve_orbit
 from ..datasets import annotate
 from ..dynamics.params import Params
-from ..dynamics.simulate import simulate, trajectory
+from ..dynamics.runs import simulate, trajectory
 from .paper import caption_figure, printed_unit
 
 __all__ = ["add_located_grazing", "bistability_dataset", "caption_summary", "orbit_dataset", "summary_markdown"]

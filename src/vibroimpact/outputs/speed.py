@@ -80,7 +80,7 @@ def _kernel_rows(rows: list, kp: xr.Dataset) -> None:
 
 def _simulator_rows(rows: list, sim: xr.Dataset) -> None:
     v = {k: float(sim[k]) for k in sim.data_vars}
-    has = lambda *names: all(n in v for n in names)  # noqa: E731
+    has = lambda *names: all(n in v for n in names)
     _rows_of(rows, "results/bench/simulator.nc", [
         ("simulator_speedup", "speedup", "solve_ivp DOP853 (rtol 1e-12) time per impact / the exact simulator's",
          _g(v["speedup"], 3) + "×"),

@@ -15,7 +15,7 @@ from matplotlib.patches import Patch
 from ...analysis.motions import NO_PERIOD_LABELS, no_period
 from ...dynamics import kernels as K
 from ...dynamics.params import Params
-from ...dynamics.simulate import simulate
+from ...dynamics.runs import simulate
 from ._common import (
     BOTTOM,
     D_GRAZ_COLOR,

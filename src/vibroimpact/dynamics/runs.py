@@ -139,18 +139,18 @@ def simulate(
     counts = np.zeros(int(max_period_events) + 1, dtype=np.int64)
     cap = min(cap_total, 4096) if n_impacts is None else cap_total
     bufs = _alloc(cap)
-    n, status, lag = K.run(params.d, params.gbar, params.r, t0, theta0, z0, v0, kind0, wall0,
-                           0, t_end, v_chatter, stop_when_periodic, tol, counts, *bufs)
+    n, status, lag = K.advance(params.d, params.gbar, params.r, K.Start(t0, theta0, z0, v0, kind0, wall0),
+                               0, t_end, v_chatter, stop_when_periodic, tol, counts, bufs)
     while status == K.FULL and n < cap_total:
         # grow the buffers and resume from the last recorded event
         new_cap = min(2 * cap, cap_total)
-        bufs = tuple(np.concatenate([b, np.zeros(new_cap - cap, b.dtype)]) for b in bufs)
+        bufs = K.EventBuffers(*(np.concatenate([b, np.zeros(new_cap - cap, b.dtype)]) for b in bufs))
         cap = new_cap
         j = n - 1
-        resume = K.resume_code(int(bufs[5][j]))
-        n, status, lag = K.run(params.d, params.gbar, params.r, bufs[0][j], bufs[4][j], bufs[6][j],
-                               bufs[3][j], resume, bufs[1][j],
-                               n, t_end, v_chatter, stop_when_periodic, tol, counts, *bufs)
+        start = K.Start(bufs.t[j], bufs.phase[j], bufs.z[j], bufs.v_plus[j], K.resume_code(int(bufs.kind[j])),
+                        bufs.wall[j])
+        n, status, lag = K.advance(params.d, params.gbar, params.r, start, n, t_end, v_chatter, stop_when_periodic,
+                                   tol, counts, bufs)
     if status == K.STUCK_FOREVER:
         warnings.warn(
             f"gbar = {params.gbar:.6g} >= 1: the ball rests on the bottom wall and the forcing can never "
@@ -161,7 +161,7 @@ def simulate(
     ds.attrs.update(_param_attrs(params))
     ds.attrs.update(phi=phi, v0=v0, t0=t0, start="bottom impact" if Z0 is None else f"flight at Z0={Z0!r}",
                     status=K.STATUS_NAMES[status], period_events=int(lag), tol=tol, v_chatter=v_chatter,
-                    t_valid=float(t_end) if status == K.T_END else float(bufs[0][n - 1]))
+                    t_valid=float(t_end) if status == K.T_END else float(bufs.t[n - 1]))
     if status == K.STUCK_FOREVER:
         ds.attrs["note"] = "gbar >= 1: the ball never leaves the bottom wall after it sticks"
     return ds
@@ -177,7 +177,7 @@ def _alloc(n, runs=None):
     lead = () if runs is None else (runs,)
     f = np.empty((6, *lead, n))
     i = np.empty((2, *lead, n), dtype=np.int8)
-    return (f[0], i[0], f[1], f[2], f[3], i[1], f[4])
+    return K.EventBuffers(t=f[0], wall=i[0], v_minus=f[1], v_plus=f[2], phase=f[3], kind=i[1], z=f[4])
 
 
 def _param_attrs(params: Params) -> dict:
@@ -191,12 +191,12 @@ def events_dataset(bufs, n, dim="impact") -> xr.Dataset:
     """The first ``n`` events of a run's buffers (t, wall, v_minus, v_plus, phase, kind, Z) as a dataset along
     ``dim``, with ``dt``, the time since the previous event (NaN for the first)."""
     t, wall, vm, vp, phase, kind, z = (b[..., :n] for b in bufs)
-    base = bufs[0].base
+    base = bufs.t.base
     # the block's spare row when the buffers are still the block's rows, else a new array
-    dt = base[5][..., :n] if base is not None and base.shape[0] == 6 and bufs[4].base is base else np.empty_like(t)
+    dt = base[5][..., :n] if base is not None and base.shape[0] == 6 and bufs.phase.base is base else np.empty_like(t)
     dt[..., 0] = np.nan
     np.subtract(t[..., 1:], t[..., :-1], out=dt[..., 1:])
-    dims = bufs[0].shape[:-1] and ("run", dim) or (dim,)
+    dims = bufs.t.shape[:-1] and ("run", dim) or (dim,)
     ds = xr.Dataset(
         {
             "t": (dims, t), "wall": (dims, wall), "v_minus": (dims, vm), "v_plus": (dims, vp),

@@ -27,16 +27,27 @@ killed), anything else -> killed.  Results are appended to results/mutation/resu
 (resumable).  A surviving mutant is either equivalent (no input changes the result beyond the
 stated tolerance) or a blind spot of the tests; the report lists survivors with their diff.
 
+A run's first record describes its sample (module, seed, size, the module source's SHA-256, the commit
+and the test files); ``keep`` copies a finished sample (and its retest) into ``tools/mutation_samples/``,
+which the repository carries, beside ``verdicts.toml``: for each surviving mutant, equivalent (with the
+reason no input changes the result) or a blind spot (with the test it led to, run by ``retest``).
+``scores`` writes the testing page's table and list of equivalent survivors from those files.
+
 Usage (from the repository root, with the project's venv):
   .venv/bin/python tools/mutation.py list   MODULE                 # count all mutants
   .venv/bin/python tools/mutation.py run    MODULE [--n N] [--seed S] [--fresh]
   .venv/bin/python tools/mutation.py show   MODULE ID              # diff of one mutant
   .venv/bin/python tools/mutation.py report MODULE
+  .venv/bin/python tools/mutation.py retest MODULE --ids I,J --tests FILES
+  .venv/bin/python tools/mutation.py keep   MODULE                 # into tools/mutation_samples/
+  .venv/bin/python tools/mutation.py scores [--out FILE]           # the testing page's Markdown
 """
 
 import argparse
 import ast
+import datetime
 import difflib
+import hashlib
 import json
 import os
 import random
@@ -45,15 +56,19 @@ import subprocess
 import sys
 import tempfile
 import time
+import tomllib
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ROOT = os.path.join(REPO, "results", "mutation", "tree")  # the private copy the mutants live in
 OUT = os.path.join(REPO, "results", "mutation")
 PKG = os.path.join(ROOT, "src", "vibroimpact")
+#: the samples the repository carries (``keep`` copies them there) and the verdicts on their survivors
+SAMPLES = os.path.join(REPO, "tools", "mutation_samples")
 #: the layer of the package each module lives in
-LAYER = {**{m: "dynamics" for m in ("params", "flight", "events", "kernels", "simulate", "reference")},
+LAYER = {**{m: "dynamics" for m in ("params", "flight", "events", "kernels", "runs", "reference", "device")},
          **{m: "analysis" for m in ("orbits", "grazing", "continuation", "bifurcation", "settled", "sweeps", "energy",
-                                    "design", "lyapunov", "family_exit")},
+                                    "design", "lyapunov", "family_exit", "motions", "windows", "transitions",
+                                    "bistability", "grids", "basins", "regime_maps")},
          **{m: "benchmarks" for m in ("methods", "peer_heyoka", "peer_siconos", "workprecision", "bench")},
          **{m: "outputs" for m in ("tables", "checks", "paper", "portraits", "figdata", "figcheck", "conditioning")}}
 
@@ -102,6 +117,10 @@ TESTS = {
                 "tests/test_properties.py", "tests/test_impact_times.py"],
     "orbits": ["tests/test_orbits.py", "tests/test_captions.py"],
     "continuation": ["tests/test_orbits.py"],
+    "motions": ["tests/test_motion_names.py", "tests/test_sweeps.py", "tests/test_attractor.py"],
+    "windows": ["tests/test_sweeps.py", "tests/test_kernels.py"],
+    "transitions": ["tests/test_sweeps.py"],
+    "bistability": ["tests/test_sweeps.py"],
     "sweeps": ["tests/test_sweeps.py"],
     "energy": ["tests/test_energy.py"],
     "design": ["tests/test_design.py"],
@@ -262,7 +281,7 @@ def apply(src, m):
 def diff(src, m):
     new = apply(src, m).decode().splitlines()
     old = src.decode().splitlines()
-    return "\n".join(l for l in difflib.unified_diff(old, new, lineterm="", n=0) if not l.startswith(("---", "+++")))
+    return "\n".join(x for x in difflib.unified_diff(old, new, lineterm="", n=0) if not x.startswith(("---", "+++")))
 
 
 CLEAN_CACHE = os.path.join(OUT, "numba_cache_clean")
@@ -296,21 +315,152 @@ def run_tests(module, timeout, cache=None):
     if not keep:
         shutil.rmtree(cache, ignore_errors=True)
     out = out.decode(errors="replace")
-    failed = [l for l in out.splitlines() if l.startswith(("FAILED", "ERROR"))]
+    failed = [x for x in out.splitlines() if x.startswith(("FAILED", "ERROR"))]
     return status, dt, failed, out, proc.returncode
+
+
+def records(path):
+    """The mutant records of a results file (its header records left out)."""
+    return [r for r in map(json.loads, open(path).read().split("\n")[:-1] if os.path.exists(path) else [])
+            if "id" in r]
+
+
+def header(path):
+    """The sample a results file holds (its first record), or None."""
+    if not os.path.exists(path):
+        return None
+    first = open(path).readline()
+    return json.loads(first).get("sample") if first.strip() else None
+
+
+def sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def commit():
+    out = subprocess.run(["git", "rev-parse", "HEAD"], cwd=REPO, capture_output=True, text=True)
+    return out.stdout.strip() if out.returncode == 0 else "unknown"
+
+
+def keep(module):
+    """Copy the module's finished sample (and its retests) into :data:`SAMPLES`."""
+    res = os.path.join(OUT, f"results_{module}.jsonl")
+    head = header(res)
+    if head is None:
+        sys.exit(f"{res} holds no sample: run `tools/mutation.py run {module}` first")
+    missing = set(head["ids"]) - {r["id"] for r in records(res)}
+    if missing:
+        sys.exit(f"the sample of {module} is unfinished: {len(missing)} of {len(head['ids'])} mutants not run; "
+                 f"rerun `tools/mutation.py run {module} --n {head['n']} --seed {head['seed']}` to finish it")
+    os.makedirs(SAMPLES, exist_ok=True)
+    shutil.copy(res, os.path.join(SAMPLES, f"{module}.jsonl"))
+    retest = os.path.join(OUT, f"results_{module}_retest.jsonl")
+    kept_retest = os.path.join(SAMPLES, f"{module}_retest.jsonl")
+    if os.path.exists(retest):
+        shutil.copy(retest, kept_retest)
+    elif os.path.exists(kept_retest):
+        os.remove(kept_retest)
+    print(f"kept {module}: {len(head['ids'])} mutants (seed {head['seed']}) in {SAMPLES}")
+
+
+def live_source(module):
+    """The module's source in this repository (not the private copy)."""
+    return os.path.join(REPO, "src", "vibroimpact", LAYER[module], module + ".py")
+
+
+def module_scores(sample, verdicts, retest=()):
+    """Counts of one sample: ``sample`` its mutant records, ``verdicts`` {id: verdict table} for the
+    survivors, ``retest`` the records of their reruns against the tests they led to.  Timeouts count as
+    killed; invalid mutants (a syntax error) are left out; an unjudged survivor counts as a blind spot."""
+    valid = [r for r in sample if r["status"] != "invalid"]
+    killed = sum(r["status"] in ("killed", "timeout") for r in valid)
+    survivors = [r["id"] for r in valid if r["status"] == "survived"]
+    equivalent = [i for i in survivors if verdicts.get(i, {}).get("verdict") == "equivalent"]
+    blind = [i for i in survivors if i not in equivalent]
+    rekilled = {r["id"] for r in retest if r["status"] in ("killed", "timeout")}
+    changing = len(valid) - len(equivalent)
+    return {"sampled": len(valid), "killed": killed, "equivalent": len(equivalent), "blind": len(blind),
+            "unjudged": sum(i not in verdicts for i in survivors), "changing": changing,
+            "after": killed + sum(i in rekilled for i in blind)}
+
+
+def load_verdicts(path=None):
+    """``verdicts.toml``: {module: {id: {"verdict": ..., "reason": ..., "test": ...}}}."""
+    path = path or os.path.join(SAMPLES, "verdicts.toml")
+    if not os.path.exists(path):
+        return {}
+    with open(path, "rb") as f:
+        raw = tomllib.load(f)
+    return {m: {int(i): v for i, v in table.items()} for m, table in raw.items()}
+
+
+def scores(samples=SAMPLES, verdicts_path=None):
+    """The testing page's Markdown: one row per kept sample and each survivor's verdict."""
+    verdicts = load_verdicts(verdicts_path or os.path.join(samples, "verdicts.toml"))
+    rows = ["| module | sample | of the current source | killed | equivalent | blind spots | "
+            "killed of those that change behaviour | after the tests the blind spots led to |",
+            "|---|---|---|---|---|---|---|---|"]
+    notes = []
+    for module in TESTS:
+        path = os.path.join(samples, f"{module}.jsonl")
+        head = header(path)
+        if head is None:
+            rows.append(f"| {module} | none kept | | | | | | |")
+            continue
+        sample = records(path)
+        judged = verdicts.get(module, {})
+        s = module_scores(sample, judged, records(os.path.join(samples, f"{module}_retest.jsonl")))
+        current = (os.path.exists(live_source(module))
+                   and sha256(open(live_source(module), "rb").read()) == head["source_sha256"])
+        source = "yes" if current else f"no (commit {head['commit'][:7]})"
+        share = f"{s['killed']} of {s['changing']} ({s['killed'] / max(1, s['changing']):.0%})"
+        rows.append(f"| {module} | {s['sampled']} of {head['mutants']} (seed {head['seed']}) | {source} | "
+                    f"{s['killed']} | {s['equivalent']} | {s['blind']} | {share} | {s['after']} of {s['changing']} |")
+        by_id = {r["id"]: r for r in sample}
+        lines = []
+        for i in sorted(r["id"] for r in sample if r["status"] == "survived"):
+            r, v = by_id[i], judged.get(i, {})
+            what = f"`{r['old']}` → `{r['new']}` (line {r['line']}, #{i})"
+            if v.get("verdict") == "equivalent":
+                lines.append(f"  - {what}: equivalent: {v['reason']}")
+            elif v:
+                lines.append(f"  - {what}: blind spot, now tested by `{v['test']}`: {v['reason']}")
+            else:
+                lines.append(f"  - {what}: not judged yet")
+        if lines:
+            notes.append(f"- **{module}**\n" + "\n".join(lines))
+        else:
+            notes.append(f"- **{module}**: no mutant of the sample survived")
+    return "\n".join(rows) + "\n\nThe survivors, sample by sample:\n\n" + "\n".join(notes) + "\n"
 
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("cmd", choices=["list", "run", "show", "report", "retest"])
-    ap.add_argument("module", choices=list(TESTS))
+    ap.add_argument("cmd", choices=["list", "run", "show", "report", "retest", "keep", "scores"])
+    ap.add_argument("module", nargs="?", choices=list(TESTS))
     ap.add_argument("id", nargs="?", type=int)
     ap.add_argument("--n", type=int, default=50)
     ap.add_argument("--seed", type=int, default=20240601)
     ap.add_argument("--ids", default="", help="retest: comma-separated mutant ids")
     ap.add_argument("--tests", default="", help="retest: comma-separated test files to run instead")
-    ap.add_argument("--fresh", action="store_true", help="remake the private copy from the working tree")
+    ap.add_argument("--fresh", action="store_true",
+                    help="remake the private copy from the working tree and start the module's sample anew")
+    ap.add_argument("--out", help="scores: the Markdown file to write (default: standard output)")
     a = ap.parse_args()
+    if a.cmd == "scores":
+        text = scores()
+        if a.out:
+            os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
+            with open(a.out, "w") as f:
+                f.write(text)
+        else:
+            print(text, end="")
+        return
+    if a.module is None:
+        ap.error(f"{a.cmd} needs a MODULE (one of {', '.join(TESTS)})")
+    if a.cmd == "keep":
+        keep(a.module)
+        return
     make_tree(a.fresh)
     path = module_path(a.module)
     # mutants are always generated from the pristine copy (the live file may carry a mutant while a
@@ -330,7 +480,7 @@ def main():
         print(f"{a.module}.py:{m['line']} [{m['kind']}]\n{diff(src, m)}")
         return
     if a.cmd == "report":
-        rows = [json.loads(l) for l in open(res_path)]
+        rows = records(res_path)
         from collections import Counter
         c = Counter(r["status"] for r in rows)
         n = len(rows)
@@ -346,23 +496,32 @@ def main():
     if a.cmd == "retest":
         TESTS[a.module] = a.tests.split(",")
         res_path = os.path.join(OUT, f"results_{a.module}_retest.jsonl")
-        sample = [int(x) for x in a.ids.split(",")]
+        sample = sorted(int(x) for x in a.ids.split(","))
+        head = {"retest": {"module": a.module, "ids": sample, "tests": TESTS[a.module],
+                           "source_sha256": sha256(src), "commit": commit(),
+                           "date": datetime.date.today().isoformat()}}
+        done = set()  # a retest reruns its mutants against the tests named
     else:
-        sample = None
-    # run
-    rng = random.Random(a.seed)
-    if sample is not None:
-        pass
-    else:
-      sample = rng.sample(range(len(muts)), min(a.n, len(muts)))
-      # optional cap (time budget): keep the first N of the random draw, still a uniform sample
-      cap_file = os.path.join(OUT, f"cap_{a.module}")
-      if os.path.exists(cap_file):
-          sample = sample[:int(open(cap_file).read())]
-    sample = sorted(sample)
-    done = set()
-    if os.path.exists(res_path):
-        done = {json.loads(l)["id"] for l in open(res_path)}
+        sample = random.Random(a.seed).sample(range(len(muts)), min(a.n, len(muts)))
+        # optional cap (time budget): keep the first N of the random draw, still a uniform sample
+        cap_file = os.path.join(OUT, f"cap_{a.module}")
+        if os.path.exists(cap_file):
+            sample = sample[:int(open(cap_file).read())]
+        sample = sorted(sample)
+        if a.fresh and os.path.exists(res_path):
+            os.remove(res_path)
+        head = {"sample": {"module": a.module, "seed": a.seed, "n": a.n, "ids": sample, "mutants": len(muts),
+                           "source_sha256": sha256(src), "commit": commit(),
+                           "date": datetime.date.today().isoformat(), "tests": TESTS[a.module]}}
+        old = header(res_path)
+        if os.path.exists(res_path) and (old is None or any(
+                old.get(k) != head["sample"][k] for k in ("seed", "n", "ids", "source_sha256"))):
+            sys.exit(f"{res_path} holds another sample ({'no header' if old is None else 'seed ' + str(old['seed'])}"
+                     f", n {None if old is None else old['n']}, or another source): pass --fresh to start anew")
+        done = {r["id"] for r in records(res_path)}
+    if not done:
+        with open(res_path, "a") as f:
+            f.write(json.dumps(head) + "\n")
     # warm shared cache for pure-Python modules (their numba dependencies are never mutated here)
     if a.module not in NUMBA_MODULES and not os.path.isdir(CLEAN_CACHE):
         os.makedirs(CLEAN_CACHE)

@@ -7,12 +7,15 @@
   the value computed now and its status; then the whole table of the paper's values.
 * ``_generated/variables.md``: every variable the datasets carry, with its units and meaning
   (:data:`vibroimpact.datasets.VARIABLES`).
+* ``_generated/mutation_scores.md``: the mutation samples the repository carries
+  (``tools/mutation_samples/``) and the verdicts on their survivors, counted by ``tools/mutation.py scores``.
 
 Nothing is typed: a site built before the workflow ran stops with the target to run.
 """
 
 from __future__ import annotations
 
+import importlib.util
 from pathlib import Path
 
 import jinja2
@@ -145,12 +148,21 @@ def variables_page() -> str:
     return _markdown_table(pd.DataFrame(rows)) + "\n"
 
 
+def mutation_scores(root: Path) -> str:
+    """The testing page's table of mutation scores (``tools/mutation.py scores``)."""
+    spec = importlib.util.spec_from_file_location("mutation_tool", root / "tools" / "mutation.py")
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    return tool.scores()
+
+
 def generate(app):
     src = Path(app.srcdir)
     root = src.parent
     (src / "_generated").mkdir(exist_ok=True)
     (src / "paper.md").write_text(paper_page(root))
     (src / "_generated" / "variables.md").write_text(variables_page())
+    (src / "_generated" / "mutation_scores.md").write_text(mutation_scores(root))
 
 
 def setup(app):

@@ -24,11 +24,11 @@ V_SUMMED = 1e-8
 def kernel_run(p, wall, phase, v_minus, t_end):
     """The event loop from an impact on ``wall`` (either wall) at ``phase``; events as tuples."""
     cap = 20_000
-    bufs = (np.zeros(cap), np.zeros(cap, np.int8), np.zeros(cap), np.zeros(cap), np.zeros(cap),
-            np.zeros(cap, np.int8), np.zeros(cap))
-    n, status, _ = K.run(p.d, p.gbar, p.r, 0.0, phase, wall * p.d / 2, v_minus, K.IMPACT, wall, 0, t_end, 1e-9,
-                         False, 1e-9, np.zeros(65, np.int64), *bufs)
-    events = [(K.KIND_NAMES[bufs[5][i]], bufs[0][i], int(bufs[1][i]), bufs[2][i]) for i in range(1, n)]
+    bufs = K.EventBuffers(t=np.zeros(cap), wall=np.zeros(cap, np.int8), v_minus=np.zeros(cap), v_plus=np.zeros(cap),
+                          phase=np.zeros(cap), kind=np.zeros(cap, np.int8), z=np.zeros(cap))
+    start = K.Start(0.0, phase, wall * p.d / 2, v_minus, K.IMPACT, wall)
+    n, status, _ = K.advance(p.d, p.gbar, p.r, start, 0, t_end, 1e-9, False, 1e-9, np.zeros(65, np.int64), bufs)
+    events = [(K.KIND_NAMES[bufs.kind[i]], bufs.t[i], int(bufs.wall[i]), bufs.v_minus[i]) for i in range(1, n)]
     return events, K.STATUS_NAMES[status]
 
 

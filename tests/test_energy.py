@@ -327,3 +327,75 @@ def test_the_energy_figure_says_which_analytic_branches_are_missing_and_why():
     assert "Not drawn" not in note([bt])
     assert note([bt, failed]).endswith("Not drawn:\n(a), (b): analytic 2:1: the attractor at d=0.18 is 1:1 period-2 "
                                        "(BT), not 'BBT'")
+
+
+def _run_of(t, v):
+    """A long run's dict (:func:`vibroimpact.long_run`'s fields the averages read): bottom impacts at times ``t``
+    with pre-impact speeds ``v``."""
+    return {"t": np.asarray(t, float), "v_minus": np.asarray(v, float),
+            "kind": np.full(len(t), kernels.IMPACT, np.int8)}
+
+
+def test_batch_averages_of_equally_spaced_equal_impacts_are_exact():
+    """Impacts every dt with one speed: every batch's U_I is that impact's gain and its U_T the gain over dt (the
+    first batch measured from its first impact, the others from the previous batch's last), so both standard
+    errors are 0; with fewer than two impacts a batch, nothing is estimated (NaN)."""
+    from vibroimpact.analysis.energy import batch_averages
+
+    dt, v, batches = 0.7, 0.3, 5
+    gain = float(voltage_gain(DEVICE.speed_si(np.array([v]), DEVICE.F), DEVICE.membrane)[0])
+    out = batch_averages(_run_of(dt * np.arange(40), np.full(40, v)), DEVICE.F, DEVICE, batches=batches)
+    np.testing.assert_allclose(out, [gain, 0.0, gain / dt, 0.0], rtol=1e-13, atol=1e-9 * gain)
+    assert np.isnan(batch_averages(_run_of(dt * np.arange(9), np.full(9, v)), DEVICE.F, DEVICE, batches=batches)).all()
+
+
+def test_a_window_shorter_than_window_time_averages_from_its_first_event():
+    """A run without a period whose saved events span less than window_time: the average runs over all its
+    impacts after the first event, over the time since that event (the impacts' gains summed by hand)."""
+    from vibroimpact.analysis.energy import window_averages
+
+    t = np.array([0.0, 1.0, 2.5, 3.0, 4.5, np.nan, np.nan])
+    v = np.array([0.2, 0.3, 0.1, 0.25, 0.4, np.nan, np.nan])
+    kind = np.where(np.isfinite(t), kernels.IMPACT, 0).astype(np.int8)
+    _, gain, u_i, u_t, span, count = window_averages(t, v, kind, np.int8(0), 0, DEVICE.F, DEVICE, window_time=30.0)
+    g = voltage_gain(DEVICE.speed_si(v[1:5], DEVICE.F), DEVICE.membrane)
+    assert float(span) == 4.5 and int(count) == 4
+    assert float(u_t) == pytest.approx(g.sum() / 4.5, rel=1e-14) and float(u_i) == pytest.approx(g.mean(), rel=1e-14)
+
+
+def test_the_long_run_averages_of_a_chaotic_point_are_its_long_run_s_batch_means():
+    """A sweep point with no period (beta = pi/3, d = 0.235, chaotic): U_I_long and U_T_long with their standard
+    errors are the batch means of the long run from the point's recorded restart, recomputed here through
+    long_run and batch_averages."""
+    from vibroimpact.analysis.energy import batch_averages
+    from vibroimpact.analysis.settled import long_run
+
+    s = 0.235 / K_S
+    sw = sweep("s", [s], beta=math.pi / 3, phi=0.42, v0=0.87, long_impacts=600, device=DEVICE)
+    assert set(sw.long_status.values.ravel()) == {"aperiodic"}
+    e = sweep_energy(sw, DEVICE)
+    for k in range(2):
+        run = long_run(float(sw.d[0]), float(sw.gbar[0]), 0.5, float(sw.long_phi[k, 0]), float(sw.long_v0[k, 0]),
+                       impacts=600)
+        want = batch_averages(run, float(sw.F[0]), DEVICE, batches=int(sw.attrs["long_batches"]))
+        got = [float(e[v][k, 0]) for v in ("U_I_long", "U_I_long_se", "U_T_long", "U_T_long_se")]
+        np.testing.assert_array_equal(got, want)
+
+
+def test_delivered_takes_each_point_s_well_posed_average():
+    """delivered: a settled cycle's average with standard error 0, a sticking cycle's with STICK_REL of itself, a
+    chaotic point's long-run batch mean and its standard error, NaN elsewhere (a transient longer than the cap)."""
+    import xarray as xr
+
+    from vibroimpact.analysis.energy import delivered
+    from vibroimpact.analysis.settled import STICK_REL
+
+    dims = ("direction", "point")
+    en = xr.Dataset({
+        "U_T": (dims, [[1.0, 2.0, 3.0, 4.0]]), "U_T_long": (dims, [[10.0, 20.0, 30.0, 40.0]]),
+        "U_T_long_se": (dims, [[0.1, 0.2, 0.3, 0.4]]), "settled": (dims, [[True, False, False, False]]),
+        "label": (dims, [["2:1 period-2", "1:0 over 2 forcing periods with sticking", "chaotic", "unsettled"]]),
+        "long_status": (dims, [["", "", "aperiodic", "settles"]])})
+    value, se = delivered(en)
+    np.testing.assert_array_equal(value, [[1.0, 2.0, 30.0, np.nan]])
+    np.testing.assert_array_equal(se, [[0.0, STICK_REL * 2.0, 0.3, np.nan]])

@@ -28,3 +28,12 @@ def test_the_mutation_tool_samples_mutants_and_reports_them(tmp_path):
     assert (clone / "src" / "vibroimpact" / "analysis" / "energy.py").read_bytes() == before
     report = run_readme(clone, ".venv/bin/python tools/mutation.py report energy")
     assert report.returncode == 0 and "energy: tried 3" in report.stdout, report.stdout + report.stderr
+    # the sample kept in the repository, and the testing page's row written from it: of the current source
+    keep = run_readme(clone, ".venv/bin/python tools/mutation.py keep energy")
+    assert keep.returncode == 0, keep.stdout + keep.stderr
+    kept = (clone / "tools" / "mutation_samples" / "energy.jsonl").read_text().split("\n")
+    head = json.loads(kept[0])["sample"]
+    assert (head["module"], head["n"], len(head["ids"])) == ("energy", 3, 3) and len(head["source_sha256"]) == 64
+    scores = run_readme(clone, ".venv/bin/python tools/mutation.py scores")
+    row = next(line for line in scores.stdout.splitlines() if line.startswith("| energy |"))
+    assert "| yes |" in row and "(seed 20261123)" in row, row

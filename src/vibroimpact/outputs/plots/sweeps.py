@@ -52,7 +52,7 @@ def point_info(s, idx, var):
 
 def last_events(ds, var, direction="down", labels=False, info=False):
     """(d, values) of every point's last period of events in one sweep direction: its exact cycle from
-    the canonical first impact where the sweep settled it (:func:`vibroimpact.analysis.sweeps.settle`), else the
+    the canonical first impact where the sweep settled it (:func:`vibroimpact.analysis.settled.settle_attractors`), else the
     recorded last period (the last 24 events where no period was found); ``var="dt"`` gives the time
     since the previous event.  With ``labels``, also each value's point's identified motion; with
     ``info``, a dict per element (:func:`point_info`) instead."""
@@ -343,7 +343,7 @@ def _class_image(ax, da, x, y, legend, n_show=9, *, key=True):
 
 
 def fig_basins(b):
-    """Basins of attraction (:func:`vibroimpact.analysis.sweeps.basins`): the motion reached from each first
+    """Basins of attraction (:func:`vibroimpact.analysis.basins.basins`): the motion reached from each first
     bottom impact, in the motions' colours of every figure; the title gives the incline and the device
     (length, force, mass, frequency) where the dataset records them, and d, gbar."""
 

@@ -181,3 +181,17 @@ def test_a_hit_is_defined_once_and_used_everywhere():
     again = [f"{f.relative_to(ROOT)}:{i}" for f in (ROOT / "src" / "vibroimpact").rglob("*.py") if f.name != "kernels.py"
              for i, line in enumerate(f.read_text().splitlines(), 1) if spelled.search(line)]
     assert not again, again
+
+
+def test_a_batch_run_with_no_period_stops_after_max_periods_forcing_periods():
+    """attractor_batch stops a run without a period after max_periods forcing periods (200 by default, 2 time
+    units each): the chaotic run at beta = pi/3, d = 0.235 ends within one event of t = 400 (30 with
+    max_periods = 15)."""
+    from vibroimpact.analysis.windows import attractor_batch
+
+    g = 0.1245 * 9.8 * math.sin(math.pi / 3) / 5.0
+    for kw, t_end in (({}, 400.0), ({"max_periods": 15}, 30.0)):
+        ab = attractor_batch(0.235, g, 0.5, 0.42, 0.87, **kw)
+        assert ab.label.values[0] == "no period found"
+        last = float(np.nanmax(ab.t.values[0]))
+        assert t_end - 2.0 < last <= t_end, (kw, last)

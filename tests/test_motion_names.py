@@ -58,3 +58,13 @@ def test_chatter_bounces_are_the_impacts_after_the_landing_of_a_run_that_sticks(
 def test_labels_of_motions_without_sticking_keep_every_impact():
     assert cycle_class(np.array([1, 1, -1]), np.array([IM, IM, IM]), 2.0).label == "2:1 period-2"
     assert cycle_class(np.array([1, -1, 1, 1, -1]), np.array([IM, IM, IM, G, IM]), 4.0).label == "3:2 over 2 forcing periods"
+
+
+def test_a_run_with_no_period_is_an_attractor_with_nothing_counted():
+    """identify_attractor of a chaotic run (beta = pi/3, d = 0.235): not periodic, with no period, events,
+    impacts or sticking counted, and the label saying so."""
+    g = 0.1245 * 9.8 * math.sin(math.pi / 3) / 5.0
+    a = vi.identify_attractor(vi.simulate(vi.Params(d=0.235, gbar=g, r=0.5), phi=0.42, v0=0.87, n_impacts=400))
+    assert (a.periodic, a.period, a.events, a.n_bottom, a.n_top, a.sticking, a.label) == (
+        False, 0, 0, 0, 0, False, "not periodic")
+    assert a.cycle is None and not a.motion.periodic and math.isnan(a.t_settled)

@@ -598,3 +598,69 @@ def test_newton_accepts_a_residual_at_rounding_next_to_a_fold(pi6_3to1):
         assert np.max(np.abs(F)) <= max(1e-11, ROUNDING_RESIDUAL * np.max(np.abs(o.z)))
         gaps.append(1.0 - float(np.max(np.abs(o.eigenvalues))))
     assert gaps[0] / gaps[1] == pytest.approx(1e3, rel=0.05)
+
+
+def _bbt_orbit():
+    return find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+
+
+def test_a_corrector_failure_halves_the_step_and_the_branch_goes_on(monkeypatch):
+    """The continuation's corrector failing once (the first corrected point) halves the step and the branch
+    goes on to the ends of its range; a corrector that always fails stops each direction where the step
+    fell below 1e-9, with the error, at the start point."""
+    from vibroimpact.analysis import continuation
+
+    correct, calls = continuation._correct, []
+
+    def fails_first(*args, **kw):
+        calls.append(1)
+        if len(calls) == 1:
+            raise OrbitError("the test's corrector failure")
+        return correct(*args, **kw)
+
+    monkeypatch.setattr(continuation, "_correct", fails_first)
+    br = continue_orbit(_bbt_orbit(), vary="d", d_range=(0.135, 0.145), step=1e-3)
+    assert all(br.attrs[k].startswith("left d_range") for k in ("stop_increasing", "stop_decreasing")), br.attrs
+    assert float(br.d.min()) < 0.1355 and float(br.d.max()) > 0.1445
+
+    def fails(*args, **kw):
+        raise OrbitError("the test's corrector failure")
+
+    monkeypatch.setattr(continuation, "_correct", fails)
+    br = continue_orbit(_bbt_orbit(), vary="d", d_range=(0.135, 0.145), step=1e-3)
+    for k in ("stop_increasing", "stop_decreasing"):
+        assert br.attrs[k] == "corrector failed down to a step of 1e-9 at d = 0.14 (the test's corrector failure)"
+
+
+def test_a_degenerating_word_stops_the_branch_and_names_where(monkeypatch):
+    """A corrected point with a flight time at zero ends that direction of the branch: the word degenerates
+    there, and the stop names the parameter's value at that point."""
+    from vibroimpact.analysis import continuation
+
+    correct = continuation._correct
+
+    def degenerate_past(*args, **kw):
+        Y = correct(*args, **kw)
+        if Y[-1] > 0.1425:
+            Y = Y.copy()
+            Y[1] = 0.0  # the first flight time
+        return Y
+
+    monkeypatch.setattr(continuation, "_correct", degenerate_past)
+    br = continue_orbit(_bbt_orbit(), vary="d", d_range=(0.135, 0.145), step=1e-3)
+    stop = br.attrs["stop_increasing"]
+    assert stop.startswith("a flight time reached zero near d = 0.142") and stop.endswith("the word BBT degenerates")
+    assert float(br.d.max()) <= 0.1425 and br.attrs["stop_decreasing"].startswith("left d_range")
+
+
+def test_branch_from_simulation_starts_at_its_documented_default():
+    """branch_from_simulation's default start, a bottom impact at phase 1.0 with pre-impact speed 0.2, is the
+    one its Parameters name: at d = 0.141 (inside [G1, G2] of beta = pi/6, where the 2:1 and 3:1 coexist) it
+    reaches the 2:1 motion, from which the BBT branch is continued; a start at rest on the bottom reaches the 3:1."""
+    from vibroimpact.analysis.continuation import branch_from_simulation
+
+    p = vi.Params(d=0.141, gbar=0.12201, r=0.5)
+    kw = dict(vary="d", d_range=(0.1409, 0.1411), step=1e-4, n_impacts=3000)
+    default, rest = branch_from_simulation(p, "BBT", **kw), branch_from_simulation(p, "BBT", v0=0.0, **kw)
+    assert default.attrs.get("status", "ok") == "ok" and default.sizes["point"] > 0
+    assert rest.attrs["status"] == "failed" and "3:1 period-2" in rest.attrs["reason"]

@@ -407,3 +407,41 @@ def test_transitions_are_followed_with_the_sweep_s_own_window_and_longest_period
     monkeypatch.setattr(S, "run_window", spy)
     tr = vi.locate_transitions(sw, xtol=1e-5)
     assert seen == {(41, 20)} and list(tr.status.values) == ["refined", "refined"]
+
+
+def test_a_force_sweep_s_transitions_are_followed_on_its_own_parameter_line(monkeypatch):
+    """Along a force sweep d and gbar both change (gbar / d is constant): every run of the refinement lies on
+    the sweep's line through its points; a sweep written without its window and longest period is followed
+    with the sweep's defaults (65 events, 64)."""
+    import vibroimpact.analysis.transitions as S
+
+    sw = vi.sweep("F", [4.8, 5.0, 5.2], beta=math.pi / 6, s=0.2245, phi=5.855, v0=0.4185, long_impacts=0)
+    ratio = sw.gbar.values / sw.d.values
+    assert np.ptp(ratio) < 1e-12 * ratio[0] and len(set(sw.label.values.ravel())) > 1
+    seen, run_one = [], S.run_window
+
+    def spy(d, gbar, *args):
+        seen.append((d, gbar, args[-2:]))
+        return run_one(d, gbar, *args)
+
+    monkeypatch.setattr(S, "run_window", spy)
+    old = sw.copy()
+    for a in ("window", "pmax"):
+        old.attrs.pop(a)
+    tr = vi.locate_transitions(old, xtol=1e-5)
+    assert tr.sizes["transition"] > 0 and seen
+    d, gbar = np.array([x[0] for x in seen]), np.array([x[1] for x in seen])
+    np.testing.assert_allclose(gbar, ratio[0] * d, rtol=1e-12)
+    assert {x[2] for x in seen} == {(65, 64)}
+
+
+def test_a_hysteresis_loop_between_grid_points_reads_the_nearest_neighbour_below():
+    """Both sweeps agree on every grid point (C, A, A, B, B) but jump between the same two points: up from A to B
+    at 0.35, down from B to A at 0.25.  The loop [0.25, 0.35] is bistable ("transitions only"): the down sweep
+    below its lower end follows A at its nearest grid point (0.2), whatever it follows further down (C at 0.1)."""
+    d = np.array([0.1, 0.2, 0.3, 0.4, 0.5])
+    labels = ["C", "A", "A", "B", "B"]
+    sw, tr = synthetic(labels, labels, d, [("up", 0.35, "A", "B"), ("down", 0.25, "B", "A")])
+    (row,) = bistable_intervals(sw, tr).to_dataframe().itertuples()
+    assert (row.d_lo, row.d_hi, row.label_up, row.label_down, row.found_by) == (0.25, 0.35, "A", "B",
+                                                                                 "transitions only")

@@ -118,7 +118,7 @@ TESTS = {
     "orbits": ["tests/test_orbits.py", "tests/test_captions.py"],
     "continuation": ["tests/test_orbits.py"],
     "motions": ["tests/test_motion_names.py", "tests/test_sweeps.py", "tests/test_attractor.py"],
-    "windows": ["tests/test_sweeps.py", "tests/test_kernels.py"],
+    "windows": ["tests/test_sweeps.py", "tests/test_kernels.py", "tests/test_progress.py"],
     "transitions": ["tests/test_sweeps.py"],
     "bistability": ["tests/test_sweeps.py"],
     "sweeps": ["tests/test_sweeps.py"],

@@ -184,3 +184,11 @@ def test_d_graz_curve_follows_d_along_the_axis_that_changes_it():
     for name in [*s_line.data_vars, *s_line.coords]:
         assert "long_name" in s_line[name].attrs, name
         assert s_line[name].dtype.kind not in "fiu" or "units" in s_line[name].attrs, name
+
+
+def test_a_line_of_two_points_is_enough():
+    """family_exit along a line of its two ends (the 1:1 motion of beta = pi/6 at the larger, out of the family
+    at the smaller) locates d_graz as the six-point line of its example does."""
+    p = [vi.Params.from_physical(s=s, beta=math.pi / 6) for s in (0.345, 0.33)]
+    ex = family_exit([q.d for q in p], [q.gbar for q in p], 0.5, phi=0.42, v0=0.87, xtol=1e-5)
+    assert ex["status"] == "located" and round(ex["d"], 3) == 0.211

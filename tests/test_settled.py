@@ -199,3 +199,25 @@ def test_a_sample_at_an_impact_s_instant_is_the_post_impact_state_on_either_side
         for t in (t2, np.nextafter(t2, 0), np.nextafter(t2, 4), t2 - 1e-13):
             assert float(vi.trajectory(run, [t]).Zdot[0]) == pytest.approx(after, abs=1e-9), t
         assert float(vi.trajectory(run, [t2 - 1e-6]).Zdot[0]) == pytest.approx(before, abs=1e-5)
+
+
+def test_a_motion_with_no_period_and_no_long_run_says_so():
+    """A sweep with long_impacts = 0: its chaotic point (beta = pi/3, d = 0.235) has a restart but no long run:
+    long_status "not run", no exponent, and the source says why."""
+    g = gbar_of(math.pi / 3)
+    sw = sweep("s", [0.235 / vi.Params.from_physical(s=1.0, beta=math.pi / 3).d], beta=math.pi / 3, phi=0.42,
+               v0=0.87, long_impacts=0)
+    assert np.allclose(sw.gbar.values, g) and set(sw.label.values.ravel()) == {"no period found"}
+    assert set(sw.long_status.values.ravel()) == {"not run"}
+    assert np.isnan(sw.lyap1.values).all()
+    assert set(sw.lyap1_source.values.ravel()) == {"not estimated: no long run (long_impacts = 0)"}
+
+
+def test_split_no_period_finds_by_default_that_a_periodic_start_settles():
+    """split_no_period's default periodicity tolerance (1e-9, the attractors'): started on the 2:1 orbit of Figure
+    7 (a), its continuation settles."""
+    from vibroimpact.analysis.settled import split_no_period
+
+    p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)
+    split = split_no_period(p.d, p.gbar, p.r, 1.015, 0.1924, impacts=400)
+    assert split.status == "settles" and split.label == "unsettled"

@@ -445,3 +445,17 @@ def test_a_hysteresis_loop_between_grid_points_reads_the_nearest_neighbour_below
     (row,) = bistable_intervals(sw, tr).to_dataframe().itertuples()
     assert (row.d_lo, row.d_hi, row.label_up, row.label_down, row.found_by) == (0.25, 0.35, "A", "B",
                                                                                  "transitions only")
+
+
+def test_a_sweep_starts_and_caps_its_runs_as_documented():
+    """sweep's defaults: the first point starts from a bottom impact at phase 0 with pre-impact speed 0.5
+    (recorded as the start), and a run is capped at 200 000 events: a point that chatters (r = 0.9, gbar =
+    0.9, d = 0.3) runs 32 911 events without finding a period, far beyond one buffer of 4096."""
+    dev = vi.Device().replace(r=0.9)
+    F = dev.M * dev.g / 0.9
+    s = 0.3 / dev.params(1.0, math.pi / 2, F=F).d
+    sw = vi.sweep("F", [F], beta=math.pi / 2, s=s, device=dev, long_impacts=0)
+    assert (sw.attrs["first_phi"], sw.attrs["first_v0"]) == (0.0, 0.5)
+    assert sw.start_phi.values[0, 0] == 0.0 and sw.start_v0.values[0, 0] == 0.5
+    assert np.allclose(sw.gbar.values, 0.9) and np.allclose(sw.d.values, 0.3)
+    assert 4096 < int(sw.n_events.values[0, 0]) <= 200_000

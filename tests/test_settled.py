@@ -221,3 +221,18 @@ def test_split_no_period_finds_by_default_that_a_periodic_start_settles():
     p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)
     split = split_no_period(p.d, p.gbar, p.r, 1.015, 0.1924, impacts=400)
     assert split.status == "settles" and split.label == "unsettled"
+
+
+def test_a_chaotic_point_s_long_run_statistics_are_its_batch_means():
+    """A sweep's chaotic point (beta = pi/3, d = 0.235): abs_v_mean and abs_v_se are the mean and standard error
+    of the 20 batch means of |Zdot-| over the long run from its recorded restart (computed here by hand)."""
+    sw = sweep("s", [0.235 / vi.Params.from_physical(s=1.0, beta=math.pi / 3).d], beta=math.pi / 3, phi=0.42,
+               v0=0.87, long_impacts=600)
+    for k in range(2):
+        assert str(sw.long_status.values[k, 0]) == "aperiodic"
+        run = long_run(float(sw.d[0]), float(sw.gbar[0]), 0.5, float(sw.long_phi[k, 0]), float(sw.long_v0[k, 0]),
+                       impacts=600)
+        v = np.abs(run["v_minus"][np.isin(run["kind"], (K.IMPACT, K.GRAZING))])
+        means = v[:v.size // 20 * 20].reshape(20, -1).mean(axis=1)
+        assert float(sw.abs_v_mean[k, 0]) == pytest.approx(means.mean(), rel=1e-14)
+        assert float(sw.abs_v_se[k, 0]) == pytest.approx(means.std(ddof=1) / math.sqrt(20), rel=1e-12)

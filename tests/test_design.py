@@ -366,3 +366,39 @@ def test_a_chaotic_attractor_is_named_so_and_delivers_its_long_run_average():
     assert abs(att.U_T - u_t) < Z_CRIT * math.hypot(att.U_T_se, se_t)
     assert abs(att.U_I - u_i) < Z_CRIT * math.hypot(att.U_I_se, se_i)
     assert abs(att.U_T - u_t) > 1e-9 * u_t  # two different runs: not the same numbers
+
+
+def test_the_standard_error_of_the_expected_output_adds_the_starts_and_the_runs_spread():
+    """E_U_T's standard error over n starts: sqrt(sum share (U_T - E)^2 / n + sum share^2 U_T_se^2), here with a
+    settled attractor (share 0.6, U_T 10) and one with no period (share 0.4, U_T 20 +- 2) over 10 starts:
+    sqrt(2.4 + 0.64)."""
+    ds = _synthetic(np.ones((1, 1)), [0.5], [0.5], np.array([[[0.6, 0.4]]]))
+    ds["U_T"][:] = [[[10.0, 20.0]]]
+    ds["U_T_se"] = (("beta", "s", "attractor"), [[[math.nan, 2.0]]])
+    ds["settled"] = (("beta", "s", "attractor"), [[[True, False]]])
+    ds.attrs["starts"] = 10
+    ds = summarise(ds.drop_vars(["E_U_T", "worst_U_T"]))
+    assert float(ds.E_U_T[0, 0]) == pytest.approx(14.0, rel=1e-15)
+    assert float(ds.E_U_T_se[0, 0]) == pytest.approx(math.sqrt(2.4 + 0.64), rel=1e-14)
+
+
+def test_a_box_reaching_past_the_grid_in_one_parameter_is_not_inside_it():
+    """box_minimum's box_in_grid: a tolerance box in beta only (half a cell) lies inside the grid at the middle
+    row and reaches past it at the first and the last row."""
+    xs, ys = np.arange(5.0), np.arange(3.0)
+    h0, h = np.zeros((3, 5)), np.full((3, 5), 0.5)
+    _, inside = box_minimum(np.arange(15.0).reshape(3, 5), xs, ys, h0, h)
+    assert inside[1].all() and not inside[0].any() and not inside[2].any()
+
+
+def test_a_tolerance_analysis_with_no_admissible_curve_segment_is_robust_everywhere():
+    """Curves in the map's plane without a single admissible segment (one point each): no margin to any curve
+    (infinite), every design robust, no nearest curve named."""
+    ds = _synthetic(np.arange(6.0).reshape(2, 3), [0.2, 0.3, 0.4], [0.5, 0.6])
+    curves = xr.Dataset({"curve_index": ("point", [0, 1]), "s": ("point", [0.25, 0.35]),
+                         "beta": ("point", [0.55, 0.55]), "admissible": ("point", [True, True]),
+                         "curve_kind": ("curve", ["fold", "grazing"]), "curve_word": ("curve", ["BBT", "BBT"])},
+                        attrs={"params": "s beta", "kinds": "fold grazing"})
+    out = tolerance_analysis(ds, curves, {"s": 0.01})
+    assert np.isinf(out.margin.values).all() and out.robust.values.all()
+    assert set(out.nearest_curve.values.ravel()) == {""}

@@ -608,3 +608,33 @@ def test_a_figure_that_draws_nothing_in_some_panels_is_a_file_the_netcdf_library
     assert back.sizes["a0_line1_y_dim0"] == 0 and back["a1_line0_x"].values.tolist() == [0.0, 1.0, 2.0]
     write_netcdf(empty[["a1_line0_x"]], tmp_path / "c.nc", fmt="NETCDF3_64BIT")
     assert (tmp_path / "c.nc").read_bytes()[:4] == b"CDF\x02"
+
+
+def test_the_details_report_the_largest_move():
+    """A check's row reports what it compared: the largest statistic's move in standard errors (here 0.35: a
+    batch mean moved by half its standard error), and a located value's largest move (0.005 of a 0.01 step)."""
+    new = _variant(mean=_at(4, 0.4 + 0.5 * 0.01, BASE["mean"]))
+    df = _check(new, _variant())
+    assert set(df.status) == {"pass"} and "(largest 0.4 SE)" in df.detail.iloc[0], df.detail.iloc[0]
+    ref = _located([0.20, 0.21, np.nan], [0.1, 0.2, 0.3], step_x=0.01)
+    same = _located_rows(_located([0.205, 0.2101, np.nan], [0.1, 0.2, 0.3], step_x=0.01), ref)
+    assert same.max_difference["a0_line0_x"] == pytest.approx(0.005, rel=1e-9)
+
+
+def test_an_isolated_curve_point_does_not_capture_the_events():
+    """A curve drawn with an isolated point (a piece of one point: a segment of length 0) beside its arc: an
+    event that moved within its arc segment passes, as without the isolated point."""
+    def events(points, n=200):
+        fig, ax = plt.subplots()
+        s = np.linspace(0.0, 1.0, n)
+        wellposed(ax.plot(np.append(np.cos(3 * s), [np.nan, 0.5]), np.append(np.sin(3 * s), [np.nan, 0.5]),
+                          "-")[0], "curve")
+        p = np.asarray(points, float)
+        wellposed(ax.plot(np.cos(3 * p), np.sin(3 * p), "x", ls="")[0], "on curve")
+        ds = figure_data(fig)
+        plt.close(fig)
+        return ds
+
+    ill = ("a0_line1_x", "a0_line1_y")
+    df = compare(events([0.2 + 0.5 / 199, 0.7]), events([0.2, 0.7]), rtol=RTOL, atol=ATOL, ill=ill)
+    assert set(df.set_index("variable").loc[list(ill), "status"]) == {"pass"}, df

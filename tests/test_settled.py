@@ -214,13 +214,14 @@ def test_a_motion_with_no_period_and_no_long_run_says_so():
 
 
 def test_split_no_period_finds_by_default_that_a_periodic_start_settles():
-    """split_no_period's default periodicity tolerance (1e-9, the attractors'): started on the 2:1 orbit of Figure
-    7 (a), its continuation settles."""
+    """split_no_period's default periodicity tolerance (1e-9, the attractors'): the 3:1 motion 1e-6 below its
+    fold G2 (beta = pi/6), whose multiplier near +1 makes it converge slowly, settles within 3000 impacts;
+    asked to repeat exactly (tolerance 0) it does not."""
     from vibroimpact.analysis.settled import split_no_period
 
-    p = vi.Params.from_physical(s=0.16 / 0.6225, beta=math.pi / 6)
-    split = split_no_period(p.d, p.gbar, p.r, 1.015, 0.1924, impacts=400)
-    assert split.status == "settles" and split.label == "unsettled"
+    split = split_no_period(0.141953, 0.12201, 0.5, 1.645, 0.05067, impacts=3000)
+    assert split.status == "settles" and split.label == "unsettled" and len(split.run["t"]) < 3000
+    assert split_no_period(0.141953, 0.12201, 0.5, 1.645, 0.05067, impacts=3000, tol=0.0).status == "aperiodic"
 
 
 def test_a_chaotic_point_s_long_run_statistics_are_its_batch_means():

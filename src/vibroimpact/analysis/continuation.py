@@ -331,7 +331,6 @@ def follow_curve(X0, t, *, step, max_points, correct, tangent, degenerate, outsi
     (``outside(X)``, after it is kept), a step halved below 1e-9 (``edge(X)`` or the corrector's error, at
     ``where(X)``) or ``max_points``.  ``tangent(X, t)``: the new tangent at an accepted point."""
     Xs, h, X = [X0], step, X0
-    stop = f"max_points ({max_points}) reached"
     while len(Xs) < max_points:
         try:
             Xn = correct(X, h, t)

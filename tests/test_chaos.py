@@ -9,6 +9,7 @@ import pytest
 import xarray as xr
 from scipy.stats import t as student
 
+from vibroimpact.analysis.motions import Motion
 from vibroimpact.analysis.settled import LONG_BATCHES
 from vibroimpact.outputs.tables import chaos_markdown, chaotic_outputs, chaotic_windows
 
@@ -20,7 +21,8 @@ def synthetic_sweep(labels, lam, d):
     lam = np.asarray(lam, float)
     dims = ("direction", "point")
     return xr.Dataset({
-        "label": (dims, np.array([labels])), "lyap1": (dims, lam[None]), "lyap1_low": (dims, lam[None] - 0.01),
+        "label": (dims, np.array([labels])), "sticking": (dims, np.array([[lab.endswith("with sticking") for lab in labels]])),
+        "lyap1": (dims, lam[None]), "lyap1_low": (dims, lam[None] - 0.01),
         "lyap1_high": (dims, lam[None] + 0.01), "lyap1_time": (dims, 2 * lam[None]),
     }, coords={"direction": ["down"], "d": ("point", d), "s": ("point", np.asarray(d) / K_S)},
         attrs={"vary": "s", "beta": math.pi / 3})
@@ -145,7 +147,8 @@ def test_motion_blocks_name_short_runs_together(labels, expected):
     short runs are merged and named by what dominates them."""
     from vibroimpact.outputs.plots.energy import motion_blocks
 
-    blocks = motion_blocks(labels, min_share=0.2)
+    names = {m.label: m.short_label for m in (Motion(period=1, bottom=1, top=1), Motion(period=1, bottom=2, top=1))}
+    blocks = motion_blocks(labels, min_share=0.2, names=names)
     assert [(name, b - a) for a, b, name in blocks] == expected
     assert all(b1[1] == b2[0] for b1, b2 in zip(blocks[:-1], blocks[1:], strict=True))  # contiguous
 
@@ -195,7 +198,7 @@ def test_a_map_names_every_label_of_a_motion_with_no_period_however_rare():
     cells += ["quasi-periodic", "chaotic"]
     cells += ["1:1 period-2"] * (30 * 20 - len(cells))
     labels = np.array(cells, dtype=str).reshape(30, 20)
-    m = xr.Dataset({"label": (("beta", "s"), labels)},
+    m = xr.Dataset({"label": (("beta", "s"), labels), "sticking": (("beta", "s"), np.zeros(labels.shape, bool))},
                    coords={"beta": ("beta", np.linspace(0.1, 1.5, 30), {"units": "rad"}),
                            "s": ("s", np.linspace(0.2, 0.7, 20), {"units": "m"})},
                    attrs={"phi": 0.42, "v0": 0.87, "F": 5.0})

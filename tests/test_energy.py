@@ -295,7 +295,8 @@ def test_window_without_impacts_gives_no_output():
          "kind": (("direction", "point", "event"), np.array([[[2, 3, 2, 0]]], np.int8)),
          "status": (("direction", "point"), np.array([[1]], np.int8)),
          "period_events": (("direction", "point"), np.array([[0]])), "period": (("direction", "point"), np.array([[0]])),
-         "label": (("direction", "point"), np.array([["no period found"]]))},
+         "label": (("direction", "point"), np.array([["no period found"]])),
+         "sticking": (("direction", "point"), np.array([[False]]))},
         coords={"direction": ["up"], "point": [0], "d": ("point", [0.2]), "F": ("point", [5.0])})
     e = sweep_energy(sw, DEVICE.replace(membrane=Membrane(**PAPER)))
     assert float(e.U_T[0, 0]) == 0.0 and np.isnan(float(e.U_I[0, 0])) and int(e.window_impacts[0, 0]) == 0
@@ -395,6 +396,7 @@ def test_delivered_takes_each_point_s_well_posed_average():
         "U_T": (dims, [[1.0, 2.0, 3.0, 4.0]]), "U_T_long": (dims, [[10.0, 20.0, 30.0, 40.0]]),
         "U_T_long_se": (dims, [[0.1, 0.2, 0.3, 0.4]]), "settled": (dims, [[True, False, False, False]]),
         "label": (dims, [["2:1 period-2", "1:0 over 2 forcing periods with sticking", "chaotic", "unsettled"]]),
+        "sticking": (dims, [[False, True, False, False]]),
         "long_status": (dims, [["", "", "aperiodic", "settles"]])})
     value, se = delivered(en)
     np.testing.assert_array_equal(value, [[1.0, 2.0, 30.0, np.nan]])

@@ -68,3 +68,13 @@ def test_a_run_with_no_period_is_an_attractor_with_nothing_counted():
     assert (a.periodic, a.period, a.events, a.n_bottom, a.n_top, a.sticking, a.label) == (
         False, 0, 0, 0, 0, False, "not periodic")
     assert a.cycle is None and not a.motion.periodic and math.isnan(a.t_settled)
+
+
+def test_a_window_dataset_records_which_motions_stick_beside_their_labels():
+    """attractor_batch (the windows of sweeps, maps and basins) carries each run's ``sticking`` flag from its
+    motion: the bottom stick-release cycle sticks; the 2:1 motion between G1 and G2 does not."""
+    p = vi.Params.from_physical(s=0.72, beta=math.pi / 3)
+    ab = vi.attractor_batch([p.d, 0.13975], [p.gbar, 0.12201], 0.5, phi=[0.65, 5.855], v0=[0.0, 0.4185],
+                            max_periods=1500, max_events=400_000)
+    assert ab.label.values.tolist() == ["1:0 over 2 forcing periods with sticking", "2:1 period-2"]
+    assert ab.sticking.values.tolist() == [True, False]

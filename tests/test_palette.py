@@ -10,8 +10,16 @@ from matplotlib.colors import to_hex
 
 from vibroimpact.analysis.motions import NO_PERIOD_LABELS
 from vibroimpact.outputs.plots import fig_basins, fig_bis, fig_regime_map
-from vibroimpact.outputs.plots._common import BOTTOM, MOTION_COLORS, TOP, motion_color
-from vibroimpact.outputs.plots.sweeps import BIS_MARKERS, BIS_POINTS
+from vibroimpact.outputs.plots._common import (
+    BOTTOM,
+    EXTRA_COLORS,
+    MOTION_COLORS,
+    STICKING_COLORS,
+    TOP,
+    motion_color,
+    sticking_motions,
+)
+from vibroimpact.outputs.plots.sweeps import BIS_MARKERS, BIS_POINTS, STICKING_KEY
 
 GBAR = 0.12201  # beta = pi/6 at the physics' force (Fig BiS)
 
@@ -26,10 +34,10 @@ def legend_colours(fig):
     return out
 
 
-def regime(labels):
+def regime(labels, sticking=()):
     labels = np.asarray(labels, dtype=str)
     ny, nx = labels.shape
-    return xr.Dataset({"label": (("beta", "s"), labels)},
+    return xr.Dataset({"label": (("beta", "s"), labels), "sticking": (("beta", "s"), np.isin(labels, list(sticking)))},
                       coords={"beta": ("beta", np.linspace(0.1, 1.5, ny), {"units": "rad"}),
                               "s": ("s", np.linspace(0.2, 0.7, nx), {"units": "m"})},
                       attrs={"phi": 0.42, "v0": 0.87, "F": 5.0})
@@ -39,7 +47,8 @@ def basins_set(labels):
     labels = np.asarray(labels, dtype=str)
     legend = list(dict.fromkeys(sorted(labels.ravel().tolist(), key=lambda x: -np.sum(labels == x))))
     code = np.vectorize(legend.index)(labels)
-    return xr.Dataset({"attractor": (("phi", "v0"), code), "label": (("phi", "v0"), labels)},
+    return xr.Dataset({"attractor": (("phi", "v0"), code), "label": (("phi", "v0"), labels),
+                       "sticking": (("phi", "v0"), np.zeros(labels.shape, bool))},
                       coords={"phi": np.linspace(0, 6.2, labels.shape[0]), "v0": np.linspace(0.02, 1.2, labels.shape[1])},
                       attrs={"d": 0.14, "gbar": GBAR, "r": 0.5, "beta": np.pi / 6, "s": 0.2249, "F": 5.0, "M": 0.1245,
                              "omega": 5 * np.pi, "legend": json.dumps(legend)})
@@ -60,7 +69,8 @@ def bis_inputs(n=60):
         for i in range(n):
             t[k, i, :2 * nev[k, i]] = np.cumsum(np.full(2 * nev[k, i], 2.0 / nev[k, i]))
             v[k, i, :2 * nev[k, i]] = np.tile(np.linspace(0.05, 0.45, nev[k, i]), 2)
-    sw = xr.Dataset({"label": (("direction", "point"), lab), "t": (("direction", "point", "event"), t),
+    sw = xr.Dataset({"label": (("direction", "point"), lab), "sticking": (("direction", "point"), np.zeros(lab.shape, bool)),
+                     "t": (("direction", "point", "event"), t),
                      "v_minus": (("direction", "point", "event"), v), "phase": (("direction", "point", "event"), v * 10),
                      "period_events": (("direction", "point"), nev)},
                     coords={"direction": ["up", "down"], "d": ("point", d)})
@@ -80,7 +90,7 @@ def bis_inputs(n=60):
                            "dt": (("point", "impact"), vm), "eig_real": (("point", "eig"), np.column_stack([lam, lam / 3])),
                            "eig_imag": (("point", "eig"), np.zeros((p, 2))),
                            "critical_kind": ("critical", ["fold"]), "critical_d": ("critical", [g2])},
-                          coords={"d": ("point", d)}, attrs={"word": word})
+                          coords={"d": ("point", d)}, attrs={"word": word, "k": 1})
 
     u = np.linspace(-1, 1, 40)
     b21 = branch("BBT", np.linspace(g1, 0.144, 41), np.full(41, 0.5), np.full(41, 0.19))
@@ -199,7 +209,8 @@ def test_the_palette_is_fixed_and_keeps_greys_for_no_period_and_beige_for_other(
 
 def test_motions_the_table_does_not_list_get_one_colour_everywhere():
     assert motion_color("5:3 period-2") == motion_color("5:3 period-2")
-    assert motion_color("1:4 period-2 with sticking") != motion_color("other")
+    assert motion_color("1:4 period-2 with sticking", sticking=True) in STICKING_COLORS
+    assert motion_color("1:4 period-2 with sticking") in EXTRA_COLORS  # the flag decides, not the label
     assert motion_color("7:2 over 3 forcing periods") not in [motion_color(n) for n in NO_PERIOD_LABELS]
 
 
@@ -208,3 +219,19 @@ def test_basins_name_the_incline_and_the_device():
     title = fig.axes[0].get_title()
     plt.close(fig)
     assert r"$\beta=\pi/6$" in title and "s = 0.2249 m" in title and "N" in title and "d = 0.14" in title
+
+
+def test_a_motion_with_sticking_is_drawn_in_brown_by_its_flag_with_the_key_that_says_so():
+    """A regime map's motion whose ``sticking`` flag is set gets a brown and the legend says what sticking means;
+    the same cells without the flag get neither (the figure reads the flag, never the label)."""
+    labels = np.repeat(["3:1 period-2", "1:3 over 2 forcing periods with sticking"], [20, 10]).reshape(6, 5)
+    sticky = regime(labels, sticking={"1:3 over 2 forcing periods with sticking"})
+    assert sticking_motions(sticky) == {"1:3 over 2 forcing periods with sticking"}
+    got = {}
+    for name, m in (("flag", sticky), ("none", regime(labels))):
+        fig = fig_regime_map([m])
+        got[name] = legend_colours(fig)["1:3 over 2 forcing periods with sticking"], fig.legends[0].get_title().get_text()
+        plt.close(fig)
+    assert got["flag"][0] in [c.lower() for c in STICKING_COLORS] and got["none"][0] in [c.lower() for c in EXTRA_COLORS]
+    first = STICKING_KEY.split("\n")[0]
+    assert first in got["flag"][1] and first not in got["none"][1]

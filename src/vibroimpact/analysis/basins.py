@@ -35,7 +35,8 @@ def basins(params: Params, phis, v0s, *, max_periods: float = 400, tol: float = 
     Returns
     -------
     xarray.Dataset
-        On ``(phi, v0)``: ``label`` (e.g. ``"2:1 period-2"``), ``period``, ``n_events`` and the integer
+        On ``(phi, v0)``: ``label`` (e.g. ``"2:1 period-2"``), ``sticking`` (whether the motion's cycle
+        sticks to a wall), ``period``, ``n_events`` and the integer
         ``attractor``, an index into the labels listed (as JSON) in the ``legend`` attribute.
 
     Examples
@@ -58,6 +59,7 @@ def basins(params: Params, phis, v0s, *, max_periods: float = 400, tol: float = 
     out = xr.Dataset(
         {
             "label": (("phi", "v0"), ds["label"].values.reshape(shape)),
+            "sticking": (("phi", "v0"), ds["sticking"].values.reshape(shape)),
             "period": (("phi", "v0"), ds["period"].values.reshape(shape), ds["period"].attrs),
             "n_events": (("phi", "v0"), ds["n_events"].values.reshape(shape), ds["n_events"].attrs),
         },

@@ -348,7 +348,7 @@ def delivered(en: xr.Dataset, q: str = "U_T"):
         return en[q].values, np.full(en[q].shape, np.nan)
 
     settled = en["settled"].values
-    sticking = np.char.find(en["label"].values.astype(str), "with sticking") >= 0
+    sticking = en["sticking"].values
     chaotic = en["long_status"].values.astype(str) == "aperiodic"
     value = np.where(settled | sticking, en[q].values, np.where(chaotic, en[f"{q}_long"].values, np.nan))
     se = np.where(settled, 0.0, np.where(sticking, STICK_REL * np.abs(en[q].values),
@@ -379,7 +379,7 @@ def sweep_energy(sw: xr.Dataset, device: Device = PAPER, *, window_time: float =
     -------
     xarray.Dataset
         On ``(direction, point)``: ``U_I``, ``U_T``, ``window_impacts`` and ``window_time`` (the
-        span averaged over), the sweep's ``label``, ``settled`` and ``long_status``; on
+        span averaged over), the sweep's ``label``, ``sticking``, ``settled`` and ``long_status``; on
         ``(direction, point, event)`` the window's ``speed`` and ``gain``; where settled the exact cycle's
         ``cycle_gain`` (on ``cycle``), ``cycle_U_I`` and ``cycle_U_T``; the long-run averages
         ``U_I_long``, ``U_T_long`` with standard errors ``U_I_long_se``, ``U_T_long_se``.  A point resting
@@ -409,7 +409,7 @@ def sweep_energy(sw: xr.Dataset, device: Device = PAPER, *, window_time: float =
             "gain": (("direction", "point", "event"), gain_all),
             "U_I": (("direction", "point"), u_i), "U_T": (("direction", "point"), u_t),
             "window_time": (("direction", "point"), span), "window_impacts": (("direction", "point"), count),
-            "label": sw["label"]}
+            "label": sw["label"], "sticking": sw["sticking"]}
     if "cycle_v_minus" in sw:
         data |= _settled_energy(sw, Fb, device)
         # a settled attractor's averages are its exact cycle's (the window's are that cycle's to the

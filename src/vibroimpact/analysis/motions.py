@@ -19,7 +19,7 @@ from numba import njit
 from ..dynamics import kernels as K
 
 __all__ = ["Motion", "PERIODIC", "APERIODIC", "CHAOTIC", "QUASI_PERIODIC", "UNSETTLED", "NO_PERIOD_LABELS",
-           "no_period", "no_period_label", "motion_without_period", "chatter_bounces", "cycle_class", "resolved_impacts", "transition_kind",
+           "no_period", "no_period_label", "motion_without_period", "orbit_motion", "chatter_bounces", "cycle_class", "resolved_impacts", "transition_kind",
            "Attractor", "identify_attractor"]
 
 #: The kind of a motion with a period (the others are :data:`NO_PERIOD_LABELS`).
@@ -90,6 +90,8 @@ class Motion:  # numpydoc ignore=PR01
     ('2:1 period-2', '3:2 over 2 forcing periods')
     >>> Motion(period=2, bottom=1, top=0, sticking=True).label, Motion(kind=CHAOTIC).label
     ('1:0 over 2 forcing periods with sticking', 'chaotic')
+    >>> Motion(period=2, bottom=2, top=2).short_label
+    '1:1 T=4'
     """
 
     kind: str = PERIODIC
@@ -115,12 +117,31 @@ class Motion:  # numpydoc ignore=PR01
     def label(self) -> str:
         """The paper's name, e.g. ``"2:1 period-2"``, ``"n:m over k forcing periods"`` where the counts are not
         multiples of the period, with ``" with sticking"``; or the name of a motion without a period."""
+        return self._name(f"period-{2 * self.period}")
+
+    @property
+    def short_label(self) -> str:
+        """The label with its period written ``T=k`` (k in t, 2 per forcing period), e.g. ``"2:1 T=2"``: the
+        name written over a narrow run of points."""
+        return self._name(f"T={2 * self.period}")
+
+    def _name(self, period: str) -> str:
         if not self.periodic:
             return self.kind
         nm = self.per_period
-        label = (f"{nm[0]}:{nm[1]} period-{2 * self.period}" if nm is not None
+        label = (f"{nm[0]}:{nm[1]} {period}" if nm is not None
                  else f"{self.bottom}:{self.top} over {self.period} forcing periods")
         return label + " with sticking" if self.sticking else label
+
+
+def orbit_motion(word: str, k: int = 1) -> Motion:
+    """The :class:`Motion` of the periodic orbit ``word`` over ``k`` forcing periods (:mod:`vibroimpact.analysis.orbits`:
+    ``B`` a bottom, ``T`` a top impact).
+
+    >>> orbit_motion("BBT").label, orbit_motion("BT", k=2).label
+    ('2:1 period-2', '1:1 over 2 forcing periods')
+    """
+    return Motion(period=int(k), bottom=word.count("B"), top=word.count("T"))
 
 
 def motion_without_period(label: str) -> Motion:

@@ -59,7 +59,8 @@ def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float 
     -------
     xarray.Dataset
         On ``(y_name, x_name)``: ``label`` (a cell with no period split into chaotic, quasi-periodic or
-        unsettled by its long run, :func:`no_period_label`), ``lyap1`` with ``lyap1_low``, ``lyap1_high``
+        unsettled by its long run, :func:`no_period_label`), ``sticking`` (whether the motion's cycle sticks
+        to a wall), ``lyap1`` with ``lyap1_low``, ``lyap1_high``
         for those cells, ``period``, ``d``, ``gbar`` and ``attractor`` (an index into the labels of the
         ``legend`` attribute, JSON); attributes: the start, the settings and the values held.
 
@@ -85,6 +86,7 @@ def regime_map(x_name: str, xs, y_name: str, ys, *, phi: float = 0.0, v0: float 
     level = "its 95 % confidence interval (batch means over the long run)"
     data = {
         "label": ((y_name, x_name), labels.reshape(shape)),
+        "sticking": ((y_name, x_name), ds["sticking"].values.reshape(shape)),
         "lyap1": ((y_name, x_name), lyap[:, 0].reshape(shape), {"units": "1", "long_name": "largest Lyapunov exponent per impact of a cell with no period (its long run; NaN elsewhere)"}),
         "lyap1_low": ((y_name, x_name), lyap[:, 1].reshape(shape), {"units": "1", "long_name": f"lambda_1: lower end of {level}"}),
         "lyap1_high": ((y_name, x_name), lyap[:, 2].reshape(shape), {"units": "1", "long_name": f"lambda_1: upper end of {level}"}),

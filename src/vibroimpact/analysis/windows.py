@@ -122,7 +122,7 @@ def attractor_batch(d, gbar, r, phi, v0, *, max_periods: float = 200, max_events
     -------
     xarray.Dataset
         ``t, wall, v_minus, phase, kind`` on ``(run, event)`` (NaN-padded), and per run ``label``,
-        ``period`` (forcing periods, 0 when aperiodic), ``period_events``, ``n_bottom``, ``n_top``,
+        ``sticking`` (whether its cycle sticks to a wall), ``period`` (forcing periods, 0 when aperiodic), ``period_events``, ``n_bottom``, ``n_top``,
         ``n_events`` (simulated) and ``status``.
 
     Examples
@@ -167,17 +167,20 @@ def window_dataset(win, st, lag, tot, nw, dims):
     per = np.zeros(shape, np.int64)
     nb = np.zeros(shape, np.int64)
     nt = np.zeros(shape, np.int64)
+    sticks = np.zeros(shape, bool)
     flat = [w.reshape(-1, w.shape[-1]) for w in win]
     for idx in range(int(np.prod(shape))):
         n = int(nw.flat[idx])
         rows = [f[idx, :n] for f in flat]  # the real events lead the window, NaN-padded after
         motion, b, t_ = window_motion(rows, n, int(st.flat[idx]), int(lag.flat[idx]))
         per.flat[idx], nb.flat[idx], nt.flat[idx], labels.flat[idx] = motion.period, b, t_, motion.label
+        sticks.flat[idx] = motion.sticking
     edims = (*dims, "event")
     ds = xr.Dataset(
         {name: (edims, w) for name, w in zip(EVENT_VARS, win, strict=True)}
         | {
             "label": (dims, labels.astype(str)),
+            "sticking": (dims, sticks),
             "period": (dims, per, {"units": "1", "long_name": "period of the attractor in forcing periods (0: no period found)"}),
             "period_events": (dims, np.where(st == K.PERIODIC, lag, 0),
                               {"units": "1", "long_name": "events per period of the attractor"}),

@@ -134,7 +134,7 @@ EXTRA_COLORS = ("#CC6677", "#BBCC33", "#EE8866", "#FFAABB", "#E7298A", "#99DDFF"
 STICKING_COLORS = ("#BF812D", "#6B3A07")
 
 
-def motion_color(label: str) -> str:
+def motion_color(label: str, sticking: bool = False) -> str:
     """The colour of a motion, whichever figure draws it and however often it occurs there.
 
     Parameters
@@ -142,11 +142,13 @@ def motion_color(label: str) -> str:
     label : str
         A motion's label (:attr:`vibroimpact.analysis.motions.Motion.label`, the no-period labels of
         :mod:`vibroimpact.analysis.motions`, or ``"other"``).
+    sticking : bool
+        Whether the motion's cycle sticks to a wall (the datasets' ``sticking``, :func:`sticking_motions`).
 
     Returns
     -------
     str
-        ``MOTION_COLORS[label]`` where listed; else one of ``STICKING_COLORS`` (a label with sticking) or of
+        ``MOTION_COLORS[label]`` where listed; else one of ``STICKING_COLORS`` (a motion with sticking) or of
         ``EXTRA_COLORS``, chosen by the label's CRC-32, so the same on every run and machine.  Two unlisted
         motions can share one: a figure that names motions names only the more frequent of them.
     """
@@ -154,5 +156,11 @@ def motion_color(label: str) -> str:
     label = str(label)
     if label in MOTION_COLORS:
         return MOTION_COLORS[label]
-    pool = STICKING_COLORS if "with sticking" in label else EXTRA_COLORS
+    pool = STICKING_COLORS if sticking else EXTRA_COLORS
     return pool[zlib.crc32(label.encode()) % len(pool)]
+
+
+def sticking_motions(*datasets) -> frozenset[str]:
+    """The labels of the motions with sticking in ``datasets`` (each with ``label`` and ``sticking``)."""
+    return frozenset(str(lab) for ds in datasets
+                     for lab in np.asarray(ds["label"].values)[np.asarray(ds["sticking"].values, dtype=bool)])

@@ -11,6 +11,7 @@ from matplotlib.transforms import blended_transform_factory
 
 from ...analysis.energy import delivered
 from ...analysis.motions import CHAOTIC, no_period
+from ...analysis.windows import window_motions
 from ..tables import stable_interval
 from ._common import BOTTOM, D_GRAZ_COLOR, TOP, beta_label, branch_line, use_style, wellposed
 from .sweeps import last_events, point_info, word_ratio
@@ -61,18 +62,20 @@ def grazing_marks(orbit_branches, transitions=None):
     return marks
 
 
-def _short(label):
-    return {"no period found": "aperiodic"}.get(label, label.replace(" period-", " T="))
+#: the ``gid`` of a motion's name written over a panel (:func:`motion_runs`), which :func:`rows_of_names` places
+RUN_NAME = "motion-run-name"
 
 
-def motion_blocks(labels, min_share=0.07):
+def motion_blocks(labels, min_share=0.07, names=None):
     """The runs of one motion along a sweep that a panel names, as ``[(first, end, name)]`` (point indices,
     ``end`` exclusive).  The motions with no period (chaotic, quasi-periodic, unsettled) make one run.  A run
     of at least ``min_share`` of the points is named by its motion ("chaotic" where most of a no-period
     run is chaotic, else "aperiodic"); consecutive shorter runs are merged, and the merged block, if it
     reaches ``min_share``, is named by what dominates it: "chaotic" (with ", periodic windows" where
     periodic points interrupt it) where most of its points have no period and most of those are chaotic,
-    "aperiodic" where most have no period, else "periodic windows"."""
+    "aperiodic" where most have no period, else "periodic windows".  A periodic motion's name is
+    ``names[label]`` (its :attr:`~vibroimpact.analysis.motions.Motion.short_label`), the label where
+    ``names`` lacks it."""
 
     lab = np.asarray(labels).astype(str)
     nop = no_period(lab)
@@ -84,7 +87,10 @@ def motion_blocks(labels, min_share=0.07):
     while k < starts.size:
         if long_[k]:
             a, b = starts[k], ends[k]
-            name = _short(runs[a]) if runs[a] != "no period found" or np.mean(lab[a:b] == CHAOTIC) < 0.5 else CHAOTIC
+            if runs[a] != "no period found":
+                name = (names or {}).get(runs[a], runs[a])
+            else:
+                name = CHAOTIC if np.mean(lab[a:b] == CHAOTIC) >= 0.5 else "aperiodic"
             blocks.append((int(a), int(b), name))
             k += 1
             continue
@@ -117,12 +123,14 @@ def motion_runs(ax, sw, direction="down", min_share=0.07):
     d = sw.d.values
     tr = blended_transform_factory(ax.transData, ax.transAxes)
     step = sweep_step(sw)
-    for a, b, name in motion_blocks(sw.label.sel(direction=direction).values, min_share):
+    s = sw.sel(direction=direction)
+    names = {m.label: m.short_label for m in window_motions(s)}
+    for a, b, name in motion_blocks(s.label.values, min_share, names):
         ax.annotate("", (d[a], 0.985), (d[b - 1], 0.985), xycoords=tr, arrowprops=dict(arrowstyle="|-|", lw=0.5,
                     color="0.4", shrinkA=0, shrinkB=0, mutation_scale=2))
         text = ax.text(0.5 * (d[a] + d[b - 1]), 0.965, name, transform=tr, ha="center", va="top", fontsize=5,
                        color="0.25")
-        text._vi_run_name = True  # placed in rows by rows_of_names once the figure is laid out
+        text.set_gid(RUN_NAME)  # placed in rows by rows_of_names once the figure is laid out
         wellposed(text, "run", step=step)
 
 
@@ -133,7 +141,7 @@ def rows_of_names(fig, row_height=0.045, pad=3.0):
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
     for ax in fig.axes:
-        names = sorted((t for t in ax.texts if getattr(t, "_vi_run_name", False)), key=lambda t: t.get_position()[0])
+        names = sorted((t for t in ax.texts if t.get_gid() == RUN_NAME), key=lambda t: t.get_position()[0])
         frame = ax.get_window_extent(renderer)
         lo, hi = ax.get_xlim()
         placed = []

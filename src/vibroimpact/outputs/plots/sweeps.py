@@ -12,7 +12,7 @@ from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from ...analysis.motions import NO_PERIOD_LABELS, no_period
+from ...analysis.motions import NO_PERIOD_LABELS, no_period, orbit_motion
 from ...dynamics import kernels as K
 from ...dynamics.params import Params
 from ...dynamics.runs import simulate
@@ -24,6 +24,7 @@ from ._common import (
     branch_line,
     motion_color,
     pi_label,
+    sticking_motions,
     use_style,
     wellposed,
 )
@@ -147,6 +148,7 @@ def _bis_points(ax, sw, var, stride, y_of=None):
     """Each sweep direction's last period of events at every ``stride``-th point (the up sweep's points half a
     stride on, so the two interleave), the marker and colour by the motion found.  With ``y_of``, drawn at
     that height per direction instead of the values (the panel of the sweeps)."""
+    sticky = sticking_motions(sw)
     for direction, offset, name in (("down", 0, "d decreasing"), ("up", stride // 2, "d increasing")):
         sub = sw.isel(point=slice(offset, None, stride))
         x, y, info = last_events(sub, var, direction, info=True)
@@ -155,7 +157,7 @@ def _bis_points(ax, sw, var, stride, y_of=None):
         for motion in sorted(set(lab)):
             sel = lab == motion
             yy = np.full(sel.sum(), y_of[direction]) if y_of else y[sel]
-            line = ax.plot(x[sel], yy, BIS_MARKERS.get(motion, "x"), mfc="none", color=motion_color(motion), ms=4.5,
+            line = ax.plot(x[sel], yy, BIS_MARKERS.get(motion, "x"), mfc="none", color=motion_color(motion, motion in sticky), ms=4.5,
                            mew=0.9, ls="none", label=f"_{motion}, {name}", zorder=3)[0]
             wellposed(line, "motions", **{k: v[sel] for k, v in info.items()})
 
@@ -194,7 +196,7 @@ def fig_bis(sw, transitions, portraits, branches):
     branches = [br for br, no in zip(branches, failed, strict=True) if not no]
     lo, hi = float(sw.d.min()), float(sw.d.max())
     stride = max(1, int(np.ceil(sw.sizes["point"] / BIS_POINTS)))
-    names = [f"{word_ratio(str(br.attrs['word']))} period-2" for br in branches]
+    names = [orbit_motion(str(br.attrs["word"]), int(br.attrs["k"])).label for br in branches]
 
     def jumps(ax, label=True):
         for g, name in ((g1, "G1"), (g2, "G2")):
@@ -253,7 +255,7 @@ def _bis_portrait(ax, p, letter, status, gbar, r, fold):
     (a)-(c), the walls shaded; at G2 the evidence that it is a fold (``fold``, :func:`fold_evidence`)."""
     d = float(p.d)
     ratio = word_ratio(str(p.word.values))
-    motion = f"{ratio} period-2"
+    motion = orbit_motion(str(p.word.values)).label  # the branches' orbits: one forcing period
     name = str(p.panel.values)
     heads = {"G1": "grazing point G1", "G2": "G2, fold of 3:1"}
     if status != "drawn":
@@ -290,30 +292,32 @@ STICKING_KEY = ("with sticking: chatters to rest on a wall, sticks until\nthe fo
                 "impact (1:0: the stick-release cycle on the bottom)")
 
 
-def motion_key(names) -> str:
-    """:data:`MOTION_KEY`, with :data:`STICKING_KEY` where one of ``names`` is a motion with sticking."""
-    sticking = any("with sticking" in str(n) for n in names)
+def motion_key(names, sticky=frozenset()) -> str:
+    """:data:`MOTION_KEY`, with :data:`STICKING_KEY` where one of ``names`` is a motion with sticking (one of
+    ``sticky``, :func:`~vibroimpact.outputs.plots._common.sticking_motions`)."""
+    sticking = any(str(n) in sticky for n in names)
     return (MOTION_KEY + (";\n" + STICKING_KEY if sticking else "")).replace("; ", ";\n")
 
 
-def _class_colors(names):
-    """A colour per motion name: its colour in every figure (:func:`~vibroimpact.outputs.plots._common.motion_color`)."""
-    return [motion_color(n) for n in names]
+def _class_colors(names, sticky):
+    """A colour per motion name: its colour in every figure (:func:`~vibroimpact.outputs.plots._common.motion_color`;
+    ``sticky`` the names of the motions with sticking)."""
+    return [motion_color(n, n in sticky) for n in names]
 
 
-def _shown_classes(legend, n_show=9):
+def _shown_classes(legend, sticky=frozenset(), n_show=9):
     """Which of the motions ``legend`` lists (most frequent first) a map names: every label of a motion with
     no period (chaotic, quasi-periodic, unsettled, no period found: never folded into "other") and the
     ``n_show`` most frequent periodic ones whose colour no more frequent named motion has (two motions
     without a colour of their own can share one, :func:`~vibroimpact.outputs.plots._common.motion_color`), in
-    the legend's order; the rest "other".  Returns the names and, per legend entry, its index among them."""
+    the legend's order; the rest "other" (``sticky``: the names of the motions with sticking).  Returns the names and, per legend entry, its index among them."""
     special = [i for i, n in enumerate(legend) if n in NO_PERIOD_LABELS]
-    taken = {motion_color(legend[i]) for i in special}
+    taken = {motion_color(legend[i]) for i in special}  # no period: never sticking
     periodic = []
     for i, n in enumerate(legend):
-        if n in NO_PERIOD_LABELS or len(periodic) == n_show or motion_color(n) in taken:
+        if n in NO_PERIOD_LABELS or len(periodic) == n_show or motion_color(n, n in sticky) in taken:
             continue
-        taken.add(motion_color(n))
+        taken.add(motion_color(n, n in sticky))
         periodic.append(i)
     shown = sorted(special + periodic)
     names = [legend[i] for i in shown] + (["other"] if len(shown) < len(legend) else [])
@@ -322,13 +326,13 @@ def _shown_classes(legend, n_show=9):
     return names, lut
 
 
-def _class_image(ax, da, x, y, legend, n_show=9, *, key=True):
+def _class_image(ax, da, x, y, legend, sticky, n_show=9, *, key=True):
     """Draw integer attractor codes (indices into ``legend``) with a discrete colormap, named as
-    :func:`_shown_classes` says.  Returns the legend handles (drawn beside the axes with ``key``)."""
+    :func:`_shown_classes` says (``sticky``: the names of the motions with sticking).  Returns the legend handles (drawn beside the axes with ``key``)."""
 
-    names, lut = _shown_classes(list(legend), n_show)
+    names, lut = _shown_classes(list(legend), sticky, n_show)
     codes = lut[np.asarray(da.values, dtype=int)]
-    colors = _class_colors(names)
+    colors = _class_colors(names, sticky)
     cmap = ListedColormap(colors)
     norm = BoundaryNorm(np.arange(len(names) + 1) - 0.5, len(names))
     mesh = ax.pcolormesh(x, y, codes, cmap=cmap, norm=norm, shading="nearest")
@@ -350,7 +354,7 @@ def fig_basins(b):
 
     use_style()
     fig, ax = plt.subplots(figsize=(7.4, 4.2))
-    _class_image(ax, b.attractor.T, b.phi.values, b.v0.values, json.loads(b.attrs["legend"]))
+    _class_image(ax, b.attractor.T, b.phi.values, b.v0.values, json.loads(b.attrs["legend"]), sticking_motions(b))
     ax.set_xlabel(r"phase $\varphi$ of the first bottom impact (rad)")
     ax.set_ylabel(r"pre-impact velocity $\dot Z(t_0)$")
     a = b.attrs
@@ -398,13 +402,14 @@ def fig_regime_map(maps, scans=None):
     labels, counts = np.unique(np.concatenate([m.label.values.ravel() for m in maps]), return_counts=True)
     legend = list(labels[np.argsort(-counts, kind="stable")])
     index = {lab: i for i, lab in enumerate(legend)}
+    sticky = sticking_motions(*maps)
     fig, axes = plt.subplots(1, len(maps), figsize=(5.6 * len(maps), 4.6), squeeze=False)
     names = {"beta": r"incline $\beta$", "s": "cylinder length s", "F": r"forcing amplitude $\|\hat F\|$",
              "d": "non-dimensional gap d", "gbar": r"non-dimensional gravity $\bar g$", "r": "restitution r"}
     for ax, m in zip(axes[0], maps, strict=True):
         ydim, xdim = m.label.dims
         codes = m.label.copy(data=np.vectorize(index.__getitem__)(m.label.values))
-        handles = _class_image(ax, codes, m[xdim].values, m[ydim].values, legend, key=False)
+        handles = _class_image(ax, codes, m[xdim].values, m[ydim].values, legend, sticky, key=False)
         ax.set_xlabel(f"{names.get(xdim, xdim)} ({m[xdim].attrs.get('units', '')})")
         ax.set_ylabel(f"{names.get(ydim, ydim)} ({m[ydim].attrs.get('units', '')})")
         if ydim == "beta":
@@ -433,7 +438,7 @@ def fig_regime_map(maps, scans=None):
 
     if scans:
         handles = [*handles, Line2D([], [], color="k", lw=1.6, label="the paper's sweeps (config names)")]
-    fig.legend(handles=handles, loc="outside right upper", fontsize=6, title=motion_key(h.get_label() for h in handles),
+    fig.legend(handles=handles, loc="outside right upper", fontsize=6, title=motion_key((h.get_label() for h in handles), sticky),
                title_fontsize=6)
     return fig
 

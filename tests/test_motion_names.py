@@ -78,3 +78,14 @@ def test_a_window_dataset_records_which_motions_stick_beside_their_labels():
                             max_periods=1500, max_events=400_000)
     assert ab.label.values.tolist() == ["1:0 over 2 forcing periods with sticking", "2:1 period-2"]
     assert ab.sticking.values.tolist() == [True, False]
+
+
+def test_a_ball_bouncing_once_per_forcing_period_is_a_motion_of_one_event():
+    """d = 10 (the top out of reach), gbar = 0.8, r = 0.5: the bouncing ball's period-one orbit, one bottom
+    impact per forcing period, is found from a start near it as a motion of one event per period, its
+    pre-impact speed 2 gbar / (1 + r) (over a flight of 2 time units gravity turns the rebound r v into v).
+    The cycle is identified to the periodicity tolerance 1e-9; its multipliers have modulus 0.5, so it lies
+    within 1e-9 / (1 - 0.5) of the orbit."""
+    a = vi.identify_attractor(vi.simulate(vi.Params(d=10.0, gbar=0.8, r=0.5), 2.5, 1.3, n_impacts=400))
+    assert (a.label, a.events, a.period) == ("1:0 period-2", 1, 1)
+    assert a.cycle.v_minus.values[0] == pytest.approx(2 * 0.8 / 1.5, abs=2e-9)

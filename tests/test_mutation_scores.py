@@ -32,8 +32,11 @@ def test_scores_count_a_known_sample(tmp_path):
     _write(tmp_path / "energy.jsonl", head, rows)
     _write(tmp_path / "energy_retest.jsonl", {"retest": {"ids": [6]}}, [{"id": 6, "status": "killed"}])
     (tmp_path / "verdicts.toml").write_text(
-        '[energy.5]\nverdict = "equivalent"\nreason = "a comparison at exact equality"\n'
-        '[energy.6]\nverdict = "blind spot"\ntest = "tests/test_energy.py::test_x"\nreason = "a wrong sign"\n')
+        '[energy.5]\nmutation = "line 15: 1 -> 2"\nverdict = "equivalent"\nreason = "a comparison at exact equality"\n'
+        '[energy.6]\nmutation = "line 16: 1 -> 2"\nverdict = "blind spot"\ntest = "tests/test_energy.py::test_x"\n'
+        'reason = "a wrong sign"\n'
+        # written for another mutant that an earlier sample numbered 7: not this one's verdict
+        '[energy.7]\nmutation = "line 99: 1 -> 2"\nverdict = "equivalent"\nreason = "another mutant entirely"\n')
     text = tool.scores(samples=str(tmp_path))
     row = next(line for line in text.splitlines() if line.startswith("| energy |"))
     assert row == "| energy | 7 of 100 (seed 5) | no (commit abcdef1) | 4 | 1 | 2 | 4 of 6 (67%) | 5 of 6 |"
@@ -53,7 +56,7 @@ def test_every_module_the_tool_knows_has_a_kept_sample():
 
 @pytest.mark.parametrize("module", sorted(tool.TESTS))
 def test_each_kept_sample_is_judged_and_kills_enough(module):
-    """Every survivor has a verdict (equivalent with a reason, or a blind spot with a test that exists and
+    """Every survivor has a verdict of its own mutation (equivalent with a reason, or a blind spot with a test that exists and
     kills it on the rerun); no verdict names a mutant that did not survive; on a sample of the module's
     current source the tests kill at least 80 % of the mutants that change behaviour (those the sample killed
     and the blind spots the tests they led to kill)."""
@@ -62,10 +65,14 @@ def test_each_kept_sample_is_judged_and_kills_enough(module):
     rows = tool.records(str(path))
     assert head is not None and sorted(r["id"] for r in rows) == head["ids"], "an unfinished or headless sample"
     verdicts = tool.load_verdicts(str(SAMPLES / "verdicts.toml")).get(module, {})
+    by_id = {r["id"]: r for r in rows}
+    stale = {i for i, v in verdicts.items() if i in by_id and v.get("mutation") != tool.mutation_of(by_id[i])}
+    assert not stale, f"verdicts written for other mutants than the sample's: {stale}"
     survivors = {r["id"] for r in rows if r["status"] == "survived"}
     assert set(verdicts) <= survivors, f"verdicts on mutants that did not survive: {set(verdicts) - survivors}"
     assert survivors <= set(verdicts), f"survivors without a verdict: {survivors - set(verdicts)}"
     retest = tool.records(str(SAMPLES / f"{module}_retest.jsonl"))
+    assert tool.retest_sources(str(SAMPLES / f"{module}_retest.jsonl")) <= {head["source_sha256"]}, "reruns of another source"
     for i, v in verdicts.items():
         assert v["verdict"] in ("equivalent", "blind spot") and len(v["reason"]) > 20, (i, v)
         if v["verdict"] == "blind spot":

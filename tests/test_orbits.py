@@ -664,3 +664,30 @@ def test_branch_from_simulation_starts_at_its_documented_default():
     default, rest = branch_from_simulation(p, "BBT", **kw), branch_from_simulation(p, "BBT", v0=0.0, **kw)
     assert default.attrs.get("status", "ok") == "ok" and default.sizes["point"] > 0
     assert rest.attrs["status"] == "failed" and "3:1 period-2" in rest.attrs["reason"]
+
+
+def test_a_branch_of_plastic_impacts_is_continued_across_its_range():
+    """r = 0, the lower end the model allows (each impact stops the ball on the wall): the unstable 1:1 orbit at
+    d = 0.3, gbar = 0.1 continued in d leaves d_range at both ends, and the simulator started on any of its
+    points returns to it after one forcing period.  Newton's and the simulator's events are exact to about
+    1e-12; one period of this orbit's map expands errors by its multiplier 19: 1e-9 bounds both."""
+    o = find_orbit(vi.Params(d=0.3, gbar=0.1, r=0.0), "BT", 2.5, 0.5)
+    br = continue_orbit(o, vary="d", d_range=(0.28, 0.32), step=5e-3)
+    assert br.attrs["stop_increasing"].startswith("left d_range") and br.attrs["stop_decreasing"].startswith("left d_range")
+    for i in (0, br.sizes["point"] // 2, br.sizes["point"] - 1):
+        p = vi.Params(d=float(br.d[i]), gbar=0.1, r=0.0)
+        ds = vi.simulate(p, float(br.phase[i, 0]), float(br.v_minus[i, 0]), n_impacts=3)
+        assert ds.t.values[2] - ds.t.values[0] == pytest.approx(2.0, abs=1e-9)
+        assert ds.v_minus.values[2] == pytest.approx(float(br.v_minus[i, 0]), abs=1e-9)
+
+
+def test_a_continuation_reports_its_progress_through_the_interval(caplog):
+    """The progress a continuation logs, in thousandths of its interval: a branch that leaves d_range at both
+    ends has covered all of it (1000 of 1000), in tenths."""
+    o = find_orbit(vi.Params(d=0.3, gbar=0.1, r=0.0), "BT", 2.5, 0.5)
+    with caplog.at_level("INFO", logger="vibroimpact"):
+        continue_orbit(o, vary="d", d_range=(0.28, 0.32), step=5e-3, progress=False)
+    lines = [r.getMessage() for r in caplog.records if r.getMessage().startswith("continue BT in d: ")]
+    assert lines[0] == "continue BT in d: started (1000 ‰ of the interval)"
+    tenths = [int(m.split(": ")[1].split("/")[0]) for m in lines[1:-1]]
+    assert len(tenths) == 10 and tenths[-1] == 1000 and lines[-1].startswith("continue BT in d: done, 1000 in ")

@@ -29,8 +29,9 @@ stated tolerance) or a blind spot of the tests; the report lists survivors with 
 
 A run's first record describes its sample (module, seed, size, the module source's SHA-256, the commit
 and the test files); ``keep`` copies a finished sample (and its retest) into ``tools/mutation_samples/``,
-which the repository carries, beside ``verdicts.toml``: for each surviving mutant, equivalent (with the
-reason no input changes the result) or a blind spot (with the test it led to, run by ``retest``).
+which the repository carries, beside ``verdicts.toml``: for each surviving mutant, the change it makes
+(``mutation``, so a verdict never passes to another mutant a new sample numbers alike) and equivalent (with
+the reason no input changes the result) or a blind spot (with the test it led to, run by ``retest``).
 ``scores`` writes the testing page's table and list of equivalent survivors from those files.
 
 Usage (from the repository root, with the project's venv):
@@ -333,6 +334,14 @@ def header(path):
     return json.loads(first).get("sample") if first.strip() else None
 
 
+def retest_sources(path):
+    """The module source's SHA-256 of each rerun a retest file holds (one header per ``retest`` call)."""
+    if not os.path.exists(path):
+        return set()
+    rows = map(json.loads, filter(None, open(path).read().split("\n")))
+    return {r["retest"]["source_sha256"] for r in rows if "retest" in r}
+
+
 def sha256(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
@@ -356,6 +365,8 @@ def keep(module):
     shutil.copy(res, os.path.join(SAMPLES, f"{module}.jsonl"))
     retest = os.path.join(OUT, f"results_{module}_retest.jsonl")
     kept_retest = os.path.join(SAMPLES, f"{module}_retest.jsonl")
+    if os.path.exists(retest) and retest_sources(retest) - {head["source_sha256"]}:
+        sys.exit(f"{retest} reruns mutants of another source than the sample's: remove it and rerun the blind spots")
     if os.path.exists(retest):
         shutil.copy(retest, kept_retest)
     elif os.path.exists(kept_retest):
@@ -384,8 +395,20 @@ def module_scores(sample, verdicts, retest=()):
             "after": killed + sum(i in rekilled for i in blind)}
 
 
+def mutation_of(record) -> str:
+    """What a mutant changes, as a verdict names it (``"line 235: 0 -> 1"``): a verdict holds only for the
+    mutant it was written for, not for another that a new sample gives the same id."""
+    return f"line {record['line']}: {record['old']} -> {record['new']}"
+
+
+def judged_verdicts(sample, verdicts):
+    """The verdicts of ``verdicts`` ({id: table}) whose ``mutation`` is that of the sample's mutant with their id."""
+    by_id = {r["id"]: r for r in sample}
+    return {i: v for i, v in verdicts.items() if i in by_id and v.get("mutation") == mutation_of(by_id[i])}
+
+
 def load_verdicts(path=None):
-    """``verdicts.toml``: {module: {id: {"verdict": ..., "reason": ..., "test": ...}}}."""
+    """``verdicts.toml``: {module: {id: {"mutation": ..., "verdict": ..., "reason": ..., "test": ...}}}."""
     path = path or os.path.join(SAMPLES, "verdicts.toml")
     if not os.path.exists(path):
         return {}
@@ -408,7 +431,7 @@ def scores(samples=SAMPLES, verdicts_path=None):
             rows.append(f"| {module} | none kept | | | | | | |")
             continue
         sample = records(path)
-        judged = verdicts.get(module, {})
+        judged = judged_verdicts(sample, verdicts.get(module, {}))
         s = module_scores(sample, judged, records(os.path.join(samples, f"{module}_retest.jsonl")))
         current = (os.path.exists(live_source(module))
                    and sha256(open(live_source(module), "rb").read()) == head["source_sha256"])

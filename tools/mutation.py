@@ -401,9 +401,9 @@ def mutation_of(record) -> str:
     return f"line {record['line']}: {record['old']} -> {record['new']}"
 
 
-def judged_verdicts(sample, verdicts):
-    """The verdicts of ``verdicts`` ({id: table}) whose ``mutation`` is that of the sample's mutant with their id."""
-    by_id = {r["id"]: r for r in sample}
+def judged_verdicts(by_id, verdicts):
+    """The verdicts of ``verdicts`` ({id: table}) whose ``mutation`` is that of the sample's mutant with their id
+    (``by_id``: the sample's records by id)."""
     return {i: v for i, v in verdicts.items() if i in by_id and v.get("mutation") == mutation_of(by_id[i])}
 
 
@@ -431,7 +431,8 @@ def scores(samples=SAMPLES, verdicts_path=None):
             rows.append(f"| {module} | none kept | | | | | | |")
             continue
         sample = records(path)
-        judged = judged_verdicts(sample, verdicts.get(module, {}))
+        by_id = {r["id"]: r for r in sample}
+        judged = judged_verdicts(by_id, verdicts.get(module, {}))
         s = module_scores(sample, judged, records(os.path.join(samples, f"{module}_retest.jsonl")))
         current = (os.path.exists(live_source(module))
                    and sha256(open(live_source(module), "rb").read()) == head["source_sha256"])
@@ -439,7 +440,6 @@ def scores(samples=SAMPLES, verdicts_path=None):
         share = f"{s['killed']} of {s['changing']} ({s['killed'] / max(1, s['changing']):.0%})"
         rows.append(f"| {module} | {s['sampled']} of {head['mutants']} (seed {head['seed']}) | {source} | "
                     f"{s['killed']} | {s['equivalent']} | {s['blind']} | {share} | {s['after']} of {s['changing']} |")
-        by_id = {r["id"]: r for r in sample}
         lines = []
         for i in sorted(r["id"] for r in sample if r["status"] == "survived"):
             r, v = by_id[i], judged.get(i, {})

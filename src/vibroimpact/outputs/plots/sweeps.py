@@ -315,9 +315,10 @@ def _shown_classes(legend, sticky=frozenset(), n_show=9):
     taken = {motion_color(legend[i]) for i in special}  # no period: never sticking
     periodic = []
     for i, n in enumerate(legend):
-        if n in NO_PERIOD_LABELS or len(periodic) == n_show or motion_color(n, n in sticky) in taken:
+        color = motion_color(n, n in sticky)
+        if n in NO_PERIOD_LABELS or len(periodic) == n_show or color in taken:
             continue
-        taken.add(motion_color(n, n in sticky))
+        taken.add(color)
         periodic.append(i)
     shown = sorted(special + periodic)
     names = [legend[i] for i in shown] + (["other"] if len(shown) < len(legend) else [])

@@ -84,6 +84,7 @@ rule all:
             ext=RESOLUTION["figure_formats"],
         ),
         "results/tables/table1.csv",
+        "results/tables/d_graz.md",
         [branch_path("orbit", math.pi / 3, "BT")] if "BT" in WORDS else [],  # 1:1 branch of Figure 2
         [sweep_path(n) for n in SWEEPS],
         [sweep_path(n, "-transitions") for n in SWEEPS],

@@ -130,38 +130,52 @@ def test_minus_infinity_is_a_triangle_at_the_foot_and_every_other_point_a_circle
 
 
 @pytest.mark.parametrize("labels, expected", [
-    # long runs are named by their motion; a no-period run mostly chaotic is "chaotic"
-    (["1:1 period-2"] * 10 + ["chaotic"] * 6 + ["unsettled"] * 2 + ["2:1 period-2"] * 12,
-     [("1:1 T=2", 10), ("chaotic", 8), ("2:1 T=2", 12)]),
-    # short runs of several motions (each under the share) merged: chaos interrupted by periodic windows
+    # each run of at least min_points is named by its motion, one name per motion: chaotic and unsettled apart
+    (["1:1 period-2"] * 10 + ["chaotic"] * 6 + ["unsettled"] * 5 + ["2:1 period-2"] * 12,
+     [("1:1 T=2", 10), ("chaotic", 6), ("unsettled", 5), ("2:1 T=2", 12)]),
+    # a window of period 4 inside unsettled and chaotic stretches keeps its own name (Fig 9 (d): 12 points of 1:1
+    # period-4 between 0.2294 and 0.2476 were under "aperiodic, periodic windows")
+    (["1:1 period-2"] * 10 + ["unsettled"] * 5 + ["1:1 period-4"] * 12 + ["unsettled", "unsettled", "1:1 period-8",
+                                                                            "1:1 period-8", "unsettled", "chaotic"]
+     + ["chaotic"] * 6 + ["2:1 period-2"] * 12,
+     [("1:1 T=2", 10), ("unsettled", 5), ("1:1 T=4", 12), ("unsettled, 1:1 T=8", 5), ("chaotic", 7),
+      ("2:1 T=2", 12)]),
+    # short runs of several motions merged, named by what they hold, the most frequent first; a periodic motion
+    # without a short name among the "periodic windows"
     (["1:1 period-2"] * 12 + ["chaotic", "chaotic", "6:3 over 4 forcing periods", "chaotic", "chaotic",
                               "4:2 over 3 forcing periods", "chaotic"] + ["2:1 period-2"] * 12,
      [("1:1 T=2", 12), ("chaotic, periodic windows", 7), ("2:1 T=2", 12)]),
-    # merged, mostly periodic
-    (["1:1 period-2"] * 12 + ["3:1 period-2", "3:1 period-2", "7:3 over 3 forcing periods", "chaotic",
-                              "4:1 period-2", "4:1 period-2", "4:1 period-2"] + ["2:1 period-2"] * 12,
-     [("1:1 T=2", 12), ("periodic windows", 7), ("2:1 T=2", 12)]),
+    # too short to name, even together: a gap
+    (["1:1 period-2"] * 12 + ["chaotic", "3:1 period-2"] + ["2:1 period-2"] * 12, [("1:1 T=2", 12), ("2:1 T=2", 12)]),
 ])
-def test_motion_blocks_name_short_runs_together(labels, expected):
+def test_motion_blocks_name_every_run_long_enough_and_short_runs_together(labels, expected):
     """Fig 5 (a), beta = pi/2: chaos in runs of one to five points between periodic windows got no name;
-    short runs are merged and named by what dominates them."""
+    short runs are merged and named by what they hold.  Fig 9 (d): a 12-point window hidden under a name of
+    what surrounds it; "aperiodic" and "chaotic" for one thing.  The names are the motions' names and nothing
+    else, and what is left unnamed is shorter than min_points."""
     from vibroimpact.outputs.plots.energy import motion_blocks
 
-    names = {m.label: m.short_label for m in (Motion(period=1, bottom=1, top=1), Motion(period=1, bottom=2, top=1))}
-    blocks = motion_blocks(labels, min_share=0.2, names=names)
+    names = {m.label: m.short_label for m in (Motion(period=1, bottom=1, top=1), Motion(period=1, bottom=2, top=1),
+                                              Motion(period=2, bottom=2, top=2), Motion(period=4, bottom=4, top=4))}
+    blocks = motion_blocks(labels, min_points=5, names=names)
     assert [(name, b - a) for a, b, name in blocks] == expected
-    assert all(b1[1] == b2[0] for b1, b2 in zip(blocks[:-1], blocks[1:], strict=True))  # contiguous
+    assert not any("aperiodic" in name for *_, name in blocks)
+    named = np.zeros(len(labels), bool)
+    for a, b, _ in blocks:
+        named[a:b] = True
+    gaps = np.flatnonzero(np.diff(np.r_[0, (~named).astype(int), 0])).reshape(-1, 2)
+    assert all(b - a < 5 for a, b in gaps)  # what is not named is shorter than min_points
 
 
-def test_the_band_between_2to1_and_1to1_lists_every_run_with_its_exponents_and_d_graz():
+def test_the_band_between_2to1_and_1to1_lists_every_run_with_its_exponents_and_the_1to1_exit():
     from vibroimpact.outputs.tables import between_2to1_and_1to1, between_markdown
 
     d = np.array([0.30, 0.28, 0.26, 0.24, 0.22, 0.20, 0.18])
     sw = synthetic_sweep(["1:1 period-2", "1:1 period-4", "chaotic", "chaotic", "5:4 over 4 forcing periods",
                           "2:1 period-2", "2:1 period-2"], [-0.1, -0.3, 0.3, 0.1, -0.08, -0.2, -0.2], d)
-    tr = xr.Dataset({"d_graz": ((), 0.25), "d_graz_kind": ((), "grazing"), "d_graz_clearance": ((), 1e-8)})
+    tr = xr.Dataset({"exit_d": ((), 0.25), "exit_kind": ((), "grazing"), "exit_clearance": ((), 1e-8)})
     df = between_2to1_and_1to1(sw, tr)
-    assert list(df.motion.str.slice(0, 12)) == ["2:1 period-2", "5:4 over 4 f", "chaotic", "d_graz: the ",
+    assert list(df.motion.str.slice(0, 17)) == ["2:1 period-2", "5:4 over 4 forcin", "chaotic", "1:1 exit: grazing",
                                                 "1:1 period-4", "1:1 period-2"]
     chaos = df[df.motion == "chaotic"].iloc[0]
     assert (chaos.d_lo, chaos.d_hi, chaos.points, chaos.lyap1_max, chaos.d_at_max) == pytest.approx(

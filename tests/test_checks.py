@@ -199,11 +199,15 @@ def test_config_readme_names_every_key_of_the_config():
     assert not missing, missing
 
 
-def _exit(beta, d, kind="grazing"):
-    import xarray as xr
-
-    return xr.Dataset({"d_graz": ((), d), "d_graz_width": ((), 5e-8), "d_graz_kind": ((), kind),
-                       "d_graz_clearance": ((), 1e-8 if kind == "grazing" else 0.01)}, attrs={"beta": beta})
+def _reading(beta, exit_d, fold, *, vary="s", kind="grazing", entry=None, step=1.7e-3, band=(0, 0), sweep=None):
+    """A row of the d_graz table (vibroimpact.sweep_d_graz's fields) with the given exit, fold and entry into 2:1."""
+    entry = fold - 1e-3 if entry is None else entry
+    identity = kind == "grazing" and abs(exit_d - entry) <= step and abs(exit_d - fold) <= step
+    return {"sweep": sweep or f"s_{beta:.3f}_{vary}", "beta": beta, "vary": vary, "d_graz": fold, "entry_d": entry,
+            "entry_step": step, "up_end_d": fold, "exit_d": exit_d, "exit_kind": kind,
+            "exit_clearance": 1e-8 if kind == "grazing" else 0.01, "band_width": exit_d - entry,
+            "band_points": band[0], "band_chaotic": band[1], "band_motions": f"{band[1]} chaotic" if band[0] else "",
+            "band_lyap1_max": 0.3 if band[0] else float("nan"), "tolerance": step, "identity": identity}
 
 
 def _bt(beta, b_values):
@@ -221,19 +225,40 @@ BETAS4 = [math.pi / 6, math.pi / 4, math.pi / 3, math.pi / 2]
 @pytest.mark.parametrize("exits, folds, bs, status", [
     ([0.2108, 0.2255, 0.2353, 0.2659], [0.2158, 0.2188, 0.2201, 0.2205], [0.251, 0.288, 0.324, 0.361],
      ["fail", "pass", "pass", "pass"]),
-    ([0.2130, 0.2255, 0.2200, 0.2659], [0.2158, 0.2188, 0.2180, 0.2205], [0.251, 0.288, 0.240, 0.361],
+    ([0.2108, 0.2255, 0.2200, 0.2659], [0.2130, 0.2188, 0.2180, 0.2205], [0.251, 0.288, 0.240, 0.361],
      ["pass", "fail", "fail", "fail"]),
 ])
 def test_d_graz_rows_hold_the_paper_s_statements(exits, folds, bs, status):
-    """Figure 3 (f): d_graz = 0.213 at pi/6 (half a unit: 0.0005); section 5: d_graz and the 1:1 period
-    doubling rise with beta.  The first set is what the workflow computes, the second breaks each claim."""
-    t1 = pd.DataFrame({"beta": BETAS4, "d_fold": folds})
-    rows = checks.d_graz_rows([_exit(b, d) for b, d in zip(BETAS4, exits, strict=True)], t1,
-                              [_bt(b, [0.1, d]) for b, d in zip(BETAS4, bs, strict=True)])
-    assert [r["item"] for r in rows] == checks.D_GRAZ_ITEMS
-    assert [r["status"] for r in rows] == status
-    assert rows[0]["tolerance"] == pytest.approx(5e-4)
-    assert set(checks.D_GRAZ_ITEMS) <= set(checks.item_names([], BETAS4))
+    """Figure 3 (f): d_graz = 0.213 at pi/6 (half a unit: 0.0005), d_graz the largest d of 2:1 period-2 (the 2:1
+    fold); section 5: d_graz, the 1:1 exit and the 1:1 period doubling rise with beta.  The first set is what the
+    workflow computes, the second breaks each claim."""
+    readings = pd.DataFrame([_reading(b, e, f) for b, e, f in zip(BETAS4, exits, folds, strict=True)])
+    rows = checks.d_graz_rows(readings, [_bt(b, [0.1, d]) for b, d in zip(BETAS4, bs, strict=True)])
+    assert [r["item"] for r in rows[:4]] == checks.D_GRAZ_ITEMS
+    assert [r["status"] for r in rows[:4]] == status
+    assert rows[0]["tolerance"] == pytest.approx(5e-4) and rows[0]["computed"] == folds[0]
+    scenes = {r.sweep: {"beta": r.beta, "vary": r.vary} for r in readings.itertuples()}
+    assert set(checks.D_GRAZ_ITEMS) <= set(checks.item_names([], BETAS4, scenes))
+    assert {r["item"] for r in rows[4:]} <= set(checks.item_names([], BETAS4, scenes))
+
+
+@pytest.mark.parametrize("exit_d, kind, entry, band, status", [
+    (0.2108, "grazing", 0.2100, (0, 0), "pass"),      # the identity: the 1:1 motion grazes where 2:1 begins
+    (0.2108, "jump", 0.2100, (0, 0), "fail"),         # at the right d, but no grazing
+    (0.2353, "jump", 0.2194, (9, 8), "fail"),         # pi/3 by length: a chaotic band of 0.016
+    (0.2108, "grazing", 0.2061, (2, 2), "fail"),      # pi/6 by length: grazing, but chaos before the 2:1
+])
+def test_the_identity_row_of_each_sweep_is_its_evidence(exit_d, kind, entry, band, status):
+    """A row per sweep on "the 1:1 motion grazes where 2:1 begins": it passes where the exit is a grazing within
+    the sweep step (the tolerance) of both the down sweep's entry into 2:1 and d_graz; its computed column gives
+    the exit, the entry, d_graz and the band between, with its motions."""
+    r = _reading(math.pi / 3, exit_d, 0.2105, kind=kind, entry=entry, band=band, vary="F", sweep="fig0_F")
+    (row,) = checks.d_graz_rows(pd.DataFrame([r]), [], {"fig0_F": {"beta": math.pi / 3, "vary": "F"}})[3:]
+    assert row["item"] == "d_graz: the 1:1 motion grazes where 2:1 begins, beta=pi/3, force sweep (fig0_F)"
+    assert row["status"] == status and row["tolerance"] == pytest.approx(1.7e-3)
+    assert f"1:1 exit: {kind} at {exit_d:.6f}" in row["computed"] and f"enters 2:1 at {entry:.4f}" in row["computed"]
+    assert ("band" in row["computed"]) and (f"{band[0]} points of the down sweep ({band[1]} chaotic)" in row["computed"]
+                                            if band[0] else "no sweep point between" in row["computed"])
 
 
 def test_for_another_device_only_what_holds_for_any_device_is_compared():
@@ -264,7 +289,7 @@ def test_inclines_without_a_2to1_branch_are_rows_that_do_not_pass():
 
     failed = [xr.Dataset(attrs={"beta": b, "status": "failed", "reason": "the attractor is 1:1 period-2"}) for b in BETAS4]
     t1 = table1(failed)
-    rows = checks.stability_rows(t1) + checks.d_graz_rows([], t1, failed)
+    rows = checks.stability_rows(t1) + checks.d_graz_rows(pd.DataFrame(), failed)
     assert [r["item"] for r in rows[-3:]] == checks.D_GRAZ_ITEMS[1:] and len(rows) == 8 + 3
     assert {r["status"] for r in rows} == {"fail"}
     assert all(math.isnan(r["computed"]) for r in rows if isinstance(r["computed"], float))

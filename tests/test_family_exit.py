@@ -1,4 +1,4 @@
-"""Where a followed attractor leaves its impact family: the paper's d_graz (1:1) and G1 (2:1)."""
+"""Where a followed attractor leaves its impact family: the 1:1 exit and G1 (2:1)."""
 
 import math
 
@@ -66,10 +66,10 @@ def test_2to1_family_exit_is_the_analytic_grazing_G1():
     assert ex["clearance"] < 1e-6  # the orbit's loop nearly touches the wall at the bracket's upper end
 
 
-def test_pi6_1to1_motion_grazes_at_d_graz_and_the_fn2f_orbit_is_near_grazing():
+def test_pi6_1to1_motion_grazes_at_the_exit_and_the_fn2f_orbit_is_near_grazing():
     """Paper Fig FN2 (f): "grazing behaviour of 1:1 period-10 motion, d = 0.213" (beta = pi/6).  The 1:1
-    attractor followed down grazes: its clearance falls linearly to 0 as d -> d_graz (a grazing, not a
-    jump), the impacts born there are slow, and at the caption's d = 0.213 the caption's 1:1 period-10
+    attractor followed down grazes at its exit from the 1:1 family: its clearance falls linearly to 0 as d
+    approaches the exit (a grazing, not a jump), the impacts born there are slow, and at the caption's d = 0.213 the caption's 1:1 period-10
     motion still clears the wall by 1.6 % of d: the paper's d is the near-grazing motion it shows."""
     beta = math.pi / 6
     g = gbar_of(beta)
@@ -85,7 +85,7 @@ def test_pi6_1to1_motion_grazes_at_d_graz_and_the_fn2f_orbit_is_near_grazing():
         tail = run.isel(impact=slice(1000, None))
         assert in_family(tail.wall.values, tail.kind.values, 1)
         clear.append(_clearance(tail, x, g, 0.5))
-    # linear in the distance to d_graz: halving the distance halves the clearance (to 20 %)
+    # linear in the distance to the exit: halving the distance halves the clearance (to 20 %)
     assert clear[1] / clear[0] == pytest.approx(0.5, rel=0.2)
     _, d13, v0, phi, *_ = CAPTIONS["figFN2_f"]
     run = vi.simulate(vi.Params(d=d13, gbar=g, r=0.5), phi=phi, v0=v0, n_impacts=5000)
@@ -102,7 +102,7 @@ def test_pi3_1to1_family_ends_without_grazing():
     ex = family_exit(d, g, 0.5, 0.42, 0.87, xtol=1e-6)
     # the start: the 1:1 motion at the line's top, reached from Fig 0's sweep start at d = 0.245
     assert ex["status"] == "located", ex["status"]
-    assert ex["kind"] == "no grazing" and ex["sampled"]  # chaotic: its clearance is a sample's least
+    assert ex["kind"] == "jump" and ex["sampled"]  # chaotic: its clearance is a sample's least
     assert ex["clearance"] > 3 * GRAZING_CLEARANCE * ex["d"]
     assert ex["slowest_after"] > 0.03
     assert 0.230 < ex["d"] < 0.240
@@ -128,7 +128,7 @@ def test_a_line_of_one_point_is_refused_and_the_smallest_d_is_named():
     assert family_exit(d, g, 0.5, 0.42, 0.87)["status"].endswith(f"smallest d = {0.40:.6g}")
 
 
-def test_the_motion_beyond_d_graz_is_described_by_its_bottom_impacts_per_top_impact():
+def test_the_motion_beyond_the_exit_is_described_by_its_bottom_impacts_per_top_impact():
     """Just past a grazing the motion adds a bottom impact now and then: more than one per top impact."""
     d, g = _line(math.pi / 6, 0.222, 0.205, 10)
     ex = family_exit(d, g, 0.5, 0.242, 0.676, xtol=1e-6)
@@ -143,42 +143,43 @@ K_F = 0.85 * 0.1245 * 25.0
 
 @pytest.mark.parametrize("vary, values, fixed", [("s", np.linspace(0.345, 0.33, 4), {"F": 5.0}),
                                                  ("F", K_F / np.linspace(0.25, 0.19, 8), {"s": 0.85})])
-def test_sweep_d_graz_gives_the_device_at_d_graz(vary, values, fixed):
-    """The swept device at d_graz is the one whose d is d_graz: s proportional to d at fixed force, the force
-    inversely proportional at fixed s (d = s M omega^2 / (F pi^2))."""
-    from vibroimpact.analysis.family_exit import sweep_d_graz
+def test_sweep_family_exit_gives_the_device_at_the_exit(vary, values, fixed):
+    """The swept device at the 1:1 exit is the one whose d is the exit's: s proportional to d at fixed force, the
+    force inversely proportional at fixed s (d = s M omega^2 / (F pi^2))."""
+    from vibroimpact.analysis.family_exit import sweep_family_exit
 
     beta = math.pi / 6
     sw = vi.sweep(vary, values, beta=beta, phi=0.42, v0=0.87, long_impacts=0, **fixed)
-    g = sweep_d_graz(sw, xtol=1e-5)
-    assert str(g.d_graz_status.values) == "located"
-    p = vi.Params.from_physical(s=float(g.d_graz_s), F=float(g.d_graz_F), beta=beta)
-    assert p.d == pytest.approx(float(g.d_graz), rel=1e-12)
-    assert float(g.d_graz_F if vary == "s" else g.d_graz_s) == pytest.approx(fixed["F" if vary == "s" else "s"])
-    assert g.attrs["d_graz_xtol"] == 1e-5 and g.attrs["d_graz_impacts"] == 4000
-    assert sweep_d_graz(sw).attrs["d_graz_xtol"] == 1e-7  # the default, recorded
-    assert g.d_graz.attrs["units"] == "1" and g.d_graz_s.attrs["units"] == "m"
+    g = sweep_family_exit(sw, xtol=1e-5)
+    assert str(g.exit_status.values) == "located" and str(g.exit_kind.values) == "grazing"
+    p = vi.Params.from_physical(s=float(g.exit_s), F=float(g.exit_F), beta=beta)
+    assert p.d == pytest.approx(float(g.exit_d), rel=1e-12)
+    assert float(g.exit_F if vary == "s" else g.exit_s) == pytest.approx(fixed["F" if vary == "s" else "s"])
+    assert g.attrs["exit_xtol"] == 1e-5 and g.attrs["exit_impacts"] == 4000
+    assert sweep_family_exit(sw).attrs["exit_xtol"] == 1e-7  # the default, recorded
+    assert g.exit_d.attrs["units"] == "1" and g.exit_s.attrs["units"] == "m"
+    assert g.exit_d.attrs["long_name"].startswith("1:1 exit")
 
 
-def test_d_graz_curve_follows_d_along_the_axis_that_changes_it():
+def test_family_exit_curve_follows_d_along_the_axis_that_changes_it():
     """Lines along s (d proportional), along F (d inversely proportional) or along d; none where no axis
-    changes d.  Each line's exit is the device whose d is its d_graz."""
-    from vibroimpact.analysis.family_exit import d_graz_curve
+    changes d.  Each line's exit is the device whose d is its exit's."""
+    from vibroimpact.analysis.family_exit import family_exit_curve
 
     beta = math.pi / 6
     kw = dict(phi=0.42, v0=0.87, xtol=1e-5)
-    s_line = d_graz_curve("s", np.linspace(0.33, 0.345, 4), "beta", [beta], F=5.0, **kw)
-    F_line = d_graz_curve("beta", [beta], "F", K_F / np.linspace(0.25, 0.19, 8), s=0.85, **kw)
+    s_line = family_exit_curve("s", np.linspace(0.33, 0.345, 4), "beta", [beta], F=5.0, **kw)
+    F_line = family_exit_curve("beta", [beta], "F", K_F / np.linspace(0.25, 0.19, 8), s=0.85, **kw)
     assert (s_line.attrs["along"], F_line.attrs["along"]) == ("s", "F")
     for c, device in ((s_line, lambda a: dict(s=a, F=5.0)), (F_line, lambda a: dict(s=0.85, F=a))):
-        assert str(c.d_graz_kind.values[0]) == "grazing"
+        assert str(c.exit_kind.values[0]) == "grazing"
         p = vi.Params.from_physical(beta=beta, **device(float(c["at"][0])))
-        assert p.d == pytest.approx(float(c.d_graz[0]), rel=1e-12)
+        assert p.d == pytest.approx(float(c.exit_d[0]), rel=1e-12)
     assert s_line.attrs["grid_step"] == pytest.approx(0.005)
-    d_line = d_graz_curve("d", np.linspace(0.205, 0.215, 3), "gbar", [gbar_of(beta)], **kw)
-    assert float(d_line["at"][0]) == pytest.approx(float(d_line.d_graz[0]))
-    none = d_graz_curve("beta", [0.3, 0.5], "r", [0.5, 0.6], phi=0.42, v0=0.87)
-    assert none.sizes["line"] == 0 and none.attrs["status"].startswith("no d_graz curve")
+    d_line = family_exit_curve("d", np.linspace(0.205, 0.215, 3), "gbar", [gbar_of(beta)], **kw)
+    assert float(d_line["at"][0]) == pytest.approx(float(d_line.exit_d[0]))
+    none = family_exit_curve("beta", [0.3, 0.5], "r", [0.5, 0.6], phi=0.42, v0=0.87)
+    assert none.sizes["line"] == 0 and none.attrs["status"].startswith("no 1:1 exit curve")
     # CF style, as every dataset the workflow writes: the line's value carries its axis' units
     assert (s_line["at"].attrs["units"], F_line["at"].attrs["units"], d_line["at"].attrs["units"]) == ("m", "N", "1")
     for name in [*s_line.data_vars, *s_line.coords]:
@@ -188,7 +189,7 @@ def test_d_graz_curve_follows_d_along_the_axis_that_changes_it():
 
 def test_a_line_of_two_points_is_enough():
     """family_exit along a line of its two ends (the 1:1 motion of beta = pi/6 at the larger, out of the family
-    at the smaller) locates d_graz as the six-point line of its example does."""
+    at the smaller) locates the exit as the six-point line of its example does."""
     p = [vi.Params.from_physical(s=s, beta=math.pi / 6) for s in (0.345, 0.33)]
     ex = family_exit([q.d for q in p], [q.gbar for q in p], 0.5, phi=0.42, v0=0.87, xtol=1e-5)
     assert ex["status"] == "located" and round(ex["d"], 3) == 0.211

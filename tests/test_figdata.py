@@ -165,38 +165,6 @@ def test_image_layer_sees_a_change_the_same_figure_does_not(tmp_path):
     assert compare_image(no_hash, hashes[0], max_distance=0)["status"].startswith("fail: no image hash")
 
 
-def _branch(word, d, stable, crit):
-    import xarray as xr
-
-    kinds, ds_, adm = zip(*crit, strict=True) if crit else ((), (), ())
-    return xr.Dataset({"stable": ("point", np.array(stable)), "admissible": ("point", np.ones(len(d), bool)),
-                       "critical_kind": ("critical", np.array(kinds, dtype=str)),
-                       "critical_d": ("critical", np.array(ds_, float)),
-                       "critical_admissible": ("critical", np.array(adm, bool))},
-                      coords={"d": ("point", np.array(d))}, attrs={"word": word, "step": 1e-3})
-
-
-def test_energy_figures_mark_the_attractor_s_d_graz_not_the_1to1_orbit_s_grazing_and_G1_where_grazing_ends_the_2to1():
-    """d_graz is where the 1:1 motion followed down leaves its family (the sweep's located transitions),
-    not the grazing of the unstable 1:1 period-2 orbit; G1 where a grazing ends the stable 2:1."""
-    import xarray as xr
-
-    from vibroimpact.outputs.plots.energy import grazing_marks
-
-    d = np.round(np.arange(0.130, 0.221, 0.001), 6)
-    bt = _branch("BT", d, d > 0.16, [("grazing", 0.1579, True), ("grazing", 0.1201, True), ("grazing", 0.19, False)])
-    by_grazing = _branch("BBT", d, (d >= 0.1376) & (d <= 0.2), [("grazing", 0.13762, True), ("fold", 0.2003, True)])
-    by_doubling = _branch("BBT", d, (d >= 0.158) & (d <= 0.2), [("B", 0.15807, True), ("grazing", 0.13601, True)])
-
-    def exit_(d, kind):
-        return xr.Dataset({"d_graz": ((), d), "d_graz_kind": ((), kind)})
-
-    assert grazing_marks([bt, by_grazing], exit_(0.2108, "grazing")) == [("d_graz", 0.2108), ("G1", 0.13762)]
-    assert grazing_marks([bt, by_doubling], exit_(0.2353, "no grazing")) == [("d_graz, no grazing", 0.2353)]
-    assert grazing_marks([bt, by_doubling]) == []  # no sweep transitions: nothing from the 1:1 branch
-    assert grazing_marks([bt], exit_(np.nan, "")) == []  # not located
-
-
 def test_methods_needing_a_system_package_are_excluded_present_or_absent():
     """Siconos' rows are drawn where it is installed: the check excludes them whether only the
     reference or only the new data has them, and still compares everything else."""

@@ -184,3 +184,88 @@ def test_placed_names_overprint_nothing(fig):
     placed = layout.place_labels(fig, labels)
     assert [a.get_text() for a in placed] == ["A2", "F"] and ax.texts[:] == placed
     assert layout.layout_problems(fig) == []
+
+
+def test_a_text_over_markers_is_named(fig):
+    """A label written over plotted points hides them (the lambda_1 figure's "fold (2:1)" over its red chaotic
+    markers); one beside them, or over a line alone, is fine."""
+    ax = fig.axes[0]
+    ax.plot([0.45, 0.5, 0.55], [0.2, 0.2, 0.2], "o", mfc="none", label="points")
+    ax.scatter([0.8], [0.5])
+    ax.text(0.5, 0.2, "fold (2:1)", ha="center", va="center")
+    ax.text(0.8, 0.5, "x", ha="center", va="center")
+    ax.text(0.2, 0.6, "over a line only")  # the curve y = x passes under it: a name set over a curve still reads
+    ax.text(0.5, 0.3, "beside")
+    problems = sorted(layout.layout_problems(fig))
+    assert problems == [
+        "text over data: 'fold (2:1)' (text of axes a0 '(a) a panel') covers 3 marker(s) of a0_line1 'points' of "
+        "axes a0 '(a) a panel'",
+        "text over data: 'x' (text of axes a0 '(a) a panel') covers 1 marker(s) of collection 0 of axes a0 '(a) a panel'"
+    ], problems
+
+
+def test_markers_clipped_away_or_beyond_the_frame_are_not_under_a_text(fig):
+    """A marker outside the view limits is not drawn: a text there covers nothing."""
+    ax = fig.axes[0]
+    ax.plot([2.0], [0.5], "o")
+    ax.set_xlim(0, 1)
+    ax.annotate("a margin note", (1.02, 0.5), xycoords="axes fraction", fontsize=5)
+    assert layout.layout_problems(fig) == []
+
+
+def test_a_legend_entry_that_draws_nothing_is_named(fig):
+    """The lambda_1 figure listed lambda_1 = -inf (a blue triangle) where no point was -inf: an entry whose marker,
+    line or area no artist of the figure draws is named, with what is missing; entries that match (the marker in
+    its colour, a scatter's points, a line's style, a shaded area) are not."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    ax = fig.axes[0]
+    ax.scatter([0.2, 0.4], [0.3, 0.3], marker="o", facecolors="none", edgecolors=["k", "tab:red"])
+    ax.axvspan(0.6, 0.7, color="tab:blue", alpha=0.25)
+    ax.axvline(0.9, color="tab:purple", ls="-.")
+    handles = [Line2D([], [], color="k", marker="o", mfc="none", ls="", label="exact"),
+               Line2D([], [], color="tab:red", marker="o", mfc="none", ls="", label="chaotic"),
+               Line2D([], [], color="tab:blue", marker="v", mfc="none", ls="", label="minus infinity"),
+               Line2D([], [], color="tab:purple", ls="-.", label="1:1 exit: grazing"),
+               Line2D([], [], color="tab:purple", ls="--", label="1:1 exit: jump"),
+               Line2D([], [], color="tab:orange", ls="-", label="orange curve"),
+               Patch(facecolor="tab:blue", alpha=0.25, label="wall"), Patch(facecolor="tab:green", alpha=0.25, label="top")]
+    fig.legend(handles=handles, loc="outside right upper")
+    problems = [p for p in layout.layout_problems(fig) if p.startswith("legend entry")]
+    assert problems == ["legend entry draws nothing: 'minus infinity' (figure legend): no marker 'v' in #1f77b4",
+                        "legend entry draws nothing: '1:1 exit: jump' (figure legend): no line '--' in #9467bd",
+                        "legend entry draws nothing: 'orange curve' (figure legend): no line '-' in #ff7f0e",
+                        "legend entry draws nothing: 'top' (figure legend): no area in #2ca02c40"], problems
+
+
+def test_an_entry_keying_a_style_matches_it_in_any_colour(fig):
+    """"stable: solid", "unstable: dashed" in grey over branches of every colour: declared style keys, they match
+    their line style in any colour; undeclared, they draw nothing grey; a key of a style nothing draws is named."""
+    from matplotlib.lines import Line2D
+
+    ax = fig.axes[0]
+    ax.plot([0.1, 0.9], [0.8, 0.2], "--", color="tab:green")
+    keys = [Line2D([], [], color="0.3", ls="-", label="stable"), Line2D([], [], color="0.3", ls="--", label="unstable"),
+            Line2D([], [], color="0.3", ls=":", label="dotted: nothing"),
+            Line2D([], [], color="0.3", marker="s", ls="", label="squares: nothing")]
+    leg = fig.legend(handles=keys, loc="outside right upper")
+    assert len([p for p in layout.layout_problems(fig) if p.startswith("legend entry")]) == 4
+    layout.style_keys(leg, "stable", "unstable", "dotted: nothing", "squares: nothing")
+    assert [p for p in layout.layout_problems(fig) if p.startswith("legend entry")] == [
+        "legend entry draws nothing: 'dotted: nothing' (figure legend): no line ':'",
+        "legend entry draws nothing: 'squares: nothing' (figure legend): no marker 's'"]
+    with pytest.raises(ValueError, match="not entries of the legend"):
+        layout.style_keys(leg, "solid")
+
+
+def test_placed_names_keep_off_a_scatter_s_points(fig):
+    """place_labels counts a scatter's points as markers (the lambda_1 panels draw their points as one scatter)."""
+    ax = fig.axes[0]
+    ax.set_xlim(0, 1)
+    ax.scatter(np.full(9, 0.5) + 0.02, np.linspace(0.1, 0.9, 9))
+    ax.axvline(0.5)
+    cands = [((0.5, y), (dx, 1)) for dx in (2, -2) for y in (0.1, 0.5)]
+    (ann,) = layout.place_labels(fig, [(ax, "a name", cands, dict(xycoords=("data", "axes fraction"), rotation=90))])
+    assert ann.get_horizontalalignment() == "right"  # left of the line, off the points right of it
+    assert layout.layout_problems(fig) == []

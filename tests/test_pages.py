@@ -83,7 +83,7 @@ def test_readme_says_what_each_public_function_returns():
     import vibroimpact as vi
 
     stated = {"find_orbit": "Orbit", "identify_attractor": "Attractor", "lyapunov": "Lyapunov",
-              "orbit_energy": "dict", "family_exit": "dict", "polish_cycle": "dict", "long_run": "dict",
+              "orbit_energy": "dict", "family_exit": "dict", "sweep_d_graz": "dict", "polish_cycle": "dict", "long_run": "dict",
               "best_designs": "list[dict]", "simulate": "xr.Dataset", "continue_orbit": "xr.Dataset",
               "sweep": "xr.Dataset", "regime_map": "xr.Dataset", "basins": "xr.Dataset",
               "branch_energy": "xr.Dataset", "sweep_energy": "xr.Dataset", "voltage_gain": "np.ndarray"}

@@ -111,20 +111,3 @@ def test_the_built_branches_have_the_paper_s_types():
 def test_the_default_target_s_branches_have_the_paper_s_types(default_run):
     clone, _ = default_run
     check_branch_types(clone / "results")
-
-
-def test_table1_sets_d_graz_beside_the_2to1_fold():
-    """The paper's two readings of d_graz side by side: where the 1:1 motion leaves its family (a sweep's located
-    transitions) and the largest d of 2:1 period-2 (the fold), with their difference; an incline without a
-    located d_graz says why."""
-    br = synthetic_branch([0.15, 0.19]).assign_attrs(status="ok")
-    tr = xr.Dataset({"d_graz": ((), 0.2108), "d_graz_kind": ((), "grazing"), "d_graz_clearance": ((), 2e-8),
-                     "d_graz_status": ((), "located")}, attrs={"beta": 0.5})
-    df = table1([br], [tr])
-    assert df.d_graz.iloc[0] == pytest.approx(0.2108)
-    assert df.d_graz_minus_fold.iloc[0] == pytest.approx(0.2108 - 0.22)
-    assert "| 0.5000 | 0.210800 | grazing (clearance 2.0e-08) | 0.220000 | -0.009200 |" in table1_markdown(df)
-    lost = tr.assign(d_graz=np.nan, d_graz_status="not located: the attractor stays 1:1")
-    assert "— (not located: the attractor stays 1:1)" in table1_markdown(table1([br], [lost]))
-    other = tr.assign_attrs(beta=0.7)  # a sweep at another incline: no column for this one
-    assert "d_graz" not in table1([br], [other])

@@ -42,8 +42,9 @@ _WHERE = {
     "identify_attractor": "analysis.motions", "Attractor": "analysis.motions",
     "sweep": "analysis.sweeps", "attractor_batch": "analysis.windows", "locate_transitions": "analysis.transitions",
     "bistable_intervals": "analysis.bistability", "basins": "analysis.basins", "regime_map": "analysis.regime_maps",
-    "family_exit": "analysis.family_exit", "sweep_d_graz": "analysis.family_exit",
-    "d_graz_curve": "analysis.family_exit",
+    "family_exit": "analysis.family_exit", "sweep_family_exit": "analysis.family_exit",
+    "family_exit_curve": "analysis.family_exit",
+    "branch_d_graz": "analysis.d_graz", "down_entry": "analysis.d_graz", "sweep_d_graz": "analysis.d_graz",
     # analysis: energy and design
     "voltage_gain": "analysis.energy", "speed_si": "analysis.energy",
     "averages": "analysis.energy", "orbit_energy": "analysis.energy", "branch_energy": "analysis.energy",

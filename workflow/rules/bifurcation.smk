@@ -52,13 +52,13 @@ rule bifurcation_set:
         "../scripts/bifurcation_set.py"
 
 
-rule d_graz_curve:
+rule family_exit_curve:
     output:
-        "results/bifurcation/{map}-d_graz.nc",
+        "results/bifurcation/{map}-exit.nc",
     log:
-        "logs/bifurcation/{map}-d_graz.log",
+        "logs/bifurcation/{map}-exit.log",
     benchmark:
-        "benchmarks/d_graz_curve/{map}.tsv"
+        "benchmarks/family_exit_curve/{map}.tsv"
     conda:
         "../envs/vibroimpact.yaml"
     params:
@@ -69,19 +69,19 @@ rule d_graz_curve:
         ),
         device=DEVICE_SPEC,
         grid=RESOLUTION["map_grid"],
-        lines=config["bifurcation"]["d_graz_lines"],
+        lines=config["bifurcation"]["exit_lines"],
         xtol=config["sweeps"]["locate"]["xtol"],
-        code=code("d_graz_curve.py"),
+        code=code("family_exit_curve.py"),
     script:
-        "../scripts/d_graz_curve.py"
+        "../scripts/family_exit_curve.py"
 
 
 rule fig_bifurcation_set:
     input:
         map=lambda wc: map_path(wc.map),
         curves="results/bifurcation/{map}.nc",
-        # the paper's d_graz over the plane (the 1:1 motion followed down leaves its family)
-        d_graz="results/bifurcation/{map}-d_graz.nc",
+        # the 1:1 exit over the plane (the 1:1 motion followed down leaves its family)
+        exit="results/bifurcation/{map}-exit.nc",
     output:
         **figure_formats("results/figures/bifurcation_set_{map}"),
         png=report(

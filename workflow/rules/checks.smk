@@ -37,10 +37,8 @@ rule check_paper_values:
         order_orbits=[
             branch_path("orbit", b, "BBT") for b in BRANCH_SCENES["fig2"]["betas"]
         ],
-        # d_graz: the length sweep of each incline (its located transitions) and the 1:1 branches
-        length_transitions=[
-            sweep_path(p, "-transitions") for p in config["energy"]["design"]["s"]
-        ],
+        # d_graz along each incline's length and force sweep, and the 1:1 branches
+        d_graz="results/tables/d_graz.csv",
         bt_branches=[
             branch_path("orbit", b, "BT")
             for b in BRANCH_SCENES["fig3"]["betas"]
@@ -69,6 +67,7 @@ rule check_paper_values:
         "../envs/vibroimpact.yaml"
     params:
         known=config["checks"]["known"],
+        d_graz_scenes={p: SWEEPS[p] for p in D_GRAZ_SWEEPS},
         # another device: the paper's numbers are its device's, not compared
         device=CFG.device.name,
         paper_device=CFG.paper_device,

@@ -5,6 +5,7 @@ import os
 
 from vibroimpact._code_version import code_version
 from vibroimpact.outputs.workflow_config import check as _check_config
+from vibroimpact.outputs.workflow_config import d_graz_sweeps
 
 
 def code(script=None):
@@ -129,20 +130,8 @@ def map_path(name):
     return f"results/maps/{name}_r-{fmt(config['physics']['r'])}.nc"
 
 
-def length_sweeps(betas):
-    """The widest sweep of s at the physics' force for each incline (Fig 5's (a)-(d)), where there is one."""
-    found = {}
-    for name, sc in SWEEPS.items():
-        if (
-            sc["vary"] != "s"
-            or sc.get("F", config["physics"]["F"]) != config["physics"]["F"]
-        ):
-            continue
-        for b in betas:
-            width = sc["range"][1] - sc["range"][0]
-            if abs(sc["beta"] - b) < 1e-9 and width > found.get(b, ("", -1.0))[1]:
-                found[b] = (name, width)
-    return {b: name for b, (name, _) in found.items()}
+#: the sweeps the paper's d_graz is read along (its table and the check): each incline's length and force sweep
+D_GRAZ_SWEEPS = list(d_graz_sweeps(config))
 
 
 # ---- energy ------------------------------------------------------------------------------------

@@ -12,12 +12,12 @@ rule energy_figure:
         sweeps=lambda wc: [
             sweep_path(p) for p in config["energy"]["figures"][wc.efig]["panels"]
         ],
-        # each sweep's located transitions: d_graz, where its 1:1 motion leaves the 1:1 family
+        # each sweep's located transitions: its 1:1 exit, where its 1:1 motion leaves the 1:1 family
         transitions=lambda wc: [
             sweep_path(p, "-transitions")
             for p in config["energy"]["figures"][wc.efig]["panels"]
         ],
-        # the continued 2:1 branches, for G1 (and the 1:1 and 2:1 lines each panel draws)
+        # the continued 1:1 and 2:1 branches: d_graz (the 2:1 fold) and G1
         orbits=lambda wc: [
             branch_path("orbit", SWEEPS[p]["beta"], w, SWEEPS[p]["vary"])
             for p in config["energy"]["figures"][wc.efig]["panels"]

@@ -50,11 +50,6 @@ rule branch_simulated:
 rule table1:
     input:
         lambda wc: scene_branch_files("fig3"),
-        # d_graz beside the 2:1 fold: the length sweep's located transitions at each incline with one
-        transitions=lambda wc: [
-            sweep_path(p, "-transitions")
-            for p in length_sweeps(BRANCH_SCENES["fig3"]["betas"]).values()
-        ],
     output:
         csv="results/tables/table1.csv",
         md="results/tables/table1.md",
@@ -65,7 +60,33 @@ rule table1:
     conda:
         "../envs/vibroimpact.yaml"
     params:
-        betas=BRANCH_SCENES["fig3"]["betas"],
         code=code("table1.py"),
     script:
         "../scripts/table1.py"
+
+
+# The paper's d_graz ("the maximum value for 2:1 period-2 solutions") along each sweep of the check, every
+# incline by length and by force: the 2:1 fold, where the sweeps meet the 2:1, the 1:1 exit and the band between.
+rule d_graz_table:
+    input:
+        sweeps=[sweep_path(p) for p in D_GRAZ_SWEEPS],
+        transitions=[sweep_path(p, "-transitions") for p in D_GRAZ_SWEEPS],
+        # the 2:1 branch along each sweep's line (same incline, same parameter varied)
+        branches=[
+            branch_path("orbit", SWEEPS[p]["beta"], "BBT", SWEEPS[p]["vary"])
+            for p in D_GRAZ_SWEEPS
+        ],
+    output:
+        csv="results/tables/d_graz.csv",
+        md="results/tables/d_graz.md",
+    log:
+        "logs/tables/d_graz.log",
+    benchmark:
+        "benchmarks/d_graz_table/d_graz.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        names=D_GRAZ_SWEEPS,
+        code=code("d_graz_table.py"),
+    script:
+        "../scripts/d_graz_table.py"

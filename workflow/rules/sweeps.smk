@@ -188,12 +188,12 @@ rule transitions_table:
 
 
 # Is the "apparently chaotic" motion chaos? lambda_1 of every sweep point under its velocity bifurcation
-# diagram, with B, the folds, d_graz and G1 of the continued branches; and the chaotic windows of d with
-# their exponents and what a chaotic device delivers (window and long-run averages).
+# diagram, with B, d_graz (the 2:1 fold) and G1 of the continued branches and the 1:1 exit of each sweep; and the
+# chaotic windows of d with their exponents and what a chaotic device delivers (window and long-run averages).
 rule lyapunov_figure:
     input:
         sweeps=[sweep_path(p) for p in config["chaos"]["panels"]],
-        # d_graz of each sweep
+        # the 1:1 exit of each sweep
         transitions=[sweep_path(p, "-transitions") for p in config["chaos"]["panels"]],
         # the table of chaotic windows and outputs covers every sweep (figure or not)
         table_sweeps=[sweep_path(p) for p in SWEEPS],

@@ -15,8 +15,7 @@ rows = (checks.caption_rows(load(i.captions)) + checks.stability_rows(pd.read_cs
         + checks.energy_rows([load(f) for f in i.branches_s], [load(f) for f in i.branches_F], [load(f) for f in i.sweeps],
                              [window_motions(load(f).sel(direction="down")) for f in i.motion_sweeps])
         + checks.curve_order_rows([load(f) for f in i.order_orbits], [load(f) for f in i.order_energy])
-        + checks.d_graz_rows([load(f) for f in i.length_transitions], pd.read_csv(i.table1),
-                             [load(f) for f in i.bt_branches]))
+        + checks.d_graz_rows(pd.read_csv(i.d_graz), [load(f) for f in i.bt_branches], snakemake.params.d_graz_scenes))
 if snakemake.params.paper_device:
     df = checks.apply_known(pd.DataFrame(rows), snakemake.params.known)
 else:  # the paper's numbers are its device's: only what holds for any device is compared

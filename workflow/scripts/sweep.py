@@ -7,7 +7,7 @@ import xarray as xr
 
 from vibroimpact.analysis.bistability import bistable_intervals
 from vibroimpact.analysis.energy import sweep_energy
-from vibroimpact.analysis.family_exit import sweep_d_graz
+from vibroimpact.analysis.family_exit import sweep_family_exit
 from vibroimpact.analysis.sweeps import sweep
 from vibroimpact.analysis.transitions import locate_transitions
 from vibroimpact.datasets import provenance, write_netcdf
@@ -28,9 +28,9 @@ write_netcdf(en, snakemake.output.energy)
 logging.info("labels: %s", sorted(set(ds.label.values.ravel())))
 loc = snakemake.params.locate
 tr = locate_transitions(ds, xtol=loc["xtol"], max_periods=loc["max_periods"], max_trials=loc["max_trials"])
-# the paper's d_graz: where the 1:1 attractor followed down leaves the 1:1 family (grazing or not)
-trs = xr.merge([tr, bistable_intervals(ds, tr), sweep_d_graz(ds, xtol=loc["xtol"])], combine_attrs="drop_conflicts")
+# the 1:1 exit: where the 1:1 attractor followed down leaves the 1:1 family (by grazing or by a jump)
+trs = xr.merge([tr, bistable_intervals(ds, tr), sweep_family_exit(ds, xtol=loc["xtol"])], combine_attrs="drop_conflicts")
 trs.attrs.update(provenance(**loc), beta=ds.attrs["beta"], vary=ds.attrs["vary"])
 write_netcdf(trs, snakemake.output.transitions)
-logging.info("%d transitions, %d bistable intervals; d_graz: %s %s at %.7f", trs.sizes["transition"],
-             trs.sizes["interval"], trs.d_graz_status.values, trs.d_graz_kind.values, trs.d_graz.values)
+logging.info("%d transitions, %d bistable intervals; 1:1 exit: %s %s at %.7f", trs.sizes["transition"],
+             trs.sizes["interval"], trs.exit_status.values, trs.exit_kind.values, trs.exit_d.values)

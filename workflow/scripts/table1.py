@@ -6,8 +6,7 @@ import xarray as xr
 from vibroimpact.outputs.tables import table1, table1_markdown
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
-branches = [xr.load_dataset(f, engine="netcdf4") for f in snakemake.input[: len(snakemake.params.betas)]]
-df = table1(branches, [xr.load_dataset(f, engine="netcdf4") for f in snakemake.input.transitions])
+df = table1([xr.load_dataset(f, engine="netcdf4") for f in snakemake.input])
 df.to_csv(snakemake.output.csv, index=False)
 with open(snakemake.output.md, "w") as fh:
     fh.write(table1_markdown(df))

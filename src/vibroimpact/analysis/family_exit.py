@@ -1,10 +1,13 @@
-"""Where a followed attractor leaves its impact family: the paper's d_graz and G1.
+"""Where a followed attractor leaves its impact family: the 1:1 exit and G1.
 
-The paper's d_graz (sections 2 and 5) is where the 1:1 motion, followed with decreasing d through its
-period doublings and chaotic windows, grazes the bottom wall (a flight touches it with zero velocity)
-and gives way to motions with more bottom impacts (2:1 and beyond).  That is a property of the
-*attractor*, not of an orbit of the branches: the 1:1 period-2 orbit itself is unstable there.  So
-it is located by following the attractor, as the paper does numerically.
+The *1:1 exit* is where the 1:1 motion, followed with decreasing d through its period doublings and
+chaotic windows, stops being a motion of the 1:1 family: by grazing the bottom wall (a flight touches it
+with zero velocity; "1:1 exit: grazing") or by a jump while still clear of the walls ("1:1 exit: jump").
+The paper puts its d_graz there ("at d = d_graz, Zdot_j = 0 and Z_j = d/2, and there is a transition to 2:1
+motion for d < d_graz") and also calls d_graz "the maximum value for 2:1 period-2 solutions";
+:mod:`vibroimpact.analysis.d_graz` compares the two readings.  The exit is a property of the
+*attractor*, not of an orbit of the branches: the 1:1 period-2 orbit itself is unstable there.  So it is
+located by following the attractor, as the paper does numerically.
 
 A motion is in the n:1 *family* when its impacts come in groups of ``n`` bottom impacts between
 single top impacts, whatever its period (1:1 period-4, a chaotic 1:1 motion, ...).  Along a line of
@@ -31,6 +34,10 @@ from ..dynamics.runs import simulate
 from .grazing import interior_clearance
 from .grids import plane_params
 from .motions import identify_attractor
+
+#: the kinds of exit: the last attractor in the family grazes a wall, or it leaves the family by a jump while clear
+#: of the walls
+EXIT_KINDS = ("grazing", "jump")
 
 #: An exit is a grazing when the last attractor in the family comes closer to a wall than this
 #: fraction of d.  Measured on the paper's sweeps (4000 impacts per run, xtol 1e-7): the exits
@@ -80,7 +87,7 @@ def family_exit(d, gbar, r: float, phi: float, v0: float, *, n: int = 1, impacts
         The first run's start at the largest ``d``: a bottom impact at phase ``phi`` with pre-impact
         velocity ``v0``.
     n : int
-        The family: ``n`` bottom impacts per top impact (1: the paper's d_graz; 2: its G1).
+        The family: ``n`` bottom impacts per top impact (1: the 1:1 exit; 2: the paper's G1).
     impacts, transient : int
         Events judged per run, after ``transient`` events discarded.
     xtol : float
@@ -95,7 +102,7 @@ def family_exit(d, gbar, r: float, phi: float, v0: float, *, n: int = 1, impacts
         ``clearance`` (smallest interior clearance of the last attractor in the family, at the bracket's
         upper end), ``slowest_after`` (slowest impact speed of the motion at the bracket's lower end),
         ``kind`` (``"grazing"`` where ``clearance < GRAZING_CLEARANCE * d``, else
-        ``"no grazing"``), ``after`` (the motion at the bracket's lower end: its label, or its bottom
+        ``"jump"``: :data:`EXIT_KINDS`), ``after`` (the motion at the bracket's lower end: its label, or its bottom
         impacts per top impact where no period is found) and ``sampled`` (the last attractor in the family
         has no period: its clearance is the least over the judged events, a statistic of the motion, and the
         kind near :data:`GRAZING_CLEARANCE` may be decided otherwise by another run).
@@ -149,7 +156,7 @@ def family_exit(d, gbar, r: float, phi: float, v0: float, *, n: int = 1, impacts
         "status": "located" if refined else f"not refined: {max_trials} runs (max_trials) left a bracket of {x - y:.1e}",
         "d": float(0.5 * (x + y)), "d_width": float(x - y), "clearance": clearance,
         "slowest_after": float(np.min(np.abs(beyond.v_minus.values[K.hits(beyond.kind.values)]), initial=math.inf)),
-        "kind": "grazing" if clearance < GRAZING_CLEARANCE * x else "no grazing",
+        "kind": EXIT_KINDS[0] if clearance < GRAZING_CLEARANCE * x else EXIT_KINDS[1],
         "after": after,
         # the clearance of a motion with no period is the least over its judged events: a statistic
         "sampled": not identify_attractor(last).periodic,
@@ -187,8 +194,14 @@ def _refine_exit(run, x, y, last, beyond, start, d_min, xtol, max_trials):
 
 
 
-def sweep_d_graz(sw: xr.Dataset, **kw) -> xr.Dataset:
-    """The paper's d_graz along a sweep (:func:`vibroimpact.analysis.sweeps.sweep`).
+def _exit_variables(ex: dict, dim=()) -> dict:
+    """:func:`family_exit`'s fields as dataset variables named ``exit_<field>`` (``exit_d``: its d)."""
+    return {f"exit_{key}": (dim, value) for key, value in ex.items()}
+
+
+def sweep_family_exit(sw: xr.Dataset, **kw) -> xr.Dataset:
+    """The 1:1 exit along a sweep (:func:`vibroimpact.analysis.sweeps.sweep`): where its 1:1 motion, followed
+    with d decreasing, leaves the 1:1 family, by grazing or by a jump.
 
     It is :func:`family_exit` of the 1:1 family on the sweep's line, from the start its down direction
     used at its largest d.
@@ -204,17 +217,17 @@ def sweep_d_graz(sw: xr.Dataset, **kw) -> xr.Dataset:
     Returns
     -------
     xarray.Dataset
-        Scalars ``d_graz``, ``d_graz_width``, ``d_graz_clearance``, ``d_graz_slowest_after``,
-        ``d_graz_kind``, ``d_graz_after``, ``d_graz_sampled``, ``d_graz_status`` (:func:`family_exit`'s
-        fields), and the swept device at d_graz: ``d_graz_s`` (m) and ``d_graz_F`` (N); attributes
-        ``d_graz_impacts``, ``d_graz_xtol`` and ``d_graz_grazing_clearance``.
+        Scalars ``exit_d``, ``exit_d_width``, ``exit_clearance``, ``exit_slowest_after``, ``exit_kind``
+        (``"grazing"`` or ``"jump"``), ``exit_after``, ``exit_sampled``, ``exit_status`` (:func:`family_exit`'s
+        fields), and the swept device at the exit: ``exit_s`` (m) and ``exit_F`` (N); attributes
+        ``exit_impacts``, ``exit_xtol`` and ``exit_grazing_clearance``.
 
     Examples
     --------
     >>> import math, numpy as np, vibroimpact as vi
     >>> sw = vi.sweep("s", np.linspace(0.33, 0.345, 4), beta=math.pi / 6, phi=0.42, v0=0.87, long_impacts=0)
-    >>> g = vi.sweep_d_graz(sw, xtol=1e-5)
-    >>> str(g.d_graz_kind.values), round(float(g.d_graz), 3), round(float(g.d_graz_s), 3)   # s in m
+    >>> g = vi.sweep_family_exit(sw, xtol=1e-5)
+    >>> str(g.exit_kind.values), round(float(g.exit_d), 3), round(float(g.exit_s), 3)   # s in m
     ('grazing', 0.211, 0.339)
     """
     dn = sw.sel(direction="down")
@@ -225,11 +238,10 @@ def sweep_d_graz(sw: xr.Dataset, **kw) -> xr.Dataset:
     k = float(np.median(sw.s.values / (sw.d.values * sw.F.values)))  # d = s / (k F)
     s_at, F_at = ((ex["d"] * k * float(sw.F.values[0]), float(sw.F.values[0])) if sw.attrs["vary"] == "s"
                   else (float(sw.s.values[0]), float(sw.s.values[0]) / (k * ex["d"])))
-    names = {"d": "d_graz", "d_width": "d_graz_width"}
-    ds = xr.Dataset({names.get(key, f"d_graz_{key}"): ((), value) for key, value in ex.items()})
-    ds["d_graz_s"], ds["d_graz_F"] = ((), s_at), ((), F_at)
-    ds.attrs.update(d_graz_impacts=kw.get("impacts", 4000), d_graz_xtol=kw.get("xtol", 1e-7),
-                    d_graz_grazing_clearance=GRAZING_CLEARANCE)
+    ds = xr.Dataset(_exit_variables(ex))
+    ds["exit_s"], ds["exit_F"] = ((), s_at), ((), F_at)
+    ds.attrs.update(exit_impacts=kw.get("impacts", 4000), exit_xtol=kw.get("xtol", 1e-7),
+                    exit_grazing_clearance=GRAZING_CLEARANCE)
     return annotate(ds)
 
 
@@ -238,8 +250,10 @@ def sweep_d_graz(sw: xr.Dataset, **kw) -> xr.Dataset:
 _ALONG_D = {"s": 1.0, "d": 1.0, "F": -1.0}
 
 
-def d_graz_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, device=None, **kw) -> xr.Dataset:
-    """The paper's d_graz as a curve in a plane of two parameters.
+def family_exit_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, device=None,
+                      **kw) -> xr.Dataset:
+    """The 1:1 exit as a curve in a plane of two parameters: where the 1:1 motion, followed with d decreasing
+    along lines of the plane, leaves the 1:1 family.
 
     It is :func:`family_exit` of the 1:1 family along lines of the plane, each followed from its largest d
     down.
@@ -262,19 +276,18 @@ def d_graz_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, dev
     -------
     xarray.Dataset
         Along ``line``: the fixed axis' value (named after it), the exit's value of the line's axis
-        (``at``: named by ``along`` in the attributes), ``d_graz`` and the other fields of
-        :func:`family_exit` (``d_graz_width``, ``d_graz_clearance``, ``d_graz_slowest_after``,
-        ``d_graz_kind``, ``d_graz_after``, ``d_graz_sampled``, ``d_graz_status``); attributes ``along``,
-        ``other``, ``grid_step`` (the lines' grid spacing along ``along``), ``d_graz_grazing_clearance``
-        and ``status``.  Where neither axis changes d, no line:
-        the attribute ``status`` says so.
+        (``at``: named by ``along`` in the attributes), ``exit_d`` and the other fields of
+        :func:`family_exit` (``exit_d_width``, ``exit_clearance``, ``exit_slowest_after``, ``exit_kind``,
+        ``exit_after``, ``exit_sampled``, ``exit_status``); attributes ``along``, ``other``, ``grid_step``
+        (the lines' grid spacing along ``along``), ``exit_grazing_clearance`` and ``status``.  Where neither
+        axis changes d, no line: the attribute ``status`` says so.
 
     Examples
     --------
     >>> import math, numpy as np, vibroimpact as vi
-    >>> c = vi.d_graz_curve("s", np.linspace(0.32, 0.36, 5), "beta", [math.pi / 6], phi=0.42, v0=0.87,
-    ...                     F=5.0, xtol=1e-5)
-    >>> str(c.d_graz_kind.values[0]), round(float(c.at[0]), 3)    # the cylinder length s at d_graz (m)
+    >>> c = vi.family_exit_curve("s", np.linspace(0.32, 0.36, 5), "beta", [math.pi / 6], phi=0.42, v0=0.87,
+    ...                          F=5.0, xtol=1e-5)
+    >>> str(c.exit_kind.values[0]), round(float(c.at[0]), 3)    # the cylinder length s at the exit (m)
     ('grazing', 0.339)
     """
 
@@ -283,7 +296,7 @@ def d_graz_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, dev
                             (y_name, x_name, xs) if y_name in _ALONG_D else (None, None, ()))
     if along is None:
         empty = xr.Dataset(coords={"line": np.arange(0)})
-        empty.attrs.update(status=f"no d_graz curve: neither axis ({x_name}, {y_name}) changes d", along="",
+        empty.attrs.update(status=f"no 1:1 exit curve: neither axis ({x_name}, {y_name}) changes d", along="",
                            other="")
         return empty
     grid = np.asarray(xs if along == x_name else ys, float)
@@ -297,16 +310,15 @@ def d_graz_curve(x_name: str, xs, y_name: str, ys, *, phi: float, v0: float, dev
         k = int(np.argmax(d))
         at = a[k] * (ex["d"] / d[k]) ** _ALONG_D[along] if np.isfinite(ex["d"]) else math.nan
         rows.append((v, at, ex))
-    names = {"d": "d_graz", "d_width": "d_graz_width"}
+    fields = rows[0][2] if rows else {}
     ds = xr.Dataset({other: ("line", np.array([v for v, _, _ in rows], float)),
                      "at": ("line", np.array([a for _, a, _ in rows], float))} |
-                    {names.get(key, f"d_graz_{key}"): ("line", np.array([ex[key] for *_, ex in rows]))
-                     for key in (rows[0][2] if rows else {})},
+                    _exit_variables({key: np.array([ex[key] for *_, ex in rows]) for key in fields}, "line"),
                     coords={"line": np.arange(len(rows))})
-    ds["at"].attrs.update(units=VARIABLES[along][0], long_name=f"{VARIABLES[along][1]} at d_graz")
-    ds.attrs.update(status="ok", along=along, other=other, d_graz_grazing_clearance=GRAZING_CLEARANCE,
+    ds["at"].attrs.update(units=VARIABLES[along][0], long_name=f"{VARIABLES[along][1]} at the 1:1 exit")
+    ds.attrs.update(status="ok", along=along, other=other, exit_grazing_clearance=GRAZING_CLEARANCE,
                     grid_step=float(np.max(np.abs(np.diff(grid)))) if grid.size > 1 else 0.0)
     return annotate(ds)
 
 
-__all__ = ["GRAZING_CLEARANCE", "d_graz_curve", "family_exit", "in_family", "sweep_d_graz"]
+__all__ = ["EXIT_KINDS", "GRAZING_CLEARANCE", "family_exit", "family_exit_curve", "in_family", "sweep_family_exit"]

@@ -145,11 +145,17 @@ def grazing_rows(bis: xr.Dataset) -> list[dict]:
     ]
 
 
-#: the rows of :func:`d_graz_rows`
-D_GRAZ_ITEMS = [f"d_graz, beta=pi/6 ({figure_name('figFN2', 'f', label=False)}: the 1:1 motion grazes)",
-                "d_graz rises with beta: where the 1:1 motion leaves its family",
+#: the rows of :func:`d_graz_rows` that every configuration has
+D_GRAZ_ITEMS = [f"d_graz, beta=pi/6 ({figure_name('figFN2', 'f', label=False)}: the 1:1 motion grazes at d_graz)",
                 "d_graz rises with beta: the largest d of 2:1 period-2 (its fold)",
+                "1:1 exit rises with beta (d_graz read as where the 1:1 motion leaves its family)",
                 "1:1 period doubling rises with beta"]
+
+
+def identity_item(name: str, scene: dict) -> str:
+    """The check's item on the paper's identity along sweep ``name`` (its ``scene``: ``beta``, ``vary``)."""
+    return (f"d_graz: the 1:1 motion grazes where 2:1 begins, beta={_beta_name(float(scene['beta']))}, "
+            f"{'length' if scene['vary'] == 's' else 'force'} sweep ({name})")
 
 
 def _rises(values: dict[float, float]) -> tuple[str, bool]:
@@ -160,29 +166,36 @@ def _rises(values: dict[float, float]) -> tuple[str, bool]:
     return ", ".join(f"{_beta_name(b)}: {values[b]:.6g}" for b in betas), ok
 
 
-def d_graz_rows(transitions: list[xr.Dataset], table1: pd.DataFrame, bt_branches: list[xr.Dataset]) -> list[dict]:
-    """The paper's d_graz (sections 2 and 5, Figure 3 (b), (f)): "at d = d_graz, Zdot_j = 0 and Z_j = d/2, and
-    there is a transition to 2:1 motion for d < d_graz", "the maximum value for 2:1 period-2 solutions";
-    "as beta increases, so do both the value of d at which period doubling of the 1:1 solution occurs, and
-    the value of d_graz".  Both readings of d_graz are compared: where the 1:1 motion followed down leaves
-    its family (the length sweeps' located ``d_graz``, :func:`vibroimpact.sweep_d_graz`), and the 2:1
-    branch's fold (Table 1's companion); the 1:1 period doubling is the 1:1 branch's first B."""
+def d_graz_rows(readings: pd.DataFrame, bt_branches: list[xr.Dataset],
+                scenes: dict[str, dict] | None = None) -> list[dict]:
+    """The paper's d_graz (sections 2 and 5, Figure 3 (b), (f)): "the maximum value for 2:1 period-2 solutions";
+    "at d = d_graz, Zdot_j = 0 and Z_j = d/2, and there is a transition to 2:1 motion for d < d_graz"; "as beta
+    increases, so do both the value of d at which period doubling of the 1:1 solution occurs, and the value of
+    d_graz".  ``readings``: d_graz along each sweep (:func:`vibroimpact.outputs.tables.d_graz_table` of
+    :func:`vibroimpact.sweep_d_graz`), whose length sweeps give Figure 3 (f)'s row and the trends of d_graz and
+    of the 1:1 exit with beta, and each of which gives a row on the identity (its tolerance the sweep step, to
+    which the down sweep's entry into 2:1 is known; the computed column the evidence: the exit, the entry,
+    d_graz and the band between); ``bt_branches``: the 1:1 branches (their first period doubling); ``scenes``:
+    each sweep's scene by name (its incline and parameter; default from ``readings``)."""
     rows = []
-    exits = {float(t.attrs["beta"]): t for t in transitions if "d_graz" in t}
-    kinds = {b: f"{str(t.d_graz_kind.values)} (clearance {float(t.d_graz_clearance):.1e})" for b, t in exits.items()}
-    b6 = next((b for b in exits if abs(b - math.pi / 6) < 1e-9), None)
+    length = readings[readings.vary == "s"] if len(readings) else readings
+    by_beta = {float(r.beta): r for _, r in length.iterrows()}
+    b6 = next((b for b in by_beta if abs(b - math.pi / 6) < 1e-9), None)
     if b6 is not None:
+        r = by_beta[b6]
         tol = agreement_tolerance(PI6_D_GRAZ)
-        d = float(exits[b6].d_graz)
-        rows.append(_row(D_GRAZ_ITEMS[0], _printed("figFN2"), PI6_D_GRAZ, d, tol, abs(d - PI6_D_GRAZ) <= tol,
-                         f"the 1:1 motion followed down (length sweep) leaves its family at d_graz = {d:.7f} +- "
-                         f"{0.5 * float(exits[b6].d_graz_width):.0e}: {kinds[b6]}; the 2:1 orbit's fold is at "
-                         f"{_fold_of(table1, b6):.6f}"))
-    text, ok = _rises({b: float(t.d_graz) for b, t in exits.items()})
+        rows.append(_row(D_GRAZ_ITEMS[0], _printed("figFN2"), PI6_D_GRAZ, float(r.d_graz), tol,
+                         abs(float(r.d_graz) - PI6_D_GRAZ) <= tol,
+                         f"d_graz, the 2:1 fold: {r.d_graz:.6f} ({r.sweep}: the up sweep's 2:1 period-2 ends at "
+                         f"{r.up_end_d:.6f}, the down sweep enters it at {r.entry_d:.4f}); 1:1 exit: {r.exit_kind} at "
+                         f"{r.exit_d:.6f}"))
+    text, ok = _rises({b: float(r.d_graz) for b, r in by_beta.items()})
     rows.append(_row(D_GRAZ_ITEMS[1], "section 5", "rises", text, "", ok,
-                     "; ".join(f"{_beta_name(b)}: {k}" for b, k in sorted(kinds.items()))))
-    text, ok = _rises({float(r.beta): float(r.d_fold) for _, r in table1.iterrows()})
-    rows.append(_row(D_GRAZ_ITEMS[2], "section 5", "rises", text, "", ok, "the 2:1 branch's fold (analytic)"))
+                     "the 2:1 branch's fold (analytic), along the length sweeps"))
+    text, ok = _rises({b: float(r.exit_d) for b, r in by_beta.items()})
+    rows.append(_row(D_GRAZ_ITEMS[2], "section 5", "rises", text, "", ok, "; ".join(
+        f"{_beta_name(b)}: {r.exit_kind} (clearance {r.exit_clearance:.1e})" for b, r in sorted(by_beta.items()))
+        + " (length sweeps)"))
     first_b = {}
     for br in bt_branches:
         if br.attrs.get("status") == "failed" or "critical_d" not in br:
@@ -192,12 +205,16 @@ def d_graz_rows(transitions: list[xr.Dataset], table1: pd.DataFrame, bt_branches
     text, ok = _rises(first_b)
     rows.append(_row(D_GRAZ_ITEMS[3], "section 5", "rises", text, "", ok,
                      "the 1:1 branch's period doubling B of largest d (analytic)"))
+    for _, r in readings.iterrows():
+        scene = (scenes or {}).get(r.sweep, {"beta": r.beta, "vary": r.vary})
+        band = (f"band {r.band_width:.4f} wide: {r.band_points} points of the down sweep ({r.band_motions}), λ₁ per "
+                f"impact up to {r.band_lyap1_max:.3f}" if r.band_points else f"no sweep point between (band {r.band_width:.4f})")
+        rows.append(_row(identity_item(r.sweep, scene), "sections 2, 5", "the 1:1 motion grazes at d_graz; 2:1 below",
+                         f"1:1 exit: {r.exit_kind} at {r.exit_d:.6f} (clearance {r.exit_clearance:.1e}); the down sweep "
+                         f"enters 2:1 at {r.entry_d:.4f}; d_graz (2:1 fold) {r.d_graz:.6f}; {band}", float(r.tolerance),
+                         bool(r.identity), "the exit a grazing within the tolerance (the sweep step) of both the entry "
+                         "and d_graz"))
     return rows
-
-
-def _fold_of(table1: pd.DataFrame, beta: float) -> float:
-    sel = np.abs(table1.beta.values - beta) < 1e-9
-    return float(table1.d_fold.values[sel][0]) if sel.any() else math.nan
 
 
 def _is_n_to_n(motion):
@@ -361,9 +378,9 @@ def curve_order_rows(orbit_branches: list[xr.Dataset], energy_branches: list[xr.
     return rows
 
 
-def item_names(captions, betas) -> list[str]:
-    """Every item the check produces for these caption names and inclines (rad): what
-    ``checks.known`` may name, known before any job runs."""
+def item_names(captions, betas, sweeps: dict[str, dict] | None = None) -> list[str]:
+    """Every item the check produces for these caption names, inclines (rad) and the sweeps d_graz is read along
+    (their scenes by name): what ``checks.known`` may name, known before any job runs."""
     names = [caption_item(c, what) for c in captions for what in ("motion", "Zdot(t0)", "phi")]
     for b in betas:
         if any(abs(b - pb) < 1e-9 for pb in STABLE_2TO1):
@@ -374,7 +391,7 @@ def item_names(captions, betas) -> list[str]:
                 names.append("lambda_1 < -1 for d < 0.133 (d_B), beta=pi/6")
     names += ["G1: 2:1 -> 3:1 grazing, d decreasing, beta=pi/6", "G2: 3:1 -> 2:1, d increasing, beta=pi/6"]
     names += [_order_item(fig, what, beta) for (fig, what), per_beta in CURVE_ORDER.items() for beta in per_beta]
-    return names + ENERGY_ITEMS + D_GRAZ_ITEMS
+    return names + ENERGY_ITEMS + D_GRAZ_ITEMS + [identity_item(n, sc) for n, sc in (sweeps or {}).items()]
 
 
 def apply_known(df: pd.DataFrame, known: dict[str, str]) -> pd.DataFrame:
@@ -451,7 +468,8 @@ def markdown(df: pd.DataFrame, device: str | None = None) -> str:
 #: "Figure 3 caption", is its own figure's)
 WHERE_FIGURES = {_printed("fig2"): ("fig2",), _printed("fig0"): ("fig0",), _printed("fig5"): ("fig5",),
                  _printed("figFN2"): ("figFN2", "fig5", "lyapunov"), "section 3": ("fig2", "fig3"),
-                 "section 4": ("fig3",), "section 4.2": ("figBiS",), "section 5": ("fig0", "fig5", "design")}
+                 "section 4": ("fig3",), "section 4.2": ("figBiS",), "section 5": ("fig0", "fig5", "design"),
+                 "sections 2, 5": ("fig0", "fig5", "lyapunov")}
 
 
 def figures_of_item(item: str, where: str) -> tuple[str, ...]:

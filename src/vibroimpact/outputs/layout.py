@@ -11,7 +11,14 @@
   line such as lambda = -1 or a wall is data the reader must see, and a curve under a half-transparent
   frame is hidden all the same).  A marker counts when its centre is under the box (one whose centre is
   outside stays at least half visible).  Filled areas and maps (images, meshes, polygons) are not
-  checked: a legend over a shaded band or a map's cells is a choice of the figure, not a hidden point.
+  checked: a legend over a shaded band or a map's cells is a choice of the figure, not a hidden point;
+* a text (a label, a name written in a panel, a title) over plotted markers: a marker of a line or a point of
+  a scatter, inside its axes, whose centre the text's own box covers (lines and areas under a text are not
+  counted: a name set over a curve still reads);
+* a legend entry that draws nothing: its marker (shape and colour) or its line (style and colour) or its
+  filled patch (colour) is not drawn by any artist of the figure.  An entry that keys a style rather than a
+  thing drawn in its colour ("stable: solid", in grey, over lines of every colour) is declared so by
+  :func:`style_keys` and matches that style in any colour.
 
 Only what the renderer drew counts: invisible artists, empty strings, tick labels beyond the view
 limits and annotations clipped away are never drawn, so never reported.  Artists are named as in the
@@ -22,14 +29,19 @@ from __future__ import annotations
 
 import json
 import sys
+import weakref
 from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
-from matplotlib.collections import LineCollection, PathCollection
+from matplotlib.collections import Collection, LineCollection, PathCollection
+from matplotlib.colors import to_hex, to_rgba, to_rgba_array
 from matplotlib.legend import Legend
+from matplotlib.lines import Line2D
+from matplotlib.markers import MarkerStyle
+from matplotlib.patches import Patch
 from matplotlib.text import Text
 from matplotlib.transforms import Bbox
 
@@ -214,6 +226,178 @@ def _data_under(ax, box, tol):
     return found
 
 
+def _has_marker(line) -> bool:
+    return line.get_marker() not in (None, "None", "none", "", " ")
+
+
+def markers(ax) -> list[tuple[str, np.ndarray]]:
+    """The markers ``ax`` draws, per artist: ``(name, centres)`` in display coordinates, inside the axes' frame
+    (the rest is clipped away): the markers of its lines and the points of its scatters, named as in the
+    figure's saved data (``a<i>_line<j>``; a scatter by its collection index)."""
+    found = []
+    i = ax.figure.get_axes().index(ax)
+    frame = ax.bbox
+    for j, line in enumerate(ax.get_lines()):
+        if line.get_visible() and _has_marker(line):
+            xy = line.get_transform().transform(np.column_stack([line.get_xdata(orig=False),
+                                                                 line.get_ydata(orig=False)]))
+            found.append((f"a{i}_line{j}{_label(line)}", xy))
+    for j, coll in enumerate(ax.collections):
+        if coll.get_visible() and isinstance(coll, PathCollection) and len(coll.get_offsets()):
+            xy = coll.get_offset_transform().transform(np.asarray(coll.get_offsets(), float))
+            found.append((f"collection {j}{_label(coll)}", xy))
+    return [(name, xy[np.isfinite(xy).all(axis=1) & _inside(np.nan_to_num(xy), frame, 0.0)]) for name, xy in found]
+
+
+def markers_under(ax, box, tol: float = 0.0) -> list[str]:
+    """What of ``ax``'s markers (:func:`markers`) lies under ``box`` (display coordinates, shrunk by ``tol``):
+    ``"<n> marker(s) of <artist>"`` per artist."""
+    out = []
+    for name, xy in markers(ax):
+        n = int(_inside(xy, box, tol).sum()) if len(xy) else 0
+        if n:
+            out.append(f"{n} marker(s) of {name}")
+    return out
+
+
+def _text_over_markers(fig, texts, parent, tol):
+    """Texts whose own box covers the centre of a marker drawn in an axes (any axes the text lies over)."""
+    problems = []
+    axes = [ax for ax in fig.get_axes() if ax.get_visible()]
+    for t, b, leg, _ in texts:
+        if leg is not None:  # a legend's texts: the legend's box is checked
+            continue
+        for ax in axes:
+            if min(_overlap(b, ax.bbox)) <= tol:
+                continue
+            problems += [f"text over data: {_describe(t, parent)} covers {what} of {_axes_name(ax)}"
+                         for what in markers_under(ax, b, tol)]
+    return problems
+
+
+#: the legends' entries declared style keys (:func:`style_keys`), by legend
+_STYLE_KEYS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def style_keys(legend, *labels: str):
+    """Declare entries of ``legend`` (by their labels) keys of a style rather than of a thing drawn in their colour
+    ("stable" solid and "unstable" dashed in grey, over branches of every colour): the check of legend entries
+    (:func:`layout_problems`) matches them to that line style or marker in any colour.  Returns the legend."""
+    missing = set(labels) - {t.get_text() for t in legend.texts}
+    if missing:
+        raise ValueError(f"style_keys: {sorted(missing)} are not entries of the legend; allowed: its labels "
+                         f"{[t.get_text() for t in legend.texts]}")
+    _STYLE_KEYS.setdefault(legend, set()).update(labels)
+    return legend
+
+
+def _same_color(a, colors) -> bool:
+    """Whether the RGBA ``a`` is one of ``colors`` (an array of RGBA rows) to 1/255."""
+    colors = np.atleast_2d(np.asarray(colors, float))
+    return bool(len(colors) and np.any(np.all(np.abs(colors - np.asarray(a, float)) < 1.5 / 255, axis=1)))
+
+
+#: the line style of a collection's dashed lines (matplotlib keeps their dash pattern, not its name)
+DASHED = "dashed"
+
+
+def _marker_path(marker):
+    m = MarkerStyle(marker)
+    return m.get_path().transformed(m.get_transform()).vertices
+
+
+def _drawn(fig):
+    """What the figure's axes draw, for matching legend entries: markers as (shape vertices, colours), lines as
+    (line style, colour), filled areas as face colours (RGBA)."""
+    marks, lines, faces = [], [], []
+    for ax in fig.get_axes():
+        if not ax.get_visible():
+            continue
+        for line in ax.get_lines():
+            if not line.get_visible() or not np.isfinite(np.column_stack([line.get_xdata(orig=False),
+                                                                          line.get_ydata(orig=False)])).all(axis=1).any():
+                continue
+            colors = [to_rgba(c, line.get_alpha()) for c in (line.get_markeredgecolor(), line.get_markerfacecolor())
+                      if str(c).lower() != "none"]
+            if _has_marker(line):
+                marks.append((_marker_path(line.get_marker()), colors))
+            if line.get_linestyle() not in ("None", "none", "", " "):
+                lines.append((line.get_linestyle(), to_rgba(line.get_color(), line.get_alpha())))
+        for coll in ax.collections:
+            if not coll.get_visible():
+                continue
+            edge, face = coll.get_edgecolors(), coll.get_facecolors()
+            if isinstance(coll, PathCollection) and len(coll.get_offsets()):
+                # point i: path i, edge colour i and face colour i, each cycled (matplotlib's rule)
+                paths, shown = coll.get_paths(), {}
+                for i in range(len(coll.get_offsets())):
+                    path = paths[i % len(paths)]
+                    seen = shown.setdefault(id(path), (path.vertices, []))[1]
+                    seen += [c[i % len(c)] for c in (edge, face) if len(c)]
+                marks += [(v, np.asarray(c)) for v, c in shown.values()]
+            elif isinstance(coll, LineCollection) and len(coll.get_segments()):
+                dashed = any(dash is not None for _, dash in coll.get_linestyles())
+                lines += [(DASHED if dashed else "-", tuple(c)) for c in (edge if len(edge) else face)]
+            elif isinstance(coll, Collection):
+                faces += [tuple(c) for c in face]
+        for patch in ax.patches:
+            if patch.get_visible() and patch.get_fill():
+                faces.append(to_rgba(patch.get_facecolor()))
+    return marks, lines, faces
+
+
+def _describe_color(rgba) -> str:
+    return to_hex(rgba, keep_alpha=rgba[3] < 1)
+
+
+def _entry_problems(handle, marks, lines, faces, style) -> list[str]:
+    """What of a legend entry's handle no drawn artist shows (empty: all of it is drawn)."""
+    missing = []
+    if isinstance(handle, Line2D):
+        if _has_marker(handle):
+            shape = _marker_path(handle.get_marker())
+            color = [to_rgba(c, handle.get_alpha()) for c in (handle.get_markeredgecolor(), handle.get_markerfacecolor())
+                     if str(c).lower() != "none"][:1]
+            ok = any(v.shape == shape.shape and np.allclose(v, shape, atol=1e-6)
+                     and (style or not color or _same_color(color[0], colors)) for v, colors in marks)
+            if not ok:
+                missing.append(f"no marker '{handle.get_marker()}'"
+                               + ("" if style or not color else f" in {_describe_color(color[0])}"))
+        ls = handle.get_linestyle()
+        if ls not in ("None", "none", "", " "):
+            color = to_rgba(handle.get_color(), handle.get_alpha())
+            # a collection's dashes are not named: any dashed line of it matches a dashed, dotted or dash-dotted entry
+            ok = any((s == ls or s == DASHED and ls != "-") and (style or _same_color(color, [c])) for s, c in lines)
+            if not ok:
+                missing.append(f"no line '{ls}'" + ("" if style else f" in {_describe_color(color)}"))
+    elif isinstance(handle, Patch) and handle.get_fill():
+        color = to_rgba(handle.get_facecolor())
+        if not (style or _same_color(color, faces if faces else np.zeros((0, 4)))):
+            missing.append(f"no area in {_describe_color(color)}")
+    elif isinstance(handle, PathCollection):
+        for path in handle.get_paths():
+            colors = to_rgba_array(handle.get_edgecolors() if len(handle.get_edgecolors()) else handle.get_facecolors())
+            if not any(v.shape == path.vertices.shape and np.allclose(v, path.vertices, atol=1e-6)
+                       and (style or not len(colors) or _same_color(colors[0], c)) for v, c in marks):
+                missing.append("no such scatter marker")
+    return missing
+
+
+def _legend_entry_problems(fig, parent):
+    problems = []
+    marks, lines, faces = _drawn(fig)
+    legends = {id(a): a for a in fig.findobj(Legend) if a.get_visible()}
+    for leg in legends.values():
+        keys = _STYLE_KEYS.get(leg, set())
+        for handle, text in zip(leg.legend_handles, leg.texts, strict=False):
+            label = text.get_text()
+            missing = _entry_problems(handle, marks, lines, faces, label in keys)
+            if missing:
+                problems.append(f"legend entry draws nothing: '{_short(label)}' ({_legend_name(leg, parent)}): "
+                                + "; ".join(missing))
+    return problems
+
+
 def layout_problems(fig, tolerance_pt: float = TOLERANCE_PT) -> list[str]:
     """The layout problems of ``fig``, one sentence each (empty: none), as described in this module.
 
@@ -229,7 +413,8 @@ def layout_problems(fig, tolerance_pt: float = TOLERANCE_PT) -> list[str]:
     -------
     list of str
         ``overlap: ...`` (two texts), ``outside: ...`` (a text leaving the figure), ``crosses the frame:
-        ...`` (an annotation across its axes' edge), ``legend over text: ...``, ``legend over data: ...``.
+        ...`` (an annotation across its axes' edge), ``legend over text: ...``, ``legend over data: ...``,
+        ``text over data: ...`` (a text over markers), ``legend entry draws nothing: ...``.
     """
     with _drawn_texts() as drawn:
         fig.canvas.draw()
@@ -242,7 +427,8 @@ def layout_problems(fig, tolerance_pt: float = TOLERANCE_PT) -> list[str]:
         b = Text.get_window_extent(t, renderer) if t.get_visible() and t.get_text().strip() else None
         if b is not None and np.isfinite(b.bounds).all() and b.width > 0 and b.height > 0:
             texts.append((t, b, _ancestor(t, parent, Legend), _polygon(t, b, renderer)))
-    return _text_problems(fig, texts, parent, tol) + _legend_problems(fig, texts, parent, renderer, tol)
+    return (_text_problems(fig, texts, parent, tol) + _legend_problems(fig, texts, parent, renderer, tol)
+            + _text_over_markers(fig, texts, parent, tol) + _legend_entry_problems(fig, parent))
 
 
 def _text_problems(fig, texts, parent, tol):
@@ -329,7 +515,7 @@ def place_labels(fig, labels, gap_pt: float = 3.0) -> list:
         if ax not in drawn_lines:  # in display coordinates: (markers, polylines)
             lines = [(line, line.get_transform().transform(line.get_xydata())) for line in ax.get_lines()
                      if line.get_visible()]
-            dots = [xy for line, xy in lines if line.get_marker() not in (None, "None", "none", "", " ")]
+            dots = [xy for _, xy in markers(ax)]
             drawn_lines[ax] = (np.concatenate(dots) if dots else np.zeros((0, 2)),
                                [xy for line, xy in lines if line.get_linestyle() not in ("None", "none", "", " ")])
         dots, polylines = drawn_lines[ax]

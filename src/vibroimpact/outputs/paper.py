@@ -100,8 +100,8 @@ STABLE_2TO1 = {
 PI6_D_B = 0.133
 PI6_G1 = 0.1378
 PI6_G2 = 0.1419
-#: beta = pi/6: Figure 3 (f) (Fig FN2), "grazing behavior of 1:1 period-10 motion", d = 0.213: the paper's d_graz, where
-#: the 1:1 motion grazes and 2:1 follows for smaller d (sections 2 and 5)
+#: beta = pi/6: Figure 3 (f) (Fig FN2), "grazing behavior of 1:1 period-10 motion", d = 0.213: the paper's d_graz at
+#: this incline, where it says the 1:1 motion grazes and 2:1 follows for smaller d (sections 2 and 5)
 PI6_D_GRAZ = 0.213
 
 

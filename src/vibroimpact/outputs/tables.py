@@ -109,16 +109,11 @@ def _interval_name(lo: str, hi: str) -> str:
     return f"d > {sub(lo)}" if hi == "branch end" else f"{sub(lo)} < d < {sub(hi)}"
 
 
-def table1(branches: list[xr.Dataset], transitions: list[xr.Dataset] = ()) -> pd.DataFrame:
+def table1(branches: list[xr.Dataset]) -> pd.DataFrame:
     """One row per incline: the stable interval with its causes, the period-doubling point B, the
-    node/focus points A_i inside it and the fold, next to the paper's stable interval, and the type (node or
-    focus, stable or unstable) of each interval between them (:func:`stability_types`, column ``types``).
-
-    With the located ``transitions`` of sweeps (:func:`vibroimpact.sweep_d_graz`), the paper's two readings of
-    d_graz side by side, at the inclines a sweep covers: ``d_graz`` (where the 1:1 motion followed down
-    leaves its family, with ``d_graz_kind`` and ``d_graz_clearance``), the fold (the largest d of 2:1
-    period-2 solutions) and ``d_graz_minus_fold``."""
-    exits = {round(float(t.attrs["beta"]), 9): t for t in transitions if "d_graz" in t}
+    node/focus points A_i inside it and the fold (where admissible, the largest d of the 2:1 period-2 orbit: the
+    paper's d_graz, :func:`vibroimpact.branch_d_graz`), next to the paper's stable interval, and the type (node or
+    focus, stable or unstable) of each interval between them (:func:`stability_types`, column ``types``)."""
     rows = []
     for br in branches:
         beta = float(br.attrs["beta"])
@@ -138,11 +133,6 @@ def table1(branches: list[xr.Dataset], transitions: list[xr.Dataset] = ()) -> pd
         row.update(paper_from=paper[0] if paper else np.nan, paper_to=paper[1] if paper else np.nan)
         row["types"] = "; ".join(f"{_interval_name(r.from_point, r.to_point)}: {r.type}"
                                  for r in stability_types(br).itertuples())
-        t = exits.get(round(beta, 9))
-        if t is not None:
-            row.update(d_graz=float(t.d_graz), d_graz_kind=str(t.d_graz_kind.values),
-                       d_graz_status=str(t.d_graz_status.values),
-                       d_graz_clearance=float(t.d_graz_clearance), d_graz_minus_fold=float(t.d_graz) - row["d_fold"])
         # nothing dropped: why the continuation stopped each way, and any point not refined
         row.update(branch_stops=f"{br.attrs.get('stop_decreasing', '?')}; {br.attrs.get('stop_increasing', '?')}")
         if "critical_refined" in br and not bool(br.critical_refined.all()):
@@ -184,21 +174,6 @@ def table1_markdown(df: pd.DataFrame) -> str:
     for _, r in df.iterrows():
         name = names.get(round(r.beta_deg, 6), f"{r.beta:.4f}")
         lines.append(f"| {name} | {'no 2:1 branch' if _failed(r) else r.get('types', '')} |")
-    if "d_graz" in df:
-        lines += ["", "The paper's d_graz read both ways it states it: where the 1:1 motion, followed with d "
-                  "decreasing (the length sweep at the physics' force), leaves the 1:1 family, grazing (its clearance "
-                  "to the wall tends to 0) or not; and \"the maximum value for 2:1 period-2 solutions\", the 2:1 "
-                  "branch's fold:", "",
-                  "| β | d_graz: the 1:1 motion leaves its family | how | largest d of 2:1 period-2 (fold) | "
-                  "d_graz − fold |", "|---|---|---|---|---|"]
-        for _, r in df.iterrows():
-            name = names.get(round(r.beta_deg, 6), f"{r.beta:.4f}")
-            if not np.isfinite(r.get("d_graz", np.nan)):
-                lines.append(f"| {name} | — ({r.get('d_graz_status', 'no length sweep at this incline')}) | | "
-                             f"{r.get('d_fold', np.nan):.6f} | |")
-                continue
-            lines.append(f"| {name} | {r.d_graz:.6f} | {r.d_graz_kind} (clearance {r.d_graz_clearance:.1e}) | "
-                         f"{r.d_fold:.6f} | {r.d_graz_minus_fold:+.6f} |")
     lines += ["", "Where each continuation stopped (decreasing; increasing arclength) and critical points that "
               "could not be refined:", ""]
     for _, r in df.iterrows():
@@ -211,6 +186,64 @@ def table1_markdown(df: pd.DataFrame) -> str:
 def _failed(row) -> bool:
     """Whether a row of :func:`table1` is an incline without a branch (its ``note`` says why)."""
     return isinstance(row.get("note"), str) and bool(row.get("note"))
+
+
+def d_graz_table(readings: dict[str, dict]) -> pd.DataFrame:
+    """The paper's d_graz along each sweep (:func:`vibroimpact.sweep_d_graz`, by sweep name): one row per sweep,
+    column ``sweep`` first."""
+    return pd.DataFrame([{"sweep": name, **r} for name, r in readings.items()])
+
+
+def _fmt(x, spec):
+    return "—" if not np.isfinite(x) else format(x, spec)
+
+
+def d_graz_summary(df: pd.DataFrame) -> str:
+    """One sentence on the paper's identity over the sweeps of :func:`d_graz_table`: along how many it holds,
+    and where it does not, the band between the down sweep's entry into 2:1 and the 1:1 exit."""
+    if df.empty:
+        return "No sweep to read d_graz along."
+    held, fails = df[df.identity.astype(bool)], df[~df.identity.astype(bool)]
+    text = (f"The paper's identity (the 1:1 motion grazes where 2:1 begins, at d_graz) holds along {len(held)} of "
+            f"{len(df)} sweeps")
+    if fails.empty:
+        return text + "."
+    kinds = fails.exit_kind.astype(str).value_counts()
+    band = fails[fails.band_points > 0]
+    text += (f". Along the other {len(fails)} the 1:1 motion leaves its family by "
+             + " and ".join(f"{k} ({n})" for k, n in kinds.items())
+             + f", {_fmt(fails.exit_minus_d_graz.abs().min(), '.4f')} to {_fmt(fails.exit_minus_d_graz.abs().max(), '.4f')}"
+             " off d_graz")
+    if len(band):
+        text += (f", and {len(band)} down sweeps find {int(band.band_points.sum())} points between their entry into 2:1 "
+                 f"and the exit (bands {_fmt(band.band_width.min(), '.4f')} to {_fmt(band.band_width.max(), '.4f')} wide), "
+                 f"{int(band.band_chaotic.sum())} of them chaotic (λ₁ per impact up to "
+                 f"{_fmt(band.band_lyap1_max.max(), '.3f')})")
+    return text + "."
+
+
+def d_graz_markdown(df: pd.DataFrame) -> str:
+    """:func:`d_graz_table` as Markdown: per sweep, d_graz read from the 2:1 branch and from the sweeps, the 1:1
+    exit, the band between and whether the paper's identity holds; then :func:`d_graz_summary`."""
+    lines = ["d_graz is \"the maximum value for 2:1 period-2 solutions\": the fold of the 2:1 branch (analytic), "
+             "which the up sweep's 2:1 period-2 reaches before it is lost (located). The down sweep enters the 2:1 "
+             "period-2 at a sweep point (the entry lies within one step above it). The 1:1 exit is where the 1:1 "
+             "motion, followed with d decreasing, leaves its family, by grazing a wall or by a jump while clear of "
+             "them. The paper's identity, \"at d = d_graz the 1:1 motion grazes and 2:1 follows for d < d_graz\", "
+             "holds along a sweep where the exit is a grazing within the sweep step of both the entry and d_graz; "
+             "the band is what the down sweep finds between its entry into 2:1 and the exit.", "",
+             "| sweep | β | swept | d_graz (2:1 fold) | up sweep's 2:1 ends | down sweep enters 2:1 | d_graz − entry "
+             "| 1:1 exit | how (clearance) | exit − d_graz | band: width, points | band's motions | λ₁ max | "
+             "identity |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for _, r in df.iterrows():
+        how = f"{r.exit_kind} ({r.exit_clearance:.1e})" if r.exit_kind else f"— ({r.exit_status})"
+        lines.append(
+            f"| {r.sweep} | {_pi_name(r.beta)} | {'length' if r.vary == 's' else 'force'} | {_fmt(r.d_graz, '.6f')} | "
+            f"{_fmt(r.up_end_d, '.6f')} | {_fmt(r.entry_d, '.4f')} (+{_fmt(r.entry_step, '.1e')}) | "
+            f"{_fmt(r.d_graz_minus_entry, '+.4f')} | {_fmt(r.exit_d, '.6f')} | {how} | "
+            f"{_fmt(r.exit_minus_d_graz, '+.4f')} | {_fmt(r.band_width, '.4f')}, {r.band_points} | "
+            f"{r.band_motions or '—'} | {_fmt(r.band_lyap1_max, '.3f')} | {'holds' if r.identity else 'fails'} |")
+    return "\n".join(lines + ["", d_graz_summary(df)]) + "\n"
 
 
 def grazing_lines(branches: list[xr.Dataset], scene: dict) -> dict:
@@ -543,8 +576,8 @@ def between_2to1_and_1to1(sw: xr.Dataset, transitions: xr.Dataset | None = None)
     period-2 and the 2:1 period-2 motions, where the paper sees period doubling and "apparently chaotic"
     motion: from the largest d of the 2:1 period-2 run below up to the smallest d of the 1:1 period-2 run
     above, as runs of one motion with the range of lambda_1 per impact over each run and where it is
-    largest.  With the sweep's ``transitions``, d_graz (:func:`vibroimpact.sweep_d_graz`) is one row, in
-    its place.  Empty where the down sweep has no 2:1 period-2 point below a 1:1 period-2 one."""
+    largest.  With the sweep's ``transitions``, the 1:1 exit (:func:`vibroimpact.sweep_family_exit`: where the
+    1:1 motion followed down leaves its family, by grazing or by a jump) is one row, in its place.  Empty where the down sweep has no 2:1 period-2 point below a 1:1 period-2 one."""
     dn = sw.sel(direction="down")
     order = np.argsort(dn.d.values)
     d, lab, lam = dn.d.values[order], dn.label.values.astype(str)[order], dn.lyap1.values[order]
@@ -563,10 +596,10 @@ def between_2to1_and_1to1(sw: xr.Dataset, transitions: xr.Dataset | None = None)
         rows.append({"d_lo": float(d[a]), "d_hi": float(d[b - 1]), "motion": str(lab[a]), "points": int(b - a),
                      "lyap1_min": float(np.min(seg[fin])) if fin.any() else math.nan,
                      "lyap1_max": float(np.max(seg[fin])) if fin.any() else math.nan, "d_at_max": float(d[k])})
-    if transitions is not None and "d_graz" in transitions and np.isfinite(float(transitions.d_graz)):
-        g = float(transitions.d_graz)
-        rows.append({"d_lo": g, "d_hi": g, "motion": f"d_graz: the 1:1 motion leaves its family "
-                     f"({str(transitions.d_graz_kind.values)}, clearance {float(transitions.d_graz_clearance):.1e})",
+    if transitions is not None and "exit_d" in transitions and np.isfinite(float(transitions.exit_d)):
+        g = float(transitions.exit_d)
+        rows.append({"d_lo": g, "d_hi": g, "motion": f"1:1 exit: {str(transitions.exit_kind.values)} (the 1:1 motion "
+                     f"leaves its family; clearance {float(transitions.exit_clearance):.1e})",
                      "points": 0, "lyap1_min": math.nan, "lyap1_max": math.nan, "d_at_max": math.nan})
     return pd.DataFrame(rows).sort_values(["d_lo", "points"]).reset_index(drop=True)
 
@@ -653,5 +686,5 @@ def chaos_markdown(windows: pd.DataFrame, outputs: pd.DataFrame, between: str = 
     lines += ["", largest_window_difference(outputs)]
     if between:
         lines += ["Between the 2:1 and the 1:1 motions, along each sweep's down direction (the attractor followed "
-                  "with d decreasing; runs of one motion, λ₁ over each run; d_graz in its place):", "", between]
+                  "with d decreasing; runs of one motion, λ₁ over each run; the 1:1 exit in its place):", "", between]
     return "\n".join(lines) + "\n"

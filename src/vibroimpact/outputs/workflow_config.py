@@ -288,10 +288,16 @@ def _lift(config, device: Device):
                               f"F > M g sin(beta) = {weight * math.sin(beta):.4g} N")
 
 
+def d_graz_sweeps(config: dict) -> dict[str, dict]:
+    """The sweeps the paper's d_graz is read along (its table and the check's rows): every incline's length and
+    force sweep (``energy.design``), by name, each its scene (``sweeps.scenes``)."""
+    return {p: config["sweeps"]["scenes"][p] for v in ("s", "F") for p in config["energy"]["design"][v]}
+
+
 def _known(config):
 
     betas = sorted({b for sc in config["branch_scenes"].values() for b in sc["betas"]})
-    items = item_names(list(config["captions"]), betas)
+    items = item_names(list(config["captions"]), betas, d_graz_sweeps(config))
     for item in config["checks"]["known"]:
         if item not in items:
             raise ConfigError("checks.known", item, f"an item of the paper-value check: {items}")

@@ -23,8 +23,9 @@ STYLE_FILE = Path(__file__).with_name("vibroimpact.mplstyle")
 
 BOTTOM = "tab:blue"
 TOP = "tab:green"
-#: d_graz's colour in every figure that marks it
-D_GRAZ_COLOR = "tab:purple"
+#: the 1:1 exit's colour in every figure that marks it (where the 1:1 motion, followed with d decreasing, leaves its
+#: family); d_graz's is the 2:1 period-2 motion's (:data:`D_GRAZ_COLOR`, below the motions' colours)
+EXIT_COLOR = "tab:purple"
 BALL = "tab:red"
 
 
@@ -129,6 +130,21 @@ MOTION_COLORS = {
     "no period found": "#EBEBEB", "chaotic": "#262626", "quasi-periodic": "#737373", "unsettled": "#BFBFBF",
     "other": "#DDCCA8",
 }
+#: d_graz, the largest d of 2:1 period-2 (the 2:1 branch's fold), in every figure that marks it: the 2:1 period-2
+#: motion's colour, as the 2:1 fold's curve in the bifurcation sets (the same point followed in two parameters)
+D_GRAZ_COLOR = MOTION_COLORS["2:1 period-2"]
+
+#: the points figures mark on a d axis (:func:`vibroimpact.outputs.plots.energy.located_marks`), each in one colour and
+#: line style and under one name in every figure: name -> (colour, line style, legend entry)
+MARKS = {
+    "d_graz": (D_GRAZ_COLOR, ":", r"$d_{\rm graz}$: the largest d of 2:1 period-2 (the 2:1 branch's fold)"),
+    "1:1 exit: grazing": (EXIT_COLOR, "-.", "1:1 exit: grazing (the 1:1 motion, d decreasing, grazes the bottom wall "
+                                           "and leaves its family)"),
+    "1:1 exit: jump": (EXIT_COLOR, "--", "1:1 exit: jump (the 1:1 motion, d decreasing, leaves its family clear of "
+                                        "the walls)"),
+    "G1": ("k", "-.", "G1: the 2:1 orbit grazes, 3:1 born"),
+}
+
 #: colours of the other periodic motions, and of the other motions with sticking (browns), by :func:`motion_color`
 EXTRA_COLORS = ("#CC6677", "#BBCC33", "#EE8866", "#FFAABB", "#E7298A", "#99DDFF")
 STICKING_COLORS = ("#BF812D", "#6B3A07")

@@ -3,6 +3,8 @@ the velocity bifurcation diagram (paper Fig 0 (a), (c) and Fig 5's inclines)."""
 
 from __future__ import annotations
 
+import textwrap
+
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.lines import Line2D
@@ -13,10 +15,12 @@ from ...analysis.motions import no_period
 from ...analysis.settled import LONG_BATCHES
 from ._common import wellposed
 from .energy import (
-    grazing_handles,
-    grazing_marks,
-    mark_grazing,
+    RUNS_NOTE,
+    located_marks,
+    mark_handles,
+    mark_located,
     motion_runs,
+    name_marks,
     panel_title,
     rows_of_names,
     secondary_axis,
@@ -39,34 +43,21 @@ NOT_ESTIMATED_COLOR = "0.8"
 
 
 def critical_marks(orbit_branches, transitions=None):
-    """The period doublings B and folds of the continued 1:1 and 2:1 branches (admissible ones), with d_graz
-    and G1 of :func:`~vibroimpact.outputs.plots.energy.grazing_marks`: ``[(name, d)]``."""
-    marks = list(grazing_marks(orbit_branches, transitions))
+    """The period doublings B of the continued 1:1 and 2:1 branches and the folds of the 1:1 (admissible ones), with
+    d_graz (the 2:1 fold), the 1:1 exit and G1 of :func:`~vibroimpact.outputs.plots.energy.located_marks`:
+    ``[(name, d)]``."""
+    marks = list(located_marks(orbit_branches, transitions))
     names = {"BT": "1:1", "BBT": "2:1"}
     for br in orbit_branches:
         if br.attrs.get("status") == "failed" or "critical_d" not in br:
             continue
         word = names.get(br.attrs.get("word"))
         kinds, crit, adm = br.critical_kind.values.astype(str), br.critical_d.values, br.critical_admissible.values
-        for kind, name in (("B", "B"), ("fold", "fold")):
+        # the 2:1 fold of largest d is d_graz, marked under that name
+        for kind in ("B", "fold") if word != "2:1" else ("B",):
             for d in crit[(kinds == kind) & adm]:
-                marks.append((f"{name} ({word})", float(d)))
+                marks.append((f"{kind} ({word})", float(d)))
     return marks
-
-
-def _mark(ax, marks, *, names=True, step=0.0):
-    """Vertical lines at the critical points: grazing dash-dotted (as Figs 0 and 5), B and folds dotted (named
-    with ``names``: under the velocities they would cover the motions written over the panel)."""
-    grazing = [(n, d) for n, d in marks if n == "G1" or n.startswith("d_graz")]
-    mark_grazing(ax, grazing, step)
-    for name, d in marks:
-        if (name, d) in grazing:
-            continue
-        color = "tab:brown" if name.startswith("B") else "tab:olive"
-        ax.axvline(d, color=color, ls=":", lw=0.8, zorder=3)
-        if names:
-            ax.annotate(name, (d, 0.97), xycoords=("data", "axes fraction"), xytext=(2, 0), textcoords="offset points",
-                        fontsize=5, color=color, rotation=90, va="top")
 
 
 def minus_inf_level(r: float) -> float:
@@ -116,6 +107,10 @@ def _lyapunov_points(ax, sw, direction, marker):
     if marker != "o":
         art.set_facecolors(list(colors))
     wellposed(art, "motions", **info, low=lo, high=hi)
+    # what was drawn, for the legend: the kinds of points, and the kinds with an interval bar
+    kinds = {"-inf" if np.isneginf(v) else "not estimated" if np.isnan(v) else x if x in KIND_COLORS else "exact"
+             for x, v in zip(lab, lam, strict=True)}
+    return kinds | {f"{x} interval" for x in set(lab[bars])}
 
 
 def fig_lyapunov(sweeps, orbit_sets, transitions=None, *, ncols=3):
@@ -133,7 +128,7 @@ def fig_lyapunov(sweeps, orbit_sets, transitions=None, *, ncols=3):
     fig = plt.figure(figsize=(4.4 * ncols, 4.6 * nrows))
     outer = fig.add_gridspec(nrows, ncols, hspace=0.42, wspace=0.28)
     letters = iter("abcdefghijklmnop")
-    drawn = set()
+    drawn, kinds, todo = set(), set(), []
     transitions = transitions or [None for _ in sweeps]
     for k, (sw, obs, tr) in enumerate(zip(sweeps, orbit_sets, transitions, strict=True)):
         inner = outer[k // ncols, k % ncols].subgridspec(2, 1, hspace=0.06, height_ratios=[1.0, 0.8])
@@ -149,36 +144,48 @@ def fig_lyapunov(sweeps, orbit_sets, transitions=None, *, ncols=3):
         secondary_axis(vax, sw)
         vax.set_ylim(top=vax.get_ylim()[1] * 1.15)
         for direction, marker in (("down", "o"), ("up", "+")):
-            _lyapunov_points(lax, sw, direction, marker)
+            kinds |= _lyapunov_points(lax, sw, direction, marker)
         lax.axhline(0.0, color="0.3", lw=0.6, zorder=1)
         lax.set_xlabel("d")
         lax.set_ylabel(r"$\lambda_1$ per impact", fontsize=7)
-        _mark(vax, marks, names=False, step=sweep_step(sw))
-        _mark(lax, marks, step=sweep_step(sw))
+        # the marks' names in the lambda_1 panel (under the velocities they would cover the motions' names)
+        mark_located(vax, marks, sweep_step(sw), names=False)
+        todo += mark_located(lax, marks, sweep_step(sw))
     ax = fig.add_subplot(outer[(n) // ncols, n % ncols]) if n % ncols else None
-    h = [Line2D([], [], color="0.45", marker="o", mfc="none", ls="", label="simulated, d decreasing"),
-         Line2D([], [], color="0.45", marker="+", ls="", label="simulated, d increasing"),
-         Line2D([], [], color=PERIODIC_COLOR, marker="o", mfc="none", ls="",
-                label=r"$\lambda_1 = \ln\max|\mu| / N$ of the Newton-solved cycle (exact)"),
-         Line2D([], [], color=KIND_COLORS["chaotic"], marker="o", mfc="none", label=r"chaotic: 95 % interval of $\lambda_1$ above 0"),
-         Line2D([], [], color=KIND_COLORS["quasi-periodic"], marker="o", mfc="none",
-                label=r"quasi-periodic: interval contains 0"),
-         Line2D([], [], color=KIND_COLORS["unsettled"], marker="o", mfc="none",
-                label="unsettled: a transient longer than the cap"),
-         Line2D([], [], color=MINUS_INF_COLOR, marker=MINUS_INF_MARKER, mfc="none", ls="",
-                label=r"$\lambda_1 = -\infty$ (sticking, at rest), drawn at $\ln r - 0.35$ (filled: d increasing)"),
-         Line2D([], [], color=NOT_ESTIMATED_COLOR, marker="o", mfc="none", ls="",
-                label=r"not estimated (no long run), drawn at $\ln r - 0.47$"),
-         *grazing_handles(drawn)]
-    h += [Line2D([], [], color="tab:brown", ls=":", label="B: period doubling (1:1 or 2:1 branch)"),
-          Line2D([], [], color="tab:olive", ls=":", label="fold of the 2:1 branch")]
     note = ("Largest Lyapunov exponent of each sweep point, per impact\n(long runs: batch means over "
             f"{int(sweeps[0].attrs.get('long_impacts', 0))} impacts, transient 1/10 discarded;\n"
-            r"a focus, complex multipliers: $\lambda_1 = \lambda_2 = \ln r$)")
+            r"a focus, complex multipliers: $\lambda_1 = \lambda_2 = \ln r$)" + "\n"
+            + "\n".join(textwrap.wrap(RUNS_NOTE.replace("\n", " ").replace("each panel", "each panel of velocities"), 64)))
+    h = lyapunov_handles(kinds) + mark_handles(drawn)
+    for handle in h:  # the legend keeps to its slot's width
+        handle.set_label("\n".join(textwrap.wrap(handle.get_label(), 58, subsequent_indent="  ")))
     if ax is not None:
         ax.axis("off")
         ax.legend(handles=h, loc="center", fontsize=6, title=note, title_fontsize=6, frameon=False)
     else:
         fig.legend(handles=h, loc="outside lower center", ncol=3, fontsize=6, title=note, title_fontsize=6)
     rows_of_names(fig)
+    name_marks(fig, todo, fontsize=5)
     return fig
+
+
+def lyapunov_handles(kinds) -> list:
+    """The legend entries of the points :func:`fig_lyapunov` drew (``kinds``: what :func:`_lyapunov_points`
+    returned), in a fixed order, only those drawn: a kind drawn with its interval as a bar has a line."""
+    interval = r"95 % interval of $\lambda_1$"
+    entries = [
+        ("exact", PERIODIC_COLOR, "o", r"$\lambda_1 = \ln\max|\mu| / N$ of the Newton-solved cycle (exact)"),
+        ("chaotic", KIND_COLORS["chaotic"], "o", f"chaotic: {interval} above 0"),
+        ("quasi-periodic", KIND_COLORS["quasi-periodic"], "o", f"quasi-periodic: {interval} contains 0"),
+        ("unsettled", KIND_COLORS["unsettled"], "o", "unsettled: a transient longer than the cap"),
+        ("no period found", KIND_COLORS["no period found"], "o", "no period found, not split (no long run)"),
+        ("-inf", MINUS_INF_COLOR, MINUS_INF_MARKER,
+         rf"$\lambda_1 = -\infty$ (sticking, at rest), drawn at $\ln r - {MINUS_INF_BELOW:g}$ (filled: d increasing)"),
+        ("not estimated", NOT_ESTIMATED_COLOR, "o",
+         rf"not estimated (no long run), drawn at $\ln r - {MINUS_INF_BELOW + NOT_ESTIMATED_BELOW:g}$"),
+    ]
+    h = [Line2D([], [], color="0.45", marker="o", mfc="none", ls="", label="simulated, d decreasing"),
+         Line2D([], [], color="0.45", marker="+", ls="", label="simulated, d increasing")]
+    h += [Line2D([], [], color=color, marker=marker, mfc="none", ls="-" if f"{kind} interval" in kinds else "",
+                 label=label) for kind, color, marker, label in entries if kind in kinds]
+    return h

@@ -3,17 +3,21 @@
 from __future__ import annotations
 
 import textwrap
+import weakref
+from collections import Counter
 
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.lines import Line2D
 from matplotlib.transforms import blended_transform_factory
 
+from ...analysis.d_graz import branch_d_graz
 from ...analysis.energy import delivered
-from ...analysis.motions import CHAOTIC, no_period
+from ...analysis.motions import no_period
 from ...analysis.windows import window_motions
+from .. import layout
 from ..tables import stable_interval
-from ._common import BOTTOM, D_GRAZ_COLOR, TOP, beta_label, branch_line, use_style, wellposed
+from ._common import BOTTOM, MARKS, TOP, beta_label, branch_line, use_style, wellposed
 from .sweeps import last_events, point_info, word_ratio
 
 U_I_COLOR = "tab:red"
@@ -42,17 +46,22 @@ def _analytic(ax, branches, var, *, averages=False, scale=1.0):
 
 
 
-def grazing_marks(orbit_branches, transitions=None):
-    """The grazing points Figs 0 and 5 mark: d_graz, where the 1:1 motion followed with d decreasing
-    leaves the 1:1 family (from the sweep's located transitions, :func:`vibroimpact.sweep_d_graz`: a
-    grazing, or a jump where ``d_graz_kind`` says "no grazing"), and G1, the lower end of the 2:1
-    orbit's stable interval when a grazing ends it (the 3:1 orbit is born), from the continued
-    branches.  ``[(name, d)]``, name ``"d_graz"``, ``"d_graz, no grazing"`` or ``"G1"``."""
+def located_marks(orbit_branches, transitions=None):
+    """The points Figs 0 and 5 mark on the d axis, by their names in :data:`~vibroimpact.outputs.plots._common.MARKS`:
+    d_graz, the largest d of 2:1 period-2 (the continued 2:1 branch's fold, :func:`vibroimpact.branch_d_graz`);
+    the 1:1 exit, where the 1:1 motion followed with d decreasing leaves the 1:1 family (the sweep's located
+    ``transitions``, :func:`vibroimpact.sweep_family_exit`: ``"1:1 exit: grazing"`` or ``"1:1 exit: jump"``); and
+    G1, the lower end of the 2:1 orbit's stable interval when a grazing ends it (the 3:1 orbit is born).
+    ``[(name, d)]``."""
 
     marks = []
-    if transitions is not None and "d_graz" in transitions and np.isfinite(float(transitions.d_graz)):
-        grazes = str(transitions.d_graz_kind.values) == "grazing"
-        marks.append(("d_graz" if grazes else "d_graz, no grazing", float(transitions.d_graz)))
+    for br in orbit_branches:
+        if br.attrs.get("word") == "BBT" and br.attrs.get("status") != "failed" and "critical_d" in br:
+            d, _ = branch_d_graz(br)
+            if np.isfinite(d):
+                marks.append(("d_graz", d))
+    if transitions is not None and "exit_d" in transitions and np.isfinite(float(transitions.exit_d)):
+        marks.append((f"1:1 exit: {str(transitions.exit_kind.values)}", float(transitions.exit_d)))
     for br in orbit_branches:
         if br.attrs.get("status") == "failed" or "critical_d" not in br or br.attrs.get("word") != "BBT":
             continue
@@ -64,48 +73,57 @@ def grazing_marks(orbit_branches, transitions=None):
 
 #: the ``gid`` of a motion's name written over a panel (:func:`motion_runs`), which :func:`rows_of_names` places
 RUN_NAME = "motion-run-name"
+#: each such name's run: its first and last d (the name is kept beside it)
+RUN_SPANS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def motion_blocks(labels, min_share=0.07, names=None):
+#: a run of one motion along a sweep is named over its panel when it holds at least this many points
+MIN_POINTS = 5
+#: the most motions a name of merged short runs lists (the most frequent first)
+MAX_NAMED = 3
+#: how a name of merged short runs lists the periodic motions without a short name (k:m over n forcing periods)
+WINDOWS = "periodic windows"
+#: what the names over a panel say (:func:`motion_runs`), for its legend
+RUNS_NOTE = ("Over each panel: the down sweep's motion (T = its period in t; chaotic: no period, $\\lambda_1$ above 0; "
+             "unsettled: no period within the cap,\nits transient still converging; a gap between names: fewer than "
+             f"{MIN_POINTS} points of one motion, or of short runs together).")
+
+
+def motion_blocks(labels, min_points=MIN_POINTS, names=None):
     """The runs of one motion along a sweep that a panel names, as ``[(first, end, name)]`` (point indices,
-    ``end`` exclusive).  The motions with no period (chaotic, quasi-periodic, unsettled) make one run.  A run
-    of at least ``min_share`` of the points is named by its motion ("chaotic" where most of a no-period
-    run is chaotic, else "aperiodic"); consecutive shorter runs are merged, and the merged block, if it
-    reaches ``min_share``, is named by what dominates it: "chaotic" (with ", periodic windows" where
-    periodic points interrupt it) where most of its points have no period and most of those are chaotic,
-    "aperiodic" where most have no period, else "periodic windows".  A periodic motion's name is
-    ``names[label]`` (its :attr:`~vibroimpact.analysis.motions.Motion.short_label`), the label where
-    ``names`` lacks it."""
+    ``end`` exclusive).
+
+    Consecutive points with one label make a run.  A run of at least ``min_points`` points is named by its
+    motion: a periodic one by ``names[label]`` (its :attr:`~vibroimpact.analysis.motions.Motion.short_label`; the
+    label where ``names`` lacks it), one with no period by its label (chaotic, quasi-periodic, unsettled, no
+    period found), the same name for the same motion in every panel.  Consecutive shorter runs are merged; a
+    merged block of at least ``min_points`` points is named by the motions it holds, the most frequent first
+    (:data:`MAX_NAMED` of them, "…" for the others; the periodic motions without a short name together as
+    :data:`WINDOWS`); a shorter one is not named (the gap :data:`RUNS_NOTE` explains)."""
 
     lab = np.asarray(labels).astype(str)
-    nop = no_period(lab)
-    runs = np.where(nop, "no period found", lab)
-    edges = np.flatnonzero(runs[1:] != runs[:-1]) + 1
+    if not lab.size:
+        return []
+    edges = np.flatnonzero(lab[1:] != lab[:-1]) + 1
     starts, ends = np.r_[0, edges], np.r_[edges, lab.size]
-    long_ = (ends - starts) >= min_share * lab.size
+    long_ = (ends - starts) >= min_points
     blocks, k = [], 0
     while k < starts.size:
         if long_[k]:
             a, b = starts[k], ends[k]
-            if runs[a] != "no period found":
-                name = (names or {}).get(runs[a], runs[a])
-            else:
-                name = CHAOTIC if np.mean(lab[a:b] == CHAOTIC) >= 0.5 else "aperiodic"
-            blocks.append((int(a), int(b), name))
+            blocks.append((int(a), int(b), (names or {}).get(lab[a], lab[a])))
             k += 1
             continue
         j = k
         while j < starts.size and not long_[j]:
             j += 1
         a, b = starts[k], ends[j - 1]
-        if b - a >= min_share * lab.size:
-            share = np.mean(nop[a:b])
-            if share > 0.5:
-                name = (CHAOTIC if np.mean(lab[a:b][nop[a:b]] == CHAOTIC) > 0.5 else "aperiodic")
-                name += ", periodic windows" if share < 1 else ""
-            else:
-                name = "periodic windows"
-            blocks.append((int(a), int(b), name))
+        if b - a >= min_points:
+            # a periodic motion by its short name where it has one (n:1 T=k), else among the "periodic windows"
+            held = list(dict.fromkeys(m if no_period(m) or " over " not in (names or {}).get(m, m) else WINDOWS
+                                      for m, _ in Counter(lab[a:b].tolist()).most_common()))
+            shown = [(names or {}).get(m, m) for m in held[:MAX_NAMED]]
+            blocks.append((int(a), int(b), ", ".join(shown) + (", …" if len(held) > MAX_NAMED else "")))
         k = j
     return blocks
 
@@ -115,9 +133,9 @@ def sweep_step(sw) -> float:
     return float(np.max(np.diff(sw.d.values))) if sw.sizes["point"] > 1 else 0.0
 
 
-def motion_runs(ax, sw, direction="down", min_share=0.07):
+def motion_runs(ax, sw, direction="down", min_points=MIN_POINTS):
     """The motion identified along the sweep, written over the top of the panel where it holds for
-    at least ``min_share`` of the points (:func:`motion_blocks`), so every cloud of points can be read
+    at least ``min_points`` points (:func:`motion_blocks`), so every cloud of points can be read
     against it."""
 
     d = sw.d.values
@@ -125,40 +143,73 @@ def motion_runs(ax, sw, direction="down", min_share=0.07):
     step = sweep_step(sw)
     s = sw.sel(direction=direction)
     names = {m.label: m.short_label for m in window_motions(s)}
-    for a, b, name in motion_blocks(s.label.values, min_share, names):
+    for a, b, name in motion_blocks(s.label.values, min_points, names):
         ax.annotate("", (d[a], 0.985), (d[b - 1], 0.985), xycoords=tr, arrowprops=dict(arrowstyle="|-|", lw=0.5,
                     color="0.4", shrinkA=0, shrinkB=0, mutation_scale=2))
         text = ax.text(0.5 * (d[a] + d[b - 1]), 0.965, name, transform=tr, ha="center", va="top", fontsize=5,
                        color="0.25")
         text.set_gid(RUN_NAME)  # placed in rows by rows_of_names once the figure is laid out
+        RUN_SPANS[text] = (float(d[a]), float(d[b - 1]))
         wellposed(text, "run", step=step)
+
+
+#: how much an axis' top is raised at a time to clear its motion names of markers, and at most how often
+RAISE, MAX_RAISE = 0.05, 20
 
 
 def rows_of_names(fig, row_height=0.045, pad=3.0):
     """Once the figure is laid out (drawn once): each panel's motion names (:func:`motion_runs`), left to
-    right, kept inside the panel (a name wider than its run at an end of the axis is aligned to that end)
-    and a row lower where they would come within ``pad`` pixels of a name already placed."""
+    right, each in the highest row where it comes within ``pad`` pixels of no name already placed, at its run's
+    middle or moved sideways by up to its width while it stays over its run and inside the panel; then the
+    panel's top raised (by :data:`RAISE` of its height at a time) until no name covers a marker."""
+    home = {t: t.get_position() for ax in fig.axes for t in ax.texts if t.get_gid() == RUN_NAME}
+    # a raised top changes the tick labels and so the layout: the names are placed again in the new one
+    for _ in range(3):
+        if not _place_names(fig, home, row_height, pad):
+            break
+
+
+def _place_names(fig, home, row_height, pad) -> bool:
+    """One pass of :func:`rows_of_names` from the names' first places ``home``: whether a panel's top was raised."""
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
+    raised = False
     for ax in fig.axes:
-        names = sorted((t for t in ax.texts if t.get_gid() == RUN_NAME), key=lambda t: t.get_position()[0])
+        names = sorted((t for t in ax.texts if t.get_gid() == RUN_NAME), key=lambda t: home[t][0])
+        for t in names:
+            t.set_position(home[t])
         frame = ax.get_window_extent(renderer)
-        lo, hi = ax.get_xlim()
+        to_px = ax.transData.transform
         placed = []
         for text in names:
             box = text.get_window_extent(renderer)
-            if box.x0 < frame.x0 + pad:
-                text.set_x(lo + (hi - lo) * 0.005)
-                text.set_horizontalalignment("left")
-            elif box.x1 > frame.x1 - pad:
-                text.set_x(hi - (hi - lo) * 0.005)
-                text.set_horizontalalignment("right")
-            y0, row = text.get_position()[1], 0
-            while any(text.get_window_extent(renderer).expanded(1.0, 1.0).padded(pad).overlaps(
-                    p.get_window_extent(renderer)) for p in placed):
-                row += 1
-                text.set_y(y0 - row_height * row)
+            span = [to_px((x, 0.0))[0] for x in RUN_SPANS.get(text, (text.get_position()[0],) * 2)]
+            x0, y0 = text.get_position()
+            w = box.width
+            shifts = [k * w / 3 for k in (0, 1, -1, 2, -2, 3, -3)]
+            ok = [dx for dx in shifts if box.x0 + dx >= frame.x0 + pad and box.x1 + dx <= frame.x1 - pad
+                  and box.x1 + dx > span[0] - pad and box.x0 + dx < span[1] + pad]
+            if not ok:  # a name wider than the room at an end of the axis: flush with that end
+                ok = [frame.x0 + pad - box.x0 if box.x0 < frame.x0 + pad else frame.x1 - pad - box.x1]
+            for row in range(len(names) + 1):
+                here = [box.translated(dx, -row * row_height * frame.height) for dx in ok]
+                free = [dx for dx, c in zip(ok, here, strict=True)
+                        if not any(c.padded(pad).overlaps(q.get_window_extent(renderer)) for q in placed)]
+                if free:
+                    break
+            x_px = to_px((x0, 0.0))[0] + free[0]
+            text.set_x(ax.transData.inverted().transform((x_px, 0.0))[0])
+            text.set_y(y0 - row_height * row)
             placed.append(text)
+        # room for the names: the axis' top raised until no name covers a marker (the names stay where they are, at
+        # fractions of the axes' height; the data move down)
+        for _ in range(MAX_RAISE):
+            if not any(layout.markers_under(ax, t.get_window_extent(renderer)) for t in placed):
+                break
+            lo_y, hi_y = ax.get_ylim()
+            ax.set_ylim(lo_y, hi_y + RAISE * (hi_y - lo_y))
+            raised = True
+    return raised
 
 
 def secondary_axis(ax, sw):
@@ -223,34 +274,62 @@ def _point_markers(ax, en, var, fmt, scale, **style):
     return line
 
 
-def mark_grazing(ax, marks, step=0.0):
-    """d_graz (purple: dash-dotted where the 1:1 motion grazes, dotted where it jumps without grazing) and
-    G1 (black, dash-dotted), named at the panel's foot.  d_graz is located along the sweep (``step``: its
-    grid step, to which the check holds it where its location is ill-conditioned); G1 is analytic."""
+#: the text naming a marked line in a panel, where it is not the mark's name itself
+MARK_TEXT = {"d_graz": r"$d_{\rm graz}$"}
+
+
+def mark_style(name: str) -> tuple[str, str, str]:
+    """Colour, line style and legend entry of a marked point (:data:`~vibroimpact.outputs.plots._common.MARKS`; the
+    period doublings B and folds of the continued branches, ``"B (1:1)"``, ``"fold (1:1)"``, dotted brown and
+    olive)."""
+    if name in MARKS:
+        return MARKS[name]
+    if name.startswith("B ("):
+        return "tab:brown", ":", "B: period doubling (1:1 or 2:1 branch)"
+    return "tab:olive", ":", f"{name.split(' (')[0]} of the {name.split('(')[-1].rstrip(')')} branch"
+
+
+def mark_located(ax, marks, step=0.0, *, names=True):
+    """Vertical lines at the points ``marks`` (:func:`located_marks`; ``[(name, d)]``), each in its colour and line
+    style (:func:`mark_style`).  Returns the names to write beside them once the figure is laid out
+    (:func:`name_marks`; none with ``names=False``).  The 1:1 exit is located along the sweep (``step``: its grid
+    step, to which the check holds it where its location is ill-conditioned); d_graz, G1 and the branches' points
+    are analytic."""
+    todo = []
     for name, d in marks:
-        color = "k" if name == "G1" else D_GRAZ_COLOR
-        line = ax.axvline(d, color=color, ls=":" if "no grazing" in name else "-.", lw=0.7, zorder=3)
-        text = ax.annotate(r"$d_{\rm graz}$" if name.startswith("d_graz") else name, (d, 0.02),
-                           xycoords=("data", "axes fraction"), xytext=(2, 0), textcoords="offset points", fontsize=6,
-                           color=color)
-        if name.startswith("d_graz"):
-            for artist in (line, text):
-                wellposed(artist, "located", step_x=step)
+        color, ls, _ = mark_style(name)
+        line = ax.axvline(d, color=color, ls=ls, lw=0.8, zorder=3)
+        if name.startswith("1:1 exit"):
+            wellposed(line, "located", step_x=step)
+        if names:
+            todo.append((ax, name, d, step))
+    return todo
 
 
-def grazing_handles(names):
-    """Legend entries of the marks drawn (:func:`grazing_marks`' names)."""
+#: where a marked line's name may go, in order of preference (a place up the line, in axes fraction, from which
+#: the upright name rises; its side and distance, in points): beside the line from the foot up, then farther off
+#: with a leader line to it where the data leave no room beside it
+NAME_PLACES = [(y, (dx, 1)) for dx in (2, -2, 14, -14, 26, -26) for y in (0.02, 0.2, 0.4, 0.6)]
 
-    h = []
-    if "d_graz" in names:
-        h.append(Line2D([], [], color=D_GRAZ_COLOR, ls="-.",
-                        label=r"$d_{\rm graz}$: the 1:1 motion (d decreasing) grazes and leaves the 1:1 family"))
-    if "d_graz, no grazing" in names:
-        h.append(Line2D([], [], color=D_GRAZ_COLOR, ls=":",
-                        label=r"$d_{\rm graz}$, no grazing: the 1:1 motion leaves its family by a jump"))
-    if "G1" in names:
-        h.append(Line2D([], [], color="k", ls="-.", label="G1: the 2:1 orbit grazes, 3:1 born"))
-    return h
+
+def name_marks(fig, todo, fontsize=5.5):
+    """Write each marked line's name (:func:`mark_located`) upright beside it, where it covers no text, marker or
+    line (:func:`vibroimpact.outputs.layout.place_labels`); call once the figure is laid out."""
+    requests = [(ax, MARK_TEXT.get(name, name), [((d, y), off) for y, off in NAME_PLACES],
+                 dict(xycoords=("data", "axes fraction"), fontsize=fontsize, color=mark_style(name)[0], rotation=90))
+                for ax, name, d, _ in todo]
+    for text, (_, name, _, step) in zip(layout.place_labels(fig, requests), todo, strict=True):
+        if name.startswith("1:1 exit"):
+            wellposed(text, "located", step_x=step)
+
+
+def mark_handles(names):
+    """Legend entries of the marks drawn (:func:`located_marks`' and :func:`mark_style`'s names), one per kind."""
+    entries = {}
+    for name in sorted(names, key=lambda n: (list(MARKS).index(n) if n in MARKS else len(MARKS), n)):
+        color, ls, label = mark_style(name)
+        entries.setdefault(label, Line2D([], [], color=color, ls=ls, label=label))
+    return list(entries.values())
 
 
 def _energy_legend(fig, velocities, note=None, names=()):
@@ -264,9 +343,10 @@ def _energy_legend(fig, velocities, note=None, names=()):
          Line2D([], [], color=U_I_COLOR, marker="*", ls="", label=r"$\overline{U}_I$ simulated (per impact)"),
          Line2D([], [], color=U_T_COLOR, label=r"$\overline{U}_T$ of the analytic 1:1 / 2:1 orbit"),
          Line2D([], [], color=U_I_COLOR, label=r"$\overline{U}_I$ of the analytic 1:1 / 2:1 orbit"),
-         *grazing_handles(names)]
-    fig.legend(handles=h, loc="outside lower center", ncol=4 if velocities else 3, fontsize=6, title=note,
-               title_fontsize=6)
+         *mark_handles(names)]
+    leg = fig.legend(handles=h, loc="outside lower center", ncol=4 if velocities else 3, fontsize=6, title=note,
+                     title_fontsize=6)
+    layout.style_keys(leg, "stable", "unstable")  # solid and dashed, in the branches' colours
 
 
 def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit_sets=None, transitions=None):
@@ -274,8 +354,9 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
     solid, unstable dashed), the averages U_I (red stars) and U_T (cyan diamonds) of the down sweep with
     the analytic orbits' averages as lines, against d (the swept s or force on the top axis); with
     ``velocities`` also |Zdot_k| (paper Fig 0 (a), (c)).  The motion found along each sweep is written
-    over each panel; d_graz from each sweep's located ``transitions`` and G1 of the continued 2:1 branch
-    (``orbit_sets``) are marked.  An analytic branch that failed (another device may not have it) is not drawn,
+    over each panel (:func:`motion_runs`, what its names mean in the note under the legend: :data:`RUNS_NOTE`);
+    d_graz and G1 of the continued 2:1 branch (``orbit_sets``) and the 1:1 exit of each sweep's located
+    ``transitions`` are marked (:func:`located_marks`).  An analytic branch that failed (another device may not have it) is not drawn,
     and the note under the figure says which, in which panels, and why."""
 
     use_style()
@@ -293,7 +374,7 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
     letters = iter("abcdefghijklmnop")
     orbit_sets = orbit_sets or [[] for _ in panels]
     transitions = transitions or [None for _ in panels]
-    drawn, missing = set(), {}
+    drawn, missing, todo = set(), {}, []
     for k, ((vax, uax), sw, en, brs, obs, tr) in enumerate(zip(pairs, sweeps, energies, branch_sets, orbit_sets,
                                                               transitions, strict=True)):
         for br in obs:
@@ -301,7 +382,7 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
                 why = f"analytic {word_ratio(str(br.attrs.get('word', '')))}: {br.attrs.get('reason', '')}"
                 here = "abcdefghijklmnop"[2 * k:2 * k + 2] if velocities else "abcdefghijklmnop"[k]
                 missing.setdefault(why, []).extend(f"({c})" for c in here)
-        marks = grazing_marks(obs, tr)
+        marks = located_marks(obs, tr)
         drawn |= {name for name, _ in marks}
         if vax is not None:
             sim_points(vax, sw, "v_minus")
@@ -321,17 +402,17 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
             if ax is None:
                 continue
             motion_runs(ax, sw)
-            mark_grazing(ax, marks, sweep_step(sw))
+            todo += mark_located(ax, marks, sweep_step(sw))
             secondary_axis(ax, sw)
             ax.set_ylim(top=ax.get_ylim()[1] * 1.1)  # room for the motions written over the top
     a = energies[0].attrs
-    note = None
+    note = RUNS_NOTE
     if "membrane_K" in a:
         note = ("Voltages from the membrane model with assumed constants (h = {h:g}, K = {K:.4g} SI, R = {R:g} m, "
                 "r_b = {rb:g} m, U_in = {U:g} V, ball mass {m:g} kg; docs/guide/model.md):\nthe voltage scale rests on "
-                "them, the shapes and jumps do not.  Over each panel: the down sweep's motion "
-                "(T = its period in t).").format(h=a["membrane_h"], K=a["membrane_K"], R=a["membrane_R"],
-                                                rb=a["membrane_r_b"], U=a["membrane_U_in"], m=a["membrane_m"])
+                "them, the shapes and jumps do not.  ").format(h=a["membrane_h"], K=a["membrane_K"], R=a["membrane_R"],
+                                                             rb=a["membrane_r_b"], U=a["membrane_U_in"],
+                                                             m=a["membrane_m"]) + note
     if missing:
 
         width = 150 if velocities or n > 1 else 90
@@ -339,6 +420,7 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
             textwrap.fill(f"{', '.join(panels_)}: {why}", width) for why, panels_ in missing.items())
     _energy_legend(fig, velocities, note, drawn)
     rows_of_names(fig)
+    name_marks(fig, todo)
     return fig
 
 
@@ -378,9 +460,11 @@ def fig_design(s_sets, F_sets, table):
                 Line2D([], [], color="0.3", ls="--", lw=0.8, label=r"$\overline{U}_I$ (per impact)"),
                 Line2D([], [], color="0.3", marker="o", mfc="none", ls="", ms=8, label=r"largest $\overline{U}_T$"),
                 Line2D([], [], color="0.3", marker="s", mfc="none", ls="", ms=8, label=r"largest $\overline{U}_I$")]
-    fig.legend(handles=handles, loc="outside lower center", ncol=4, fontsize=7, title_fontsize=7,
-               title="periodic motion: the exact cycle's average; no period (chaotic, quasi-periodic): the long "
-                     "run's; a gap: a transient longer than the cap")
+    leg = fig.legend(handles=handles, loc="outside lower center", ncol=4, fontsize=7, title_fontsize=7,
+                     title="periodic motion: the exact cycle's average; no period (chaotic, quasi-periodic): the long "
+                           "run's; a gap: a transient longer than the cap")
+    # line styles and marks, drawn in each incline's colour
+    layout.style_keys(leg, *(h.get_label() for h in handles[len(s_sets):]))
     return fig
 
 

@@ -16,9 +16,12 @@ from ...analysis.motions import NO_PERIOD_LABELS, no_period, orbit_motion
 from ...dynamics import kernels as K
 from ...dynamics.params import Params
 from ...dynamics.runs import simulate
+from .. import layout
 from ._common import (
     BOTTOM,
-    D_GRAZ_COLOR,
+    EXIT_COLOR,
+    MARKS,
+    MOTION_COLORS,
     TOP,
     beta_label,
     branch_line,
@@ -233,7 +236,7 @@ def fig_bis(sw, transitions, portraits, branches):
     strip.grid(False)
     key = fig.add_subplot(right[1])  # the legend gets its own slot, clear of the data
     key.axis("off")
-    key.legend(handles=[
+    leg = key.legend(handles=[
         *(Line2D([], [], color=motion_color(n), marker=BIS_MARKERS.get(n, "x"), mfc="none", ls="", label=f"{n} (simulated)")
           for n in names),
         *(Line2D([], [], color=motion_color(n), label=f"analytic {n}") for n in names),
@@ -241,6 +244,7 @@ def fig_bis(sw, transitions, portraits, branches):
         Line2D([], [], color="k", ls="-.", label="G1: 2:1 grazes, 3:1 born\nG2: 3:1 fold (not grazing, (g))"),
         Patch(facecolor=BOTTOM, alpha=0.25, label="(d)-(g): bottom wall"), Patch(facecolor=TOP, alpha=0.25, label="top wall")],
         loc="upper center" if missing else "center", fontsize=7)
+    layout.style_keys(leg, "dashed: unstable")  # the branches' dashes, in their motions' colours
     if missing:
         key.text(0.5, 0.0, "\n".join(textwrap.fill("not drawn: " + m, 38) for m in missing), transform=key.transAxes,
                  ha="center", va="bottom", fontsize=6, color="tab:red")
@@ -447,7 +451,7 @@ def fig_regime_map(maps, scans=None):
 #: line style per kind of codimension-one point, and colour per orbit family
 _CURVE_STYLE = {"B": "--", "fold": ":", "grazing": "-", "A": "-."}
 _CURVE_NAME = {"B": "period doubling B", "fold": "fold", "grazing": "grazing", "A": "node-focus A"}
-_WORD_COLOUR = {"BT": "#000000", "BBT": "#D55E00", "BBBT": "#0072B2"}
+_WORD_COLOUR = {"BT": "#000000", "BBT": MOTION_COLORS["2:1 period-2"], "BBBT": MOTION_COLORS["3:1 period-2"]}
 _WORD_NAME = {"BT": "1:1", "BBT": "2:1", "BBBT": "3:1"}
 
 
@@ -462,13 +466,21 @@ def curve_pieces(curves, xname, yname):
         kind, word = str(curves.curve_kind.values[c]), str(curves.curve_word.values[c])
         label = f"{_WORD_NAME.get(word, word)} {_CURVE_NAME.get(kind, kind)}"
         if kind == "grazing" and "curve_start_stable" in curves and not bool(curves.curve_start_stable.values[c]):
-            label += " (of an unstable orbit)"  # a grazing no attractor meets: not the paper's d_graz
+            label += " (of an unstable orbit)"  # a grazing no attractor meets
+        if (word, kind) == D_GRAZ_CURVE:
+            label += " = " + D_GRAZ_NAME
         yield (curves[xname].values[sel], curves[yname].values[sel], curves.admissible.values[sel],
                _CURVE_STYLE.get(kind, "-"), _WORD_COLOUR.get(word, "0.3"), label)
 
 
-def _d_graz_curve(ax, c, xname, handles):
-    """The paper's d_graz over the plane (:func:`vibroimpact.d_graz_curve`): where the 1:1 motion, followed
+#: the curve of the bifurcation sets that is the paper's d_graz followed in two parameters: the 2:1 fold (the largest d
+#: of 2:1 period-2), named so in the legend
+D_GRAZ_CURVE = ("BBT", "fold")
+D_GRAZ_NAME = r"$d_{\rm graz}$ (largest d of 2:1 period-2)"
+
+
+def _exit_curve(ax, c, xname, handles):
+    """The 1:1 exit over the plane (:func:`vibroimpact.family_exit_curve`): where the 1:1 motion, followed
     with d decreasing along each line, leaves the 1:1 family; filled where it grazes, open where it jumps."""
 
 
@@ -476,29 +488,34 @@ def _d_graz_curve(ax, c, xname, handles):
         return
     along, other = c.attrs["along"], c.attrs["other"]
     xs, ys = (c["at"].values, c[other].values) if along == xname else (c[other].values, c["at"].values)
-    grazes = c.d_graz_kind.values.astype(str) == "grazing"
+    grazes = c.exit_kind.values.astype(str) == "grazing"
     # located along each line between its grid points: the check holds each to that step
     grid = float(c.attrs.get("grid_step", 0.0))
     steps = {"step_x": grid} if along == xname else {"step_y": grid}
     wellposed(ax.plot(xs, ys, "-", color="w", lw=2.6, zorder=6)[0], "located", **steps)
-    wellposed(ax.plot(xs, ys, "-", color=D_GRAZ_COLOR, lw=1.4, zorder=6.1)[0], "located", **steps)
+    wellposed(ax.plot(xs, ys, "-", color=EXIT_COLOR, lw=1.4, zorder=6.1)[0], "located", **steps)
     # where the kind comes from a sample of a motion with no period, another run may decide it otherwise
-    sampled = c.d_graz_sampled.values.astype(bool) if "d_graz_sampled" in c else np.zeros(xs.size, bool)
-    for sel, fill in ((grazes, D_GRAZ_COLOR), (~grazes, "w")):
-        wellposed(ax.plot(np.where(sel, xs, np.nan), np.where(sel, ys, np.nan), "o", color=D_GRAZ_COLOR, mfc=fill,
+    sampled = c.exit_sampled.values.astype(bool) if "exit_sampled" in c else np.zeros(xs.size, bool)
+    for sel, fill, name in ((grazes, EXIT_COLOR, "1:1 exit: grazing"), (~grazes, "w", "1:1 exit: jump")):
+        wellposed(ax.plot(np.where(sel, xs, np.nan), np.where(sel, ys, np.nan), "o", color=EXIT_COLOR, mfc=fill,
                           ms=4, mew=1.0, zorder=6.2)[0], "located", sampled=sampled, **steps)
-    handles.append(Line2D([], [], color=D_GRAZ_COLOR, marker="o", mfc=D_GRAZ_COLOR, lw=1.4,
-                          label=r"$d_{\rm graz}$: the 1:1 motion followed to" + "\nsmaller d leaves its family"
-                          + "\n(filled: grazing; open: a jump)"))
+        if sel.any():
+            handles.append(Line2D([], [], color=EXIT_COLOR, marker="o", mfc=fill, lw=1.4,
+                                  label=_wrap(MARKS[name][2], 44)))
 
 
-def fig_bifurcation_set(m, curves, boundaries=None, d_graz=None):
+def _wrap(text, width):
+    return "\n".join(textwrap.wrap(text, width))
+
+
+def fig_bifurcation_set(m, curves, boundaries=None, exits=None):
     """The regime map ``m`` (brute force, one start per point) with the bifurcation curves of
     :func:`vibroimpact.analysis.bifurcation.curve_set` over it: line style by kind, colour by orbit family,
     thin where the orbit on the curve is not admissible; crosses where a curve meets another set.
     With ``boundaries`` (:func:`vibroimpact.analysis.bifurcation.map_boundaries`), the simulated boundaries on no
-    curve are marked by their cause, and the footnote counts them; with ``d_graz``
-    (:func:`vibroimpact.d_graz_curve`), the paper's d_graz is drawn as a curve of the plane."""
+    curve are marked by their cause, and the footnote counts them; with ``exits``
+    (:func:`vibroimpact.family_exit_curve`), the 1:1 exit is drawn as a curve of the plane.  The 2:1 fold's curve is
+    the paper's d_graz (the largest d of 2:1 period-2), named so."""
 
     fig = fig_regime_map([m])
     fig.set_size_inches(10.5, 6.2)
@@ -512,8 +529,8 @@ def fig_bifurcation_set(m, curves, boundaries=None, d_graz=None):
             wellposed(line, "curve")
         if label not in [h.get_label() for h in handles]:
             handles.append(Line2D([], [], ls=style, color=colour, lw=1.6, label=label))
-    if d_graz is not None:
-        _d_graz_curve(ax, d_graz, xname, handles)
+    if exits is not None:
+        _exit_curve(ax, exits, xname, handles)
     if curves.sizes["event"]:
         cusp = curves.event_kind.values == "cusp"
         for sel, marker, label in ((~cusp, "x", "a curve meets another set of its orbit"),

@@ -1,10 +1,10 @@
-"""The paper's d_graz as a curve in a map's plane: where the 1:1 motion, followed with d decreasing along
-lines of the plane, leaves the 1:1 family (vibroimpact.d_graz_curve)."""
+"""The 1:1 exit as a curve in a map's plane: where the 1:1 motion, followed with d decreasing along lines of the
+plane, leaves the 1:1 family, by grazing or by a jump (vibroimpact.family_exit_curve)."""
 import logging
 
 import numpy as np
 
-from vibroimpact.analysis.family_exit import d_graz_curve
+from vibroimpact.analysis.family_exit import family_exit_curve
 from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.dynamics.device import Device
 
@@ -16,10 +16,10 @@ lines = snakemake.params.lines
 # the lines: the map's grid along the axis that changes d, `lines` values of the other axis
 xs = np.linspace(*sp["x_range"], nx if sp["x"] in ("s", "F", "d") else lines)
 ys = np.linspace(*sp["y_range"], lines if sp["x"] in ("s", "F", "d") else ny)
-ds = d_graz_curve(sp["x"], xs, sp["y"], ys, phi=sp["phi"], v0=sp["v0"], xtol=snakemake.params.xtol,
-                  device=device, **fixed)
+ds = family_exit_curve(sp["x"], xs, sp["y"], ys, phi=sp["phi"], v0=sp["v0"], xtol=snakemake.params.xtol,
+                       device=device, **fixed)
 ds.attrs.update(provenance(**dict(snakemake.params)))
 write_netcdf(ds, snakemake.output[0])
 logging.info("%s: %s", ds.attrs["status"], list(zip(ds.get("at", []).values.tolist() if "at" in ds else [],
-                                                     ds.get("d_graz_kind", []).values.tolist() if "at" in ds else [],
+                                                     ds.get("exit_kind", []).values.tolist() if "at" in ds else [],
                                                      strict=True)))

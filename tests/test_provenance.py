@@ -1,4 +1,4 @@
-"""The figure check's rule follows from what produced an array (vibroimpact.outputs.figdata.PROVENANCE), not from
+"""The figure check's rule follows from what produced an array (vibroimpact.outputs.figcheck.PROVENANCE), not from
 one machine's measurement: an array that rides on a chaotic run, a statistic, a method's error or a timing is
 never compared pointwise.  Held here against what the test finds itself: which scene's start is chaotic (the
 largest Lyapunov exponent of its run), which axes draw timings (their units), which arrays moved when the figures
@@ -15,10 +15,11 @@ import xarray as xr
 from conftest import ROOT
 
 import vibroimpact as vi
-from vibroimpact.benchmarks.workprecision import SCENES, _params
+from vibroimpact.benchmarks.workprecision import SCENES
+from vibroimpact.dynamics.device import PAPER
 from vibroimpact.outputs.checks import IMAGE_ROW
-from vibroimpact.outputs.figcheck import MAGNITUDE_DECADES
-from vibroimpact.outputs.figdata import NOT_POINTWISE, PROVENANCE, compare, figure_data
+from vibroimpact.outputs.figcheck import MAGNITUDE_DECADES, NOT_POINTWISE, PROVENANCE
+from vibroimpact.outputs.figdata import compare, figure_data
 from vibroimpact.outputs.plots import fig_work_precision
 
 REFERENCES = ROOT / "reference" / "figures"
@@ -33,7 +34,7 @@ def _arrays(ds):
 
 def _chaotic(beta, d, phi, v0):
     """Whether a start settles on chaos: no period, and the largest Lyapunov exponent's interval above 0."""
-    p = _params(beta, d)
+    p = vi.Params(d=d, gbar=PAPER.gbar(beta), r=PAPER.r)  # the paper's device
     if vi.identify_attractor(vi.simulate(p, phi=phi, v0=v0, n_impacts=4000)).periodic:
         return False
     (low, _), _ = vi.lyapunov(p, phi, v0, n_impacts=20_000).interval

@@ -14,6 +14,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from .figcheck import PROVENANCE
 from .paper import (
     CURVE_ORDER,
     FIGURE_NUMBERS,
@@ -501,8 +502,6 @@ def figure_check_markdown(df: pd.DataFrame, conditioning: pd.DataFrame | None, *
     """``results/checks/figures.md``: per figure, then per array, the rule it was compared by (declared where it
     was drawn, from what produced it), its measured spread under the conditioning's perturbations, this run's
     difference and the result."""
-    from .figdata import PROVENANCE
-
     data = df[df.variable != IMAGE_ROW]
     image = df[df.variable == IMAGE_ROW].set_index("figure")
     summary = (data.assign(failed=~data.status.isin(["pass", "excluded"]),

@@ -49,7 +49,34 @@ import numpy as np
 
 from ..analysis.motions import no_period
 
-__all__ = ["Z_CRIT", "MAGNITUDE_DECADES", "RULES", "judge", "motion_flips", "strict_close", "artist_base"]
+__all__ = ["PROVENANCE", "NOT_POINTWISE", "DEFAULT_PROVENANCE", "Z_CRIT", "MAGNITUDE_DECADES", "RULES", "judge",
+           "motion_flips", "strict_close", "artist_base"]
+
+
+#: what produced an artist's arrays, which decides how the check may compare them.  The arrays of an artist
+#: whose provenance is in :data:`NOT_POINTWISE` ride on bits no machine reproduces (another libm, another BLAS
+#: kernel, another CPU's code path turns the last bit of a chaotic run, a step-size decision or a timing into a
+#: visible difference): they are never compared pointwise, whatever one machine measures
+PROVENANCE = {
+    "exact": "a closed form, a Newton-solved orbit or a converged root: reproduced to rounding",
+    "continuation": "a curve sampled by step control: where its points fall along it depends on the steps",
+    "grid": "a value located between neighbouring points of a grid",
+    "simulation": "values at simulated attractors: an exact cycle where the motion is periodic, a long-run "
+                  "statistic where it is not, a motion that may differ where basins interleave",
+    "chaotic run": "computed along a chaotic trajectory, which amplifies the last bit of every step",
+    "method error": "the error of a method against a reference: at a tolerance or step, its truncation, set by "
+                    "the steps it took (an adaptive method's turn on comparisons a last bit can flip); below, "
+                    "rounding, a count of ulps",
+    "random starts": "shares over a random sample of starts: a statistic with a binomial error",
+    "timing": "a wall-clock time: the machine's speed, not a result",
+}
+#: provenances whose arrays are never compared pointwise
+NOT_POINTWISE = frozenset({"simulation", "chaotic run", "method error", "random starts", "timing"})
+#: the provenance a rule is recorded with where the figure names none
+DEFAULT_PROVENANCE = {"motions": "simulation", "run": "simulation", "boundary": "simulation", "located": "grid",
+                      "curve": "continuation", "on curve": "continuation", "magnitude": "method error",
+                      "outcome": "chaotic run", "timing": "timing"}
+
 
 
 #: two estimates of one statistic differ by more than this many combined standard errors with

@@ -24,35 +24,10 @@ from .checks import IMAGE_ROW
 #: matplotlib's objects; an artist's entry goes with the artist
 WELLPOSED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
-#: what produced an artist's arrays, which decides how the check may compare them.  The arrays of an artist
-#: whose provenance is in :data:`NOT_POINTWISE` ride on bits no machine reproduces (another libm, another BLAS
-#: kernel, another CPU's code path turns the last bit of a chaotic run, a step-size decision or a timing into a
-#: visible difference): they are never compared pointwise, whatever one machine measures
-PROVENANCE = {
-    "exact": "a closed form, a Newton-solved orbit or a converged root: reproduced to rounding",
-    "continuation": "a curve sampled by step control: where its points fall along it depends on the steps",
-    "grid": "a value located between neighbouring points of a grid",
-    "simulation": "values at simulated attractors: an exact cycle where the motion is periodic, a long-run "
-                  "statistic where it is not, a motion that may differ where basins interleave",
-    "chaotic run": "computed along a chaotic trajectory, which amplifies the last bit of every step",
-    "method error": "the error of a method against a reference: at a tolerance or step, its truncation, set by "
-                    "the steps it took (an adaptive method's turn on comparisons a last bit can flip); below, "
-                    "rounding, a count of ulps",
-    "random starts": "shares over a random sample of starts: a statistic with a binomial error",
-    "timing": "a wall-clock time: the machine's speed, not a result",
-}
-#: provenances whose arrays are never compared pointwise
-NOT_POINTWISE = frozenset({"simulation", "chaotic run", "method error", "random starts", "timing"})
-#: the provenance a rule is recorded with where the figure names none
-DEFAULT_PROVENANCE = {"motions": "simulation", "run": "simulation", "boundary": "simulation", "located": "grid",
-                      "curve": "continuation", "on curve": "continuation", "magnitude": "method error",
-                      "outcome": "chaotic run", "timing": "timing"}
-
-
 def record_wellposed(artist, rule: str, *, provenance: str | None = None, timed=(), **fields):
     """Record what is well-posed about ``artist``'s arrays: ``rule`` (one of
     :data:`vibroimpact.outputs.figcheck.RULES`) and its fields, and ``provenance`` (what produced the arrays, one
-    of :data:`PROVENANCE`; by default the rule's, :data:`DEFAULT_PROVENANCE`).  ``timed``: the parts of the
+    of :data:`vibroimpact.outputs.figcheck.PROVENANCE`; by default the rule's, :data:`~vibroimpact.outputs.figcheck.DEFAULT_PROVENANCE`).  ``timed``: the parts of the
     artist (``"x"``, ``"y"``, ``"xy"``) that are timings, recorded with the rule ``timing`` (not compared).
     :func:`figure_data` saves all of it beside the arrays.  Returns the artist.
 
@@ -61,13 +36,11 @@ def record_wellposed(artist, rule: str, *, provenance: str | None = None, timed=
     ValueError
         For an unknown rule or provenance, or a part of ``timed`` an artist does not have.
     """
-    from .figcheck import RULES
-
-    if rule not in RULES:
-        raise ValueError(f"rule = {rule!r}; allowed: {', '.join(RULES)}")
-    provenance = provenance or DEFAULT_PROVENANCE[rule]
-    if provenance not in PROVENANCE:
-        raise ValueError(f"provenance = {provenance!r}; allowed: {', '.join(PROVENANCE)}")
+    if rule not in fc.RULES:
+        raise ValueError(f"rule = {rule!r}; allowed: {', '.join(fc.RULES)}")
+    provenance = provenance or fc.DEFAULT_PROVENANCE[rule]
+    if provenance not in fc.PROVENANCE:
+        raise ValueError(f"provenance = {provenance!r}; allowed: {', '.join(fc.PROVENANCE)}")
     bad = set(timed) - {"x", "y", "xy", "c"}
     if bad:
         raise ValueError(f"timed = {sorted(timed)!r}; allowed: the parts x, y, xy, c")

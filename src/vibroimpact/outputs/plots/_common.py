@@ -119,7 +119,7 @@ def wellposed(artist, rule: str, *, provenance: str | None = None, timed=(), **f
     """Record for a drawn ``artist`` what produced its data and what is well-posed about it, for the figure
     regeneration check (:mod:`vibroimpact.outputs.figcheck`, which compares the artist's arrays by ``rule``,
     whatever one machine measures); :func:`vibroimpact.outputs.figdata.figure_data` saves it beside the
-    artist's arrays.  ``provenance``: what produced the data (:data:`vibroimpact.outputs.figdata.PROVENANCE`;
+    artist's arrays.  ``provenance``: what produced the data (:data:`vibroimpact.outputs.figcheck.PROVENANCE`;
     by default the rule's); ``timed``: the artist's parts that are timings (not compared).  ``rule``:
 
     * ``"motions"``: values at simulated attractors; per element ``motion`` (its label), ``settled``

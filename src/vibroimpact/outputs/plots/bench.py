@@ -73,7 +73,7 @@ ROUNDING_ULPS = 64
 
 def _scene_provenance(wp, scene):
     """What produced a scene's errors: a chaotic run where its start settles on no period, else the methods'
-    own errors (:data:`vibroimpact.outputs.figdata.PROVENANCE`)."""
+    own errors (:data:`vibroimpact.outputs.figcheck.PROVENANCE`)."""
     motion = str(wp.scene_motion.sel(scene=scene).values) if "scene_motion" in wp else ""
     return "chaotic run" if no_period(motion) else "method error"
 

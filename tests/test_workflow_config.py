@@ -306,3 +306,46 @@ def test_r_0_is_allowed_and_its_impacts_end_at_rest_until_the_forcing_pulls_the_
     releases = np.flatnonzero((kind == 3) & (run.wall.values == 1))
     assert releases.size > 5
     assert np.allclose(np.cos(run.phase.values[releases]), -p.gbar, rtol=0, atol=1e-12)
+
+
+#: the paper's inclines, which every scene of the shipped config uses
+PAPER_BETAS = (math.pi / 2, math.pi / 3, math.pi / 4, math.pi / 6)
+
+
+def test_the_paper_s_branches_keep_their_ranges():
+    """The paper's device's sweeps lie inside branches.d_range: its branches are continued over that range and
+    its force branches over branches.force as the config gives them (their jobs and datasets unchanged)."""
+    cfg = check(CONFIG)
+    for beta in PAPER_BETAS:
+        assert cfg.branch_d_range(beta, CONFIG["physics"]["r"]) == CONFIG["branches"]["d_range"]
+        assert cfg.branch_force(beta) == CONFIG["branches"]["force"]
+
+
+@pytest.mark.parametrize("physics", [
+    EXAMPLE["physics"],                                    # heavier, slower: its sweeps start below d = 0.11
+    {"M": 0.1, "omega": 8 * math.pi},                      # lighter, faster: its sweeps reach d = 0.92
+])
+def test_another_device_s_branches_span_the_d_of_every_sweep_and_row_drawn_with_them(physics):
+    """For another device the branches of s at an incline are continued over branches.d_range and over the d
+    every figure draws them with: each sweep of s at the device's force at that incline, each branch-scene row
+    and a study's sweep (at its own restitution), d = s M omega^2 / (F pi^2) (the paper's scaling, written here
+    from the model); the force branches over every sweep of F at their s."""
+    over = {"physics": physics, "studies": [{"beta": 0.4, "r": 0.6, "s_range": [0.05, 0.9]}],
+            "sweeps": {"scenes": {"fig5_pi2_F": {"range": [3.0, 25.0]}}}}
+    cfg = check(merged(over))
+    ph = {**CONFIG["physics"], **physics}
+    d = lambda s: s * ph["M"] * ph["omega"] ** 2 / (ph["F"] * math.pi ** 2)
+    for beta in PAPER_BETAS:
+        lo, hi = cfg.branch_d_range(beta, ph["r"])
+        drawn = [sc["range"] for sc in CONFIG["sweeps"]["scenes"].values()
+                 if sc["vary"] == "s" and abs(sc["beta"] - beta) < 1e-12]
+        drawn += [r for sc in CONFIG["branch_scenes"].values() for b, r in zip(sc["betas"], sc["s_ranges"], strict=True)
+                  if abs(b - beta) < 1e-12]
+        want = (min([CONFIG["branches"]["d_range"][0]] + [d(s) for s, _ in drawn]),
+                max([CONFIG["branches"]["d_range"][1]] + [d(s) for _, s in drawn]))
+        assert (lo, hi) == pytest.approx(want, rel=1e-15, abs=0)
+    (lo, hi), (d_lo, d_hi) = CONFIG["branches"]["d_range"], (d(0.05), d(0.9))
+    assert cfg.branch_d_range(0.4, 0.6) == pytest.approx([min(lo, d_lo), max(hi, d_hi)], rel=1e-15, abs=0)
+    assert cfg.branch_d_range(0.4, ph["r"]) == CONFIG["branches"]["d_range"]  # no figure draws branches there
+    assert cfg.branch_force(math.pi / 2)["F_range"] == [3.0, 25.0]
+    assert cfg.branch_force(math.pi / 3) == CONFIG["branches"]["force"]

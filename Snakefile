@@ -69,7 +69,8 @@ include: "workflow/rules/common.smk"
 # device's first run it plans in an empty scratch folder outside the repository (removed on exit), which
 # holds what the device's folder would, nothing.
 if not CFG.paper_device:
-    if workflow.output_settings.dryrun and not os.path.isdir(CFG.results_dir):
+    dry_run = getattr(getattr(workflow, "output_settings", None), "dryrun", False)
+    if dry_run and not os.path.isdir(CFG.results_dir):
         _plan_in = tempfile.mkdtemp(prefix="vibroimpact-dry-run-")
         atexit.register(shutil.rmtree, _plan_in, ignore_errors=True)
         workflow.workdir(_plan_in)

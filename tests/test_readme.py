@@ -301,21 +301,38 @@ def test_the_lock_refresh_resolves_the_project_s_ranges(tmp_path):
 
 
 def test_the_api_example_runs():
-    """README's ten lines, run as written: the Fig BiS (e) motion is the 2:1, its orbit's branch has the
-    grazing point G1 and the fold, and the sweep's bistable interval is [G1, G2]."""
+    """README's ten lines, run as written, print what README shows under them (every line, to the digits
+    printed: the critical points are refined to 1e-10 and the interval's ends located to 1e-7, and none of the
+    printed values lies within 1e-8 of a rounding boundary of its last digit), and what README says of the
+    output holds: B is where the orbit crosses the wall, the second grazing is on the saddle past the fold, and
+    the bistable interval holds the 2:1 one way and the 3:1 the other."""
     import contextlib
     import io
 
-    blocks = re.findall(r"<!-- tested by tests/test_readme.py::test_the_api_example_runs -->\n```python\n(.*?)```",
-                        (ROOT / "README.md").read_text(), re.S)
-    assert len(blocks) == 1 and len(blocks[0].strip().splitlines()) <= 12
+    text = (ROOT / "README.md").read_text()
+    found = re.search(r"<!-- tested by tests/test_readme.py::test_the_api_example_runs -->\n```python\n(.*?)```\n"
+                      r"\nIt prints \(the test runs the lines above and compares what they print with this\):\n\n"
+                      r"```text\n(.*?)```", text, re.S)
+    assert found, "README's example and the output block under it"
+    code, shown = found.groups()
+    assert len(code.strip().splitlines()) <= 12
     out = io.StringIO()
+    scope = {}
     with contextlib.redirect_stdout(out):
-        exec(compile(blocks[0], "README.md", "exec"), {})
-    text = out.getvalue()
-    assert text.startswith("2:1 period-2\n")
-    assert "'grazing'" in text and "'fold'" in text and "0.1376" in text and "0.215" in text
-    assert re.search(r"0\s+0\.1376\d*\s+0\.14195\d*", text), text
+        exec(compile(code, "README.md", "exec"), scope)
+    printed = [line.rstrip() for line in out.getvalue().splitlines()]
+    assert printed == shown.rstrip("\n").splitlines()
+    br, sw = scope["br"], scope["sw"]
+    kinds = list(br.critical_kind.values)
+    assert kinds[0] == "B" and not br.critical_admissible.values[0]
+    assert br.critical_d.values[0] < br.critical_d.values[kinds.index("grazing")]  # B below G1
+    fold = int(np.argmax(br.d.values))
+    last = int(np.argmin(abs(br.d.values[fold:] - br.critical_d.values[-1]))) + fold
+    assert kinds[-1] == "grazing" and br.stability.values[last] == "saddle"
+    assert not br.stable.values[fold + 1:].any() and br.stable.values[fold - 5:fold].all()
+    vi = scope["vi"]
+    iv = vi.bistable_intervals(sw, vi.locate_transitions(sw))
+    assert {str(iv.label_up.values[0]).split()[0], str(iv.label_down.values[0]).split()[0]} == {"2:1", "3:1"}
 
 
 @pytest.mark.slow

@@ -2,11 +2,18 @@
 # Usage: snakemake --cores 2            (default target: every figure, table and dataset)
 #        snakemake --cores 2 check      (which of the paper's numbers are reproduced; figures against references)
 #        snakemake --cores 2 bench      (speed and accuracy of the simulator)
+import atexit
 import math
 import os
 import re
+import shutil
+import sys
+import tempfile
 
-from snakemake.utils import min_version, validate
+import yaml
+from snakemake.utils import min_version
+
+from vibroimpact.outputs.workflow_config import ConfigError, check, validate_schema
 
 # the jobs draw into files, never onto a screen: matplotlib's file backend (the package leaves the choice
 # of backend to whoever imports it)
@@ -41,7 +48,14 @@ config["studies"] = [
 ]
 
 
-validate(config, "config/schema.yaml")
+# the schema (each value, and no key it does not name), then the conditions across keys (the checked, typed
+# config the rule files read): a refusal is one line naming the key, the value and what is allowed, before any job
+try:
+    with open(os.path.join(workflow.basedir, "config", "schema.yaml")) as f:
+        validate_schema(config, yaml.safe_load(f))
+    CFG = check(config)
+except ConfigError as refusal:
+    sys.exit(str(refusal))
 
 
 report: "workflow/report/workflow.rst"
@@ -51,9 +65,17 @@ include: "workflow/rules/common.smk"
 
 
 # another device than the paper's writes everything (results, logs, benchmarks) under its own folder,
-# results/devices/<name>/, never over the paper's results
+# results/devices/<name>/, never over the paper's results.  A dry run (-n) creates no folder: before the
+# device's first run it plans in an empty scratch folder outside the repository (removed on exit), which
+# holds what the device's folder would, nothing.
 if not CFG.paper_device:
-    workflow.workdir(CFG.results_dir)
+    dry_run = getattr(getattr(workflow, "output_settings", None), "dryrun", False)
+    if dry_run and not os.path.isdir(CFG.results_dir):
+        _plan_in = tempfile.mkdtemp(prefix="vibroimpact-dry-run-")
+        atexit.register(shutil.rmtree, _plan_in, ignore_errors=True)
+        workflow.workdir(_plan_in)
+    else:
+        workflow.workdir(CFG.results_dir)
 
 
 include: "workflow/rules/orbits.smk"

@@ -112,9 +112,10 @@ def readme_command(test_id):
     return found.pop()
 
 
-def scratch_clone(dest):
+def scratch_clone(dest, git=False):
     """The repository as a fresh clone has it (the files git tracks, and new ones it does not ignore), in
-    ``dest``: what a user has after ``git clone``, with this working tree's changes."""
+    ``dest``: what a user has after ``git clone``, with this working tree's changes; with ``git``, a git work
+    tree whose one commit holds them (so that ``git status`` shows what a run changed)."""
     files = subprocess.run(["git", "ls-files", "-co", "--exclude-standard", "-z"], cwd=ROOT, capture_output=True,
                            check=True).stdout.decode().split("\0")
     for f in filter(None, files):
@@ -122,6 +123,11 @@ def scratch_clone(dest):
         if src.is_file():
             (dest / f).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(src, dest / f)
+    if git:
+        cmd = ["git", "-C", str(dest), "-c", "user.name=test", "-c", "user.email=test@localhost"]
+        subprocess.run(cmd[:3] + ["init", "-q"], check=True)
+        subprocess.run(cmd + ["add", "-A"], check=True)
+        subprocess.run(cmd + ["commit", "-q", "-m", "clone"], check=True)
     return dest
 
 
@@ -138,7 +144,7 @@ def readme_clone(tmp_path_factory):
     clone, the first command's result and the result of README's check command run after it."""
     from vibroimpact.outputs.conditioning import LIBM_SWITCH
 
-    clone = scratch_clone(tmp_path_factory.mktemp("clone"))
+    clone = scratch_clone(tmp_path_factory.mktemp("clone"), git=True)
     first = run_readme(clone, readme_command("tests/test_readme.py::test_the_first_command_sets_up_and_runs_the_default_target"),
                        LIBM_SWITCH)
     check = run_readme(clone, readme_command("tests/test_readme.py::test_the_check_passes_under_another_libm"),

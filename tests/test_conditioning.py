@@ -32,11 +32,18 @@ def test_an_array_is_ill_conditioned_when_any_perturbation_moves_it_beyond_the_s
     assert df.loc["d", "conditioning"] == "ill-conditioned" and df.loc["d", "moved_by"] == "q"  # NaN moved
 
 
-def test_timings_and_optional_peers_are_excluded_as_in_the_check():
-    ref = xr.Dataset({"t": ("n", [1.0], {"axis_label": "time (s)", "label": "", "axes_title": ""}),
-                      "s": ("n", [1.0], {"axis_label": "x", "label": "Siconos", "axes_title": ""})})
-    df = spreads(ref, {"p": ref * 2}, rtol=1e-9, atol=1e-12, exclude=["time (s)"], optional=["Siconos"])
-    assert set(df.conditioning) == {"excluded"}
+def test_optional_peers_are_excluded_and_each_array_is_judged_by_its_declared_rule():
+    """An optional peer is excluded as in the check; a timing moves (it is ill-conditioned) but its declared rule
+    passes every copy; an array declaring no rule that moves fails under the perturbation that moved it."""
+    ref = xr.Dataset({"t": ("n", [1.0], {"axis_label": "time (s)", "label": "", "axes_title": "", "wellposed": "timing",
+                                         "provenance": "timing"}),
+                      "s": ("n", [1.0], {"axis_label": "x", "label": "Siconos", "axes_title": ""}),
+                      "e": ("n", [1.0], {"axis_label": "x", "label": "", "axes_title": ""})})
+    df = spreads(ref, {"p": ref * 2, "q": ref}, rtol=1e-9, atol=1e-12, optional=["Siconos"]).set_index("variable")
+    assert df.conditioning["s"] == "excluded" and df.judged["s"] == "excluded"
+    assert df.conditioning["t"] == "ill-conditioned" and df.judged["t"] == "pass" and df.rule["t"] == "timing"
+    assert df.judged["e"] == "fail under p" and df.rule["e"] == "strict" and df.provenance["e"] == "exact"
+    assert df.by_perturbation["e"].startswith("p: ") and df.by_perturbation["e"].endswith("q: 0")
 
 
 def test_the_mass_moves_by_the_given_number_of_ulps_and_nothing_else():
@@ -47,9 +54,26 @@ def test_the_mass_moves_by_the_given_number_of_ulps_and_nothing_else():
         assert (m1 - m0) == pytest.approx(k * math.ulp(m0), abs=0.5 * math.ulp(m0))
         out["physics"]["M"] = m0
         assert out == cfg
-    # each perturbation: the other libm, the inputs moved, and both (the other way)
-    assert PERTURBATIONS == {"libm": (LIBM_SWITCH, 0), "mass +2 ulp": ({}, 2), "libm, mass -2 ulp": (LIBM_SWITCH, -2)}
+    # each perturbation: the other libm, the inputs moved, both (the other way), and OpenBLAS's kernels of
+    # three CPU generations
+    assert PERTURBATIONS == {"libm": (LIBM_SWITCH, 0), "mass +2 ulp": ({}, 2), "libm, mass -2 ulp": (LIBM_SWITCH, -2),
+                             **{f"OpenBLAS {c}": ({"OPENBLAS_CORETYPE": c}, 0)
+                                for c in ("Haswell", "Sandybridge", "Nehalem")}}
     assert LIBM_SWITCH == {"GLIBC_TUNABLES": "glibc.cpu.hwcaps=-AVX2,-FMA"}
+
+
+def test_the_openblas_kernel_sets_are_read_from_openblas_and_the_machine_s_own_is_left_out():
+    """numpy's OpenBLAS reports the kernel set it picked; OPENBLAS_CORETYPE picks another in a fresh process (here
+    any x86-64 CPU runs Sandybridge's), and the perturbations leave out the set the machine picks anyway."""
+    from vibroimpact.outputs.conditioning import openblas_core, perturbations
+
+    own = openblas_core()
+    if not own:
+        pytest.skip("numpy's BLAS here is not an OpenBLAS that reports its kernel set")
+    assert openblas_core(env={"OPENBLAS_CORETYPE": "Sandybridge"}) == "Sandybridge"
+    chosen = perturbations()
+    assert f"OpenBLAS {own}" not in chosen and {"libm", "mass +2 ulp", "libm, mass -2 ulp"} <= set(chosen)
+    assert "OpenBLAS Sandybridge" in chosen or own == "Sandybridge"
 
 
 def test_a_move_between_one_and_two_tolerances_is_a_move():

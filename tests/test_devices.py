@@ -130,3 +130,30 @@ def test_a_device_drawn_at_random_runs_end_to_end_or_is_refused_before_any_job(c
     spec, res = run_device(clone, draw)
     outcome = assert_ran_or_refused(clone, spec, res)
     print(spec["device"], outcome, json.dumps(draw))
+
+
+@pytest.mark.slow  # ~15 s: two branch jobs of a device at the smoke preset, in a scratch copy of the workflow
+def test_a_lighter_device_driven_faster_has_its_branches_as_far_as_its_sweeps(tmp_path):
+    """A lighter cylinder driven faster (M = 0.1 kg, omega = 8 pi) spans d = s M omega^2 / (F pi^2) up to 0.9216
+    over the paper's lengths (its Figure 9 sweeps of s end at 0.72 m), twice the paper's branch range: its 1:1
+    branch at pi/3, drawn with those sweeps, is continued until it leaves that d, not the paper's 0.46; its 2:1
+    branch still ends at its fold, below."""
+    from conftest import _copy_workflow
+
+    _copy_workflow(tmp_path)
+    (tmp_path / "light.yaml").write_text("device: light\nphysics: {M: 0.1, omega: 25.132741228718345}\n")
+    branch = "results/branches/beta-1.0472_r-0.5000/orbit-{}_vary-s.nc"
+    res = subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", branch.format("BT"), branch.format("BBT"),
+                          "--configfile", "light.yaml", "--config", "quality=smoke"], cwd=tmp_path,
+                         capture_output=True, text=True, timeout=900)
+    assert res.returncode == 0, res.stderr[-3000:]
+    import xarray as xr
+
+    d_max = 0.72 * 0.1 * (8 * math.pi) ** 2 / (5.0 * math.pi ** 2)  # the sweeps' largest d
+    one = xr.load_dataset(tmp_path / "results" / "devices" / "light" / branch.format("BT"))
+    left = re.fullmatch(r"left d_range at d = (\S+)", one.attrs["stop_increasing"])
+    assert one.attrs["status"] == "ok" and left and float(left.group(1)) > d_max, one.attrs["stop_increasing"]
+    step = CONFIG["resolution"]["smoke"]["branch_step"]
+    assert d_max - step < float(one.d.max()) <= d_max
+    two = xr.load_dataset(tmp_path / "results" / "devices" / "light" / branch.format("BBT"))
+    assert two.attrs["status"] == "ok" and "fold" in two.critical_kind.values and float(two.d.max()) < 0.46

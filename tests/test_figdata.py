@@ -20,7 +20,7 @@ def _figure(shift=0.0, extra=False):
     a.set_title("(a) test")
     a.set_xlabel("d")
     a.set_ylabel("U_T (V)")
-    b.imshow(np.arange(6.0).reshape(2, 3))
+    plots.wellposed(b.imshow(np.arange(6.0).reshape(2, 3)), "timing")  # declared a timing where it is drawn
     b.set_xlabel("cost per impact (µs)")
     if extra:
         a.plot([0, 1], [0, 1])
@@ -62,11 +62,11 @@ def test_save_writes_the_formats_asked_for_and_refuses_a_figure_without_png(tmp_
 def test_compare_passes_identical_data_and_names_every_difference():
     ref = figure_data(_figure())
     same = compare(figure_data(_figure()), ref, rtol=1e-9, atol=1e-12)
-    assert set(same.status) == {"pass"}
+    assert set(same.status) == {"pass", "excluded"} and list(same.status).count("excluded") == 1  # the timing
     moved = compare(figure_data(_figure(shift=1e-6)), ref, rtol=1e-9, atol=1e-12)
     row = moved.set_index("variable").loc["a0_line0_y"]
     assert row.status == "fail" and row.max_difference == pytest.approx(1e-6, rel=1e-6)
-    assert (moved.status == "pass").sum() == len(moved) - 1
+    assert (moved.status == "pass").sum() == len(moved) - 2
     grown = compare(figure_data(_figure(extra=True)), ref, rtol=1e-9, atol=1e-12)
     assert grown.status.str.startswith("fail: new").sum() == 2
     lost = compare(ref, figure_data(_figure(extra=True)), rtol=1e-9, atol=1e-12)
@@ -74,13 +74,40 @@ def test_compare_passes_identical_data_and_names_every_difference():
 
 
 def test_compare_checks_nan_places_and_excludes_timings():
+    """A timing is excluded because its figure declared it one where it drew it, not by its axis label: the
+    same array declaring nothing is compared pointwise."""
     ref = figure_data(_figure())
     new = ref.copy(deep=True)
     new["a0_line1_y"].values[0] = math.nan
     new["a1_image0_z"].values[:] += 1.0
-    df = compare(new, ref, rtol=1e-9, atol=1e-12, exclude=["cost per impact"]).set_index("variable")
+    df = compare(new, ref, rtol=1e-9, atol=1e-12).set_index("variable")
     assert df.loc["a0_line1_y", "status"].startswith("fail: NaN")
-    assert df.loc["a1_image0_z", "status"] == "excluded"
+    assert df.loc["a1_image0_z", "status"] == "excluded" and df.loc["a1_image0_z", "provenance"] == "timing"
+    for ds in (new, ref):
+        ds["a1_image0_z"].attrs.pop("wellposed")
+    assert compare(new, ref, rtol=1e-9, atol=1e-12).set_index("variable").loc["a1_image0_z", "status"] == "fail"
+
+
+def test_a_redrawn_png_showing_the_same_image_keeps_its_committed_bytes(tmp_path):
+    """In a git work tree, a figure redrawn with its data moved at rounding level (antialiased edges may move by
+    a grey level) keeps the committed PNG, so the work tree stays clean; a figure that changed is written."""
+    import subprocess
+
+    from vibroimpact.outputs.plots._common import keep_committed_png, same_image
+
+    git = ["git", "-C", str(tmp_path), "-c", "user.name=t", "-c", "user.email=t@t"]
+    subprocess.run(git[:3] + ["init", "-q"], check=True)
+    plots.save(_figure(), tmp_path / "f", formats=("png",))
+    subprocess.run(git + ["add", "f.png"], check=True)
+    subprocess.run(git + ["commit", "-q", "-m", "f"], check=True)
+    committed = (tmp_path / "f.png").read_bytes()
+    plots.save(_figure(shift=1e-12), tmp_path / "f", formats=("png",))
+    assert (tmp_path / "f.png").read_bytes() == committed
+    plots.save(_figure(shift=0.2), tmp_path / "f", formats=("png",))
+    assert (tmp_path / "f.png").read_bytes() != committed and not same_image(committed, tmp_path / "f.png")
+    # a file git does not track is written as drawn
+    plots.save(_figure(), tmp_path / "g", formats=("png",))
+    assert not keep_committed_png(tmp_path / "g.png")
 
 
 def test_fig2_marks_and_names_every_admissible_critical_point():

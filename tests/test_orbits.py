@@ -691,3 +691,39 @@ def test_a_continuation_reports_its_progress_through_the_interval(caplog):
     assert lines[0] == "continue BT in d: started (1000 ‰ of the interval)"
     tenths = [int(m.split(": ")[1].split("/")[0]) for m in lines[1:-1]]
     assert len(tenths) == 10 and tenths[-1] == 1000 and lines[-1].startswith("continue BT in d: done, 1000 in ")
+
+
+def test_the_guide_s_recipe_for_a_starting_guess_runs():
+    """The orbits page's recipe for a starting guess at new parameters, run as written: the beta = pi/6 guess is
+    refused at pi/4 with the message the page (and the troubleshooting page) quotes; the attractor there gives the 3:1 orbit (stable, the
+    simulated cycle); the 2:1 continued in beta reaches pi/4 through a period doubling and is a saddle there,
+    admissible, and the simulator started on it repeats it."""
+    import re
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "orbits.md").read_text()
+    block = re.search(r"<!-- tested by tests/test_orbits.py::test_the_guide_s_recipe_for_a_starting_guess_runs -->\n"
+                      r"```python\n(.*?)```", page, re.S).group(1)
+    quoted = re.search(r'at β = π/4: "(.*?)"\)', " ".join(page.split())).group(1)
+    p = vi.Params.from_physical(s=0.14 / 0.6225, beta=math.pi / 4)
+    with pytest.raises(OrbitError) as refused:
+        find_orbit(p, "BBT", phi=5.855, v0=0.4185)
+    assert str(refused.value) == quoted
+    trouble = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "troubleshooting.md").read_text()
+    assert f'"{quoted}"' in " ".join(trouble.split())  # the troubleshooting page quotes it alike
+    scope = {}
+    exec(compile(block, "docs/guide/orbits.md", "exec"), scope)
+    att, o31, bb, o21, i = (scope[k] for k in ("att", "o31", "bb", "o21", "i"))
+    assert att.label == "3:1 period-2" and "'3:1 period-2'" in block
+    assert o31.stability.startswith("stable") and o31.admissible
+    assert np.allclose(sorted(o31.v_minus), sorted(att.cycle.v_minus.values), rtol=0, atol=1e-9)
+    assert (o21.stability, o21.admissible) == ("saddle", True) and "('saddle', True)" in block
+    assert "B" in bb.critical_kind.values
+    assert any(math.pi / 6 < v < math.pi / 4 for k, v in zip(bb.critical_kind.values, bb.critical_value.values,
+                                                              strict=True) if k == "B")
+    # the orbit is the 2:1 at pi/4: the simulator started on it returns to it after one forcing period (its
+    # events exact to ~1e-12, one period expanding errors by the saddle's multiplier, 1.2: 1e-9 bounds both)
+    run = vi.simulate(p, o21.phi, float(o21.v_minus[0]), n_impacts=4)
+    assert "".join("B" if w == 1 else "T" for w in run.wall.values[:3]) == "BBT"
+    assert run.t.values[3] - run.t.values[0] == pytest.approx(2.0, abs=1e-9)
+    assert np.allclose(run.v_minus.values[:3], o21.v_minus, rtol=0, atol=1e-9)

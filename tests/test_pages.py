@@ -109,7 +109,6 @@ def test_the_catalog_file_quotes_real_commands_and_pages():
 def test_changelog_contributing_and_troubleshooting_are_there_and_linked():
     changelog = (ROOT / "CHANGELOG.md").read_text()
     assert "Keep a Changelog" in changelog and "## [Unreleased]" in changelog
-    assert re.findall(r"^### \d{4}-\d{2}-\d{2}", changelog, re.M)
     contributing = (ROOT / "CONTRIBUTING.md").read_text()
     for needed in ('pytest -m "not slow"', "figure_conditioning update_figure_references", "## Add a figure",
                    "## Add a rule", "90 minutes"):
@@ -120,3 +119,85 @@ def test_changelog_contributing_and_troubleshooting_are_there_and_linked():
     assert "CHANGELOG.md" in README and "CONTRIBUTING.md" in README
     index = (ROOT / "docs" / "index.md").read_text()
     assert "guide/troubleshooting" in index and "guide/notation" in index
+
+
+def test_the_simulation_page_names_the_flags_the_datasets_store():
+    """The simulation page lists the event kinds and run statuses as the datasets store them: each flag's
+    integer and name, in the order of the datasets' ``flag_values`` and ``flag_meanings`` (a run of
+    ``simulate`` and of ``simulate_batch``), and the grazing threshold the kernels use."""
+    import math
+
+    import numpy as np
+
+    import vibroimpact as vi
+    from vibroimpact.dynamics import kernels
+
+    page = " ".join((ROOT / "docs" / "guide" / "simulation.md").read_text().split())
+    flags = lambda sentence: [(int(k), name) for k, name in re.findall(r"(\d) `(\w+)`", sentence)]
+    kinds = flags(re.search(r"their names, in order: (.*?); `ds.kind == 0`", page).group(1))
+    statuses = flags(re.search(r"the sweeps' windows: (.*?)\.", page).group(1))
+    named = lambda var: list(zip(var.attrs["flag_values"].tolist(), var.attrs["flag_meanings"].split(), strict=True))
+    run = vi.simulate(vi.Params.from_physical(s=0.257, beta=math.pi / 6), phi=1.015, v0=0.1924, n_impacts=20)
+    assert kinds == named(run.kind) and len(kinds) == 5
+    batch = vi.simulate_batch(d=np.array([0.14, 0.16]), gbar=0.122, r=0.5, phi=1.0, v0=0.2, n_impacts=20)
+    assert statuses == named(batch.status) and run.attrs["status"] in dict(statuses).values()
+    assert "`ds.kind == 0` selects the impacts" in page and dict(kinds)[0] == "impact"
+    threshold = float(re.search(r"an impact with \|Ż⁻\| < (\S+?)\)", page).group(1))
+    assert threshold == kernels.V_GRAZING
+
+
+def test_the_paper_s_authors_are_named_on_every_page_as_citation_cff_names_them():
+    """Wherever a file the repository tracks writes an author of the paper with a first name or an initial
+    ("L. Serdukova", "Larissa Serdukova"), it is the given name CITATION.cff states (the paper's own title
+    page), or its initial."""
+    import subprocess
+
+    authors = yaml.safe_load((ROOT / "CITATION.cff").read_text())["preferred-citation"]["authors"]
+    tracked = subprocess.run(["git", "ls-files", "-co", "--exclude-standard"], cwd=ROOT, capture_output=True,
+                             text=True)
+    if tracked.returncode:
+        pytest.skip("not a git repository: git cannot say which files the repository holds")
+    texts = [ROOT / f for f in tracked.stdout.split() if f.endswith((".md", ".rst", ".py", ".cff", ".yaml", ".txt"))]
+    seen = 0
+    for path in texts:
+        text = path.read_text(errors="replace")
+        for a in authors:
+            for first in re.findall(rf"\b([A-Z][a-z]*\.?)\s+{a['family-names']}\b", text):
+                seen += 1
+                assert first in (a["given-names"], a["given-names"][0] + "."), (path.name, first, a["family-names"])
+    assert seen >= 3  # the model page names all three
+
+
+#: the kinds of change Keep a Changelog names, what a user reads first in each version's section
+USER_KINDS = ("Added", "Changed", "Deprecated", "Removed", "Fixed", "Security")
+
+
+def test_the_changelog_and_the_citation_name_the_version_and_release_date_of_the_package():
+    """CHANGELOG.md's latest release is the version the package carries (_version.py) and the one CITATION.cff
+    cites, with the same date; nothing says no version is tagged."""
+    import datetime
+
+    import vibroimpact
+
+    changelog = (ROOT / "CHANGELOG.md").read_text()
+    releases = re.findall(r"^## \[(\d+\.\d+\.\d+)\] - (\d{4}-\d{2}-\d{2})$", changelog, re.M)
+    assert releases, "no released version in CHANGELOG.md"
+    version, date = releases[0]
+    cff = yaml.safe_load((ROOT / "CITATION.cff").read_text())
+    assert version == vibroimpact.__version__ == cff["version"]
+    assert datetime.date.fromisoformat(date) == cff["date-released"]
+    assert changelog.index("## [Unreleased]") < changelog.index(f"## [{version}] - {date}")
+    assert "no version has been tagged" not in changelog.lower()
+
+
+def test_each_version_of_the_changelog_says_first_what_changed_for_a_user():
+    """Every version's section (Unreleased included) opens with Keep a Changelog's kinds (Added, Changed, Fixed...):
+    internal work (refactors, the development before a release) comes after them, never first."""
+    changelog = (ROOT / "CHANGELOG.md").read_text()
+    sections = re.split(r"^## ", changelog, flags=re.M)[1:]
+    assert sections[0].startswith("[Unreleased]") and len(sections) >= 2
+    for sec in sections:
+        kinds = re.findall(r"^### (.+)$", sec, re.M)
+        assert kinds and kinds[0] in USER_KINDS, (sec.splitlines()[0], kinds)
+        user = [k in USER_KINDS for k in kinds]
+        assert user == sorted(user, reverse=True), (sec.splitlines()[0], kinds)  # the user's kinds come first

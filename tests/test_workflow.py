@@ -73,13 +73,13 @@ def test_workflow_runs_end_to_end_on_a_tiny_config(tmp_path):
 
 
 @pytest.mark.parametrize("key, value, words", [
-    (("physics", "r"), 1.5, ["1.5", "r"]),
-    # no rebound (every impact ends at rest), a membrane force beyond a membrane's cubic stiffening
-    (("physics", "r"), 0.0, ["0.0", "r", "less than or equal to the minimum of 0"]),
-    (("membrane", "h"), 3.5, ["3.5", "h", "greater than the maximum of 3"]),
-    (("quality",), "best", ["best", "draft", "paper"]),
-    (("captions", "fig4_a", "beta"), 3.0, ["3.0", "beta"]),
-    (("resolution", "draft", "figure_formats"), ["pdf"], ["figure_formats", "pdf", "png"]),
+    # an impact that gains energy, a membrane force beyond a membrane's cubic stiffening
+    (("physics", "r"), 1.0, ["config: physics.r = 1.0 is not allowed; allowed: a number >= 0 and < 1"]),
+    (("membrane", "h"), 3.5, ["config: membrane.h = 3.5 is not allowed; allowed: a number >= 1 and <= 3"]),
+    (("quality",), "best", ["config: quality = 'best' is not allowed; allowed: one of 'draft', 'paper', 'smoke'"]),
+    (("captions", "fig4_a", "beta"), 3.0, ["config: captions.fig4_a.beta = 3.0 is not allowed", "<= 1.5707963267948966"]),
+    (("resolution", "draft", "figure_formats"), ["pdf"],
+     ["config: resolution.draft.figure_formats = ['pdf'] is not allowed", "including 'png'"]),
     # design maps: fewer than 8 starts, a negative tolerance, an empty box of start states
     (("resolution", "draft", "design", "starts"), 4, ["resolution.draft.design.starts", "4", ">= 8"]),
     (("design", "tolerance", "s"), -0.01, ["design.tolerance.s", "-0.01", ">= 0"]),
@@ -97,8 +97,52 @@ def test_bad_config_fails_before_any_job(tmp_path, key, value, words):
     assert res.returncode != 0
     out = res.stdout + res.stderr
     for w in words:
-        assert w in out
+        assert w in out, out[-2000:]
     assert not (tmp_path / "results").exists()
+    assert res.stderr.strip().splitlines()[-1].startswith("config: ") and "Traceback" not in out  # one line
+
+
+#: a device file with a misspelt top-level key, and the one line that refuses it
+MISSPELT = "physiks:\n  omega: 14.137166941154069\n"
+REFUSAL = ("config: physiks = {'omega': 14.137166941154069} is not allowed; allowed: one of the keys device, quality, "
+           "physics, captions, scenes, resolution, attractor, branches, branch_scenes, sweeps, basins, maps, design, "
+           "membrane, energy, chaos, studies, study_defaults, checks, figure_checks, bifurcation, work_precision, "
+           "failure_map, bench; did you mean physics?")
+
+
+def test_a_misspelt_top_level_key_in_a_configfile_is_refused_in_one_line_before_any_job(tmp_path):
+    """`physiks:` in a --configfile is refused, not ignored (else the paper's device would run): the dry run
+    stops with the one line naming the key, its value, the keys allowed and the closest one, and nothing else
+    (no schema dump, no traceback); no folder is made."""
+    _copy_workflow(tmp_path)
+    (tmp_path / "mine.yaml").write_text(MISSPELT)
+    res = _snakemake(tmp_path, "-n", "--configfile", "mine.yaml")
+    assert res.returncode == 1
+    assert res.stderr.strip().splitlines()[-1] == REFUSAL, res.stderr[-2000:]
+    said = [line for line in (res.stdout + res.stderr).splitlines()
+            if not line.startswith(("Using workflow specific profile", "Config file config/config.yaml is extended"))]
+    assert said == [REFUSAL], said
+    assert not (tmp_path / "results").exists()
+
+
+def _tree(root):
+    return sorted(p.relative_to(root).as_posix() for p in root.rglob("*"))
+
+
+def test_a_dry_run_creates_no_folder(tmp_path):
+    """`snakemake -n` on a scratch copy: for another device (config/example_device.yaml, whose results go to
+    results/devices/<name>/) the tree after is the tree before, not even that folder made; the plan is the
+    device's whole default target (nothing of it exists yet).  For the paper's device only Snakemake's own
+    state folder .snakemake/ appears (where Snakemake is started)."""
+    _copy_workflow(tmp_path)
+    before = _tree(tmp_path)
+    res = _snakemake(tmp_path, "-n", "--configfile", "config/example_device.yaml")
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert _tree(tmp_path) == before
+    assert re.search(r"^branch\s+15$", res.stdout, re.M) and re.search(r"^all\s+1$", res.stdout, re.M), res.stdout[-3000:]
+    res = _snakemake(tmp_path, "-n")
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert [p for p in _tree(tmp_path) if p not in before and not p.startswith(".snakemake")] == []
 
 
 @pytest.mark.parametrize("edit, words", [
@@ -169,8 +213,8 @@ def test_check_target_passes_on_the_default_config(default_run):
     # a study repeating another (the same paths to 4 decimals)
     ("[{beta: 0.4, r: 0.6}, {beta: 0.40001, r: 0.6}]", None,
      ["studies[1]", "repeats studies[0]", "results/studies/beta-0.4000_r-0.6000"]),
-    # no rebound: every impact ends at rest on the wall, so no impact orbit can start a branch
-    ("[{beta: 0.4, r: 0}]", None, ["studies[0].r", "0", "r > 0"]),
+    # an impact that gains energy (r = 0, a plastic impact, is allowed)
+    ("[{beta: 0.4, r: 1}]", None, ["config: studies[0].r = 1.0 is not allowed; allowed: a number >= 0 and < 1"]),
     # a device too weak to lift the ball off the bottom membrane at this incline
     ("[{beta: 1.5, r: 0.6}]", lambda c: c["physics"].update(F=1.0), ["studies[0].beta", "1.5", "gbar", "< 1"]),
     # the defaults' range, reversed

@@ -10,7 +10,7 @@ import yaml
 from conftest import ROOT
 
 import vibroimpact as vi
-from vibroimpact.outputs.workflow_config import ConfigError, check
+from vibroimpact.outputs.workflow_config import ConfigError, check, validate_schema
 
 CONFIG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 EXAMPLE = yaml.safe_load((ROOT / "config" / "example_device.yaml").read_text())
@@ -158,3 +158,194 @@ def test_a_device_s_d_is_params_d_to_the_last_bit():
         d = dev.d(s, F=F)
         assert all(d[i] == dev.params(s=s[i], beta=0.5, F=F[i]).d for i in range(s.size))
         assert np.allclose(dev.s(d, F=F), s, rtol=1e-15, atol=0)
+
+
+# ---- the schema's refusals: one line, the key's path, the value, what is allowed, the closest valid key ----
+SCHEMA = yaml.safe_load((ROOT / "config" / "schema.yaml").read_text())
+
+
+def refusal(cfg) -> ConfigError:
+    with pytest.raises(ConfigError) as err:
+        validate_schema(cfg, SCHEMA)
+    assert "\n" not in str(err.value)
+    return err.value
+
+
+def test_the_shipped_config_and_the_example_device_pass_the_schema():
+    validate_schema(CONFIG, SCHEMA)
+    validate_schema(merged(EXAMPLE), SCHEMA)
+
+
+@pytest.mark.parametrize("over, line", [
+    # a misspelt top-level key in a device file: refused, with the key it was meant to be
+    ({"physiks": {"omega": 14.0}},
+     "config: physiks = {'omega': 14.0} is not allowed; allowed: one of the keys device, quality, physics, captions, "
+     "scenes, resolution, attractor, branches, branch_scenes, sweeps, basins, maps, design, membrane, energy, chaos, "
+     "studies, study_defaults, checks, figure_checks, bifurcation, work_precision, failure_map, bench; "
+     "did you mean physics?"),
+    # a misspelt nested key
+    ({"physics": {"omgea": 14.0}},
+     "config: physics.omgea = 14.0 is not allowed; allowed: one of the keys M, F, omega, g, r; did you mean omega?"),
+    ({"sweeps": {"locate": {"x_tol": 1e-7}}},
+     "config: sweeps.locate.x_tol = 1e-07 is not allowed; allowed: one of the keys xtol, max_periods, max_trials; "
+     "did you mean xtol?"),
+    # a misspelt choice
+    ({"quality": "paer"}, "config: quality = 'paer' is not allowed; allowed: one of 'draft', 'paper', 'smoke'; "
+                          "did you mean paper?"),
+    # a value out of its range, the bounds in words
+    ({"attractor": {"tol": 0.01}}, "config: attractor.tol = 0.01 is not allowed; allowed: a number > 0 and <= 0.001"),
+    ({"resolution": {"smoke": {"basin_grid": [6, 1]}}},
+     "config: resolution.smoke.basin_grid[1] = 1 is not allowed; allowed: an integer >= 2 and <= 4000"),
+    # a list's items, a mapping's names
+    ({"figure_checks": {"figures": 3}},
+     "config: figure_checks.figures = 3 is not allowed; allowed: 'all' or a list of at least 1 item, each a string of "
+     "at least 1 character"),
+    ({"branches": {"words": {"TT": {"start_d": 0.2, "k": 1, "phi": 1.0, "v0": 0.2}}}},
+     "config: branches.words name = 'TT' is not allowed; allowed: a name matching ^[BT]*B[BT]*$"),
+    # a key nothing resembles: no guess
+    ({"zzz": 1}, None),
+])
+def test_a_schema_error_is_one_line_naming_the_key_the_value_what_is_allowed_and_the_closest_key(over, line):
+    err = refusal(merged(over))
+    if line is None:
+        assert err.key == "zzz" and err.suggestion is None and "did you mean" not in str(err)
+    else:
+        assert str(err) == line
+
+
+def test_a_missing_key_and_a_study_s_key_are_named_by_their_path():
+    cfg = copy.deepcopy(CONFIG)
+    del cfg["physics"]["omega"]
+    assert str(refusal(cfg)) == ("config: physics.omega = None is not allowed; allowed: a value, which is required: "
+                                 "a number > 0")
+    cfg = merged({"studies": [{"beta": 0.4, "r": 0.6}, {"beta": 0.5, "rr": 0.6}]})
+    err = refusal(cfg)
+    assert (err.key, err.value, err.suggestion) == ("studies[1].rr", 0.6, "r")
+
+
+def test_a_long_value_is_cut_short_not_dumped():
+    """A misspelt section holding the whole captions table: the line shows the start of its value, not all of it
+    (nor the schema)."""
+    err = refusal(merged({"capitons": CONFIG["captions"]}))
+    assert err.key == "capitons" and err.suggestion == "captions"
+    assert "..." in str(err) and len(str(err)) < 600 and "figBiS_g" not in str(err) and "'type'" not in str(err)
+
+
+def _mappings(node, path=()):
+    """Every mapping of a config with its path (keys and list indices)."""
+    if isinstance(node, dict):
+        yield path, node
+        for k, v in node.items():
+            yield from _mappings(v, (*path, k))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            yield from _mappings(v, (*path, i))
+
+
+def _ref(node):
+    while "$ref" in node:
+        node = SCHEMA["definitions"][node["$ref"].rsplit("/", 1)[1]]
+    return node
+
+
+def _schema_at(path):
+    """The schema node of a config path (through properties, additionalProperties and items)."""
+    node = SCHEMA
+    for k in path:
+        node = _ref(node)
+        node = node["items"] if isinstance(k, int) else node.get("properties", {}).get(k, node.get("additionalProperties"))
+    return _ref(node)
+
+
+def _written(path):
+    """A path as the refusals write it: ``studies[0].r``."""
+    return "".join(f"[{k}]" if isinstance(k, int) else f".{k}" for k in path).lstrip(".")
+
+
+def test_an_unknown_key_anywhere_is_refused_in_one_line_at_its_path_unless_the_mapping_takes_any_name():
+    """A key added to each mapping of the shipped config: refused, one line, its path named (as an unknown key
+    with the keys allowed, or as a new entry whose value is not an entry), or accepted only where the mapping's
+    names are the user's own (the methods' costs, the design's tolerances and budget)."""
+    refused = accepted = 0
+    for path, _ in list(_mappings(CONFIG)):
+        cfg = copy.deepcopy(CONFIG)
+        node = cfg
+        for k in path:
+            node = node[k]
+        node["zzz"] = 1
+        free = _schema_at(path).get("additionalProperties", True) is not False
+        where = _written([*path, "zzz"])
+        try:
+            validate_schema(cfg, SCHEMA)
+        except ConfigError as err:
+            refused += 1
+            assert "\n" not in str(err) and len(str(err)) < 1000, str(err)
+            assert err.key in (where, _written(path) + " name"), (err.key, where)
+            assert free or str(err).startswith(f"config: {where} = 1 is not allowed; allowed: one of the keys ")
+        else:
+            accepted += 1
+            assert free, f"{where}: an unknown key accepted where the schema names the keys"
+    assert refused > 60 and accepted <= 4, (refused, accepted)
+
+
+def test_r_0_is_allowed_and_its_impacts_end_at_rest_until_the_forcing_pulls_the_ball_off():
+    """r = 0 is a plastic impact, which the package supports (Params allows 0 <= r < 1; a branch of plastic
+    impacts is continued in tests/test_orbits.py) and the whole default target runs for: the schema and the
+    cross-key check accept it for the device and for a study, and its motions are what the schema says: every
+    impact leaves the ball at rest against the wall (v_plus = 0) and a stuck ball is released where the
+    relative acceleration turns away from the bottom wall, cos(phase) = -gbar (the closed form of the release)."""
+    validate_schema(merged({"physics": {"r": 0.0}, "studies": [{"beta": 0.4, "r": 0.0}]}), SCHEMA)
+    assert check(merged({"physics": {"r": 0.0}, "studies": [{"beta": 0.4, "r": 0.0}]})).device.r == 0.0
+    desc = SCHEMA["properties"]["physics"]["properties"]["r"]["description"]
+    assert "0 <= r < 1" in desc and "r = 0 is a plastic impact" in desc and "no impact motion" not in desc
+    p = vi.Device().replace(r=0.0).params(s=0.30, beta=math.pi / 3)
+    run = vi.simulate(p, phi=0.42, v0=0.87, n_impacts=400)
+    kind = run.kind.values
+    impacts = np.flatnonzero(kind == 0)
+    assert impacts.size > 20 and np.all(run.v_plus.values[impacts[1:]] == 0.0)  # the first is the start
+    releases = np.flatnonzero((kind == 3) & (run.wall.values == 1))
+    assert releases.size > 5
+    assert np.allclose(np.cos(run.phase.values[releases]), -p.gbar, rtol=0, atol=1e-12)
+
+
+#: the paper's inclines, which every scene of the shipped config uses
+PAPER_BETAS = (math.pi / 2, math.pi / 3, math.pi / 4, math.pi / 6)
+
+
+def test_the_paper_s_branches_keep_their_ranges():
+    """The paper's device's sweeps lie inside branches.d_range: its branches are continued over that range and
+    its force branches over branches.force as the config gives them (their jobs and datasets unchanged)."""
+    cfg = check(CONFIG)
+    for beta in PAPER_BETAS:
+        assert cfg.branch_d_range(beta, CONFIG["physics"]["r"]) == CONFIG["branches"]["d_range"]
+        assert cfg.branch_force(beta) == CONFIG["branches"]["force"]
+
+
+@pytest.mark.parametrize("physics", [
+    EXAMPLE["physics"],                                    # heavier, slower: its sweeps start below d = 0.11
+    {"M": 0.1, "omega": 8 * math.pi},                      # lighter, faster: its sweeps reach d = 0.92
+])
+def test_another_device_s_branches_span_the_d_of_every_sweep_and_row_drawn_with_them(physics):
+    """For another device the branches of s at an incline are continued over branches.d_range and over the d
+    every figure draws them with: each sweep of s at the device's force at that incline, each branch-scene row
+    and a study's sweep (at its own restitution), d = s M omega^2 / (F pi^2) (the paper's scaling, written here
+    from the model); the force branches over every sweep of F at their s."""
+    over = {"physics": physics, "studies": [{"beta": 0.4, "r": 0.6, "s_range": [0.05, 0.9]}],
+            "sweeps": {"scenes": {"fig5_pi2_F": {"range": [3.0, 25.0]}}}}
+    cfg = check(merged(over))
+    ph = {**CONFIG["physics"], **physics}
+    d = lambda s: s * ph["M"] * ph["omega"] ** 2 / (ph["F"] * math.pi ** 2)
+    for beta in PAPER_BETAS:
+        lo, hi = cfg.branch_d_range(beta, ph["r"])
+        drawn = [sc["range"] for sc in CONFIG["sweeps"]["scenes"].values()
+                 if sc["vary"] == "s" and abs(sc["beta"] - beta) < 1e-12]
+        drawn += [r for sc in CONFIG["branch_scenes"].values() for b, r in zip(sc["betas"], sc["s_ranges"], strict=True)
+                  if abs(b - beta) < 1e-12]
+        want = (min([CONFIG["branches"]["d_range"][0]] + [d(s) for s, _ in drawn]),
+                max([CONFIG["branches"]["d_range"][1]] + [d(s) for _, s in drawn]))
+        assert (lo, hi) == pytest.approx(want, rel=1e-15, abs=0)
+    (lo, hi), (d_lo, d_hi) = CONFIG["branches"]["d_range"], (d(0.05), d(0.9))
+    assert cfg.branch_d_range(0.4, 0.6) == pytest.approx([min(lo, d_lo), max(hi, d_hi)], rel=1e-15, abs=0)
+    assert cfg.branch_d_range(0.4, ph["r"]) == CONFIG["branches"]["d_range"]  # no figure draws branches there
+    assert cfg.branch_force(math.pi / 2)["F_range"] == [3.0, 25.0]
+    assert cfg.branch_force(math.pi / 3) == CONFIG["branches"]["force"]

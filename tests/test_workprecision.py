@@ -142,3 +142,27 @@ def test_a_siconos_peer_that_dies_is_no_impact_and_a_bug_is_raised(monkeypatch):
     monkeypatch.setattr(ps, "siconos_flights", raising(KeyError("status")))
     with pytest.raises(KeyError):
         wp._flights("siconos-mj", 1e-4, states, 0.2, 0.1)
+
+
+def test_a_chaotic_run_whose_outcome_a_start_one_ulp_away_changes_is_marked_sensitive(monkeypatch):
+    """The failure map runs its chaotic case twice, the second time from a start one ulp away: a method that
+    follows the reference from one start and parts from it from the other has an outcome the last bit decides
+    (another machine's may differ), and only that cell is marked."""
+    from vibroimpact.benchmarks import workprecision as W
+
+    phi0 = W.SCENES["chaotic"][2]
+    real = W._run
+
+    def run(family, setting, p, phi, v0, n, **kw):
+        out = real(family, setting, p, phi, v0, n, **kw)
+        if family == "rk4" and n == 30 and phi != phi0:  # the moved start parts from the reference at once
+            out = M.Run(out.t + 1.0, out.wall, out.v, out.status, out.seconds)
+        return out
+
+    monkeypatch.setattr(W, "_run", run)
+    fm = failure_map(epsilons=(1e-2,), ivp_methods=(), ivp_tols=(), rk4_steps=(1e-3,), chaos_impacts=30,
+                     chatter_t_end=1.0, max_seconds=0.5)
+    case = "chaotic run (30 impacts)"
+    assert str(fm.sel(solver="RK4 + bisection h=0.001", case=case).outcome.values) == "correct"
+    assert bool(fm.sel(solver="RK4 + bisection h=0.001", case=case).sensitive)
+    assert int(fm.sensitive.sum()) == 1  # the exact simulator's outcome, and every other case's, is not

@@ -128,12 +128,13 @@ TESTS = {
     "settled": ["tests/test_settled.py", "tests/test_energy.py"],
     "lyapunov": ["tests/test_lyapunov.py"],
     "family_exit": ["tests/test_family_exit.py"],
-    "figcheck": ["tests/test_figcheck.py"],
-    "figdata": ["tests/test_figdata.py", "tests/test_figcheck.py"],
+    "figcheck": ["tests/test_figcheck.py", "tests/test_provenance.py"],
+    "figdata": ["tests/test_figdata.py", "tests/test_figcheck.py", "tests/test_provenance.py"],
     # its unit tests (the workflow-level test regenerates the whole figure set: minutes a mutant)
     "conditioning": [f"tests/test_conditioning.py::{t}" for t in (
         "test_an_array_is_ill_conditioned_when_any_perturbation_moves_it_beyond_the_strict_tolerance",
-        "test_timings_and_optional_peers_are_excluded_as_in_the_check",
+        "test_optional_peers_are_excluded_and_each_array_is_judged_by_its_declared_rule",
+        "test_the_openblas_kernel_sets_are_read_from_openblas_and_the_machine_s_own_is_left_out",
         "test_the_mass_moves_by_the_given_number_of_ulps_and_nothing_else",
         "test_a_move_between_one_and_two_tolerances_is_a_move",
         "test_the_image_spread_and_the_ill_conditioned_variables_of_a_figure",

@@ -7,6 +7,9 @@
   the value computed now and its status; then the whole table of the paper's values.
 * ``_generated/variables.md``: every variable the datasets carry, with its units and meaning
   (:data:`vibroimpact.datasets.VARIABLES`).
+* ``_generated/conditioning.md``: how far each figure array moved when the figures were recomputed under
+  another libm, other OpenBLAS kernels and inputs moved by ulps, and whether its declared rule passed it
+  (the committed ``reference/figures/conditioning*.csv``).
 * ``_generated/mutation_scores.md``: the mutation samples the repository carries
   (``tools/mutation_samples/``) and the verdicts on their survivors, counted by ``tools/mutation.py scores``.
 
@@ -156,10 +159,21 @@ def mutation_scores(root: Path) -> str:
     return tool.scores()
 
 
+def conditioning_page(root: Path) -> str:
+    """The testing page's table of the figures' measured conditioning (the committed
+    ``reference/figures/conditioning*.csv``, :func:`vibroimpact.outputs.conditioning.conditioning_markdown`)."""
+    from vibroimpact.outputs.conditioning import conditioning_markdown
+
+    ref = root / "reference" / "figures"
+    return conditioning_markdown(pd.read_csv(ref / "conditioning.csv", keep_default_na=False, na_values=[""]),
+                                 pd.read_csv(ref / "conditioning_summary.csv"))
+
+
 def generate(app):
     src = Path(app.srcdir)
     root = src.parent
     (src / "_generated").mkdir(exist_ok=True)
+    (src / "_generated" / "conditioning.md").write_text(conditioning_page(root))
     (src / "paper.md").write_text(paper_page(root))
     (src / "_generated" / "variables.md").write_text(variables_page())
     (src / "_generated" / "mutation_scores.md").write_text(mutation_scores(root))

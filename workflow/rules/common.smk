@@ -1,10 +1,9 @@
-# Shared helpers: the checked config (vibroimpact.outputs.workflow_config: every check across keys, before
-# any job) and path and parameter lookups.
+# Shared helpers: path and parameter lookups on the checked config (CFG: the Snakefile checks the config
+# with vibroimpact.outputs.workflow_config, every check across keys, before any job).
 import math
 import os
 
 from vibroimpact._code_version import code_version
-from vibroimpact.outputs.workflow_config import check as _check_config
 from vibroimpact.outputs.workflow_config import d_graz_sweeps
 
 
@@ -16,8 +15,6 @@ def code(script=None):
     )
 
 
-#: the config, checked across keys and typed
-CFG = _check_config(config)
 #: the device the config describes, as every job builds it (vibroimpact.Device.from_config)
 DEVICE_SPEC = CFG.device_spec()
 

@@ -20,8 +20,9 @@ rule branch:
         word=lambda wc: wc.word,
         vary=lambda wc: wc.vary,
         spec=lambda wc: WORDS[wc.word],
-        d_range=config["branches"]["d_range"],
-        force=config["branches"]["force"],
+        # branches.d_range and .force, widened to the d every figure draws these branches over
+        d_range=lambda wc: CFG.branch_d_range(beta_value(wc.beta), r_value(wc.r)),
+        force=lambda wc: CFG.branch_force(beta_value(wc.beta)),
         step=RESOLUTION["branch_step"],
         code=code("branch.py"),
     script:

@@ -1,12 +1,11 @@
-"""One figure's data against its committed reference, each array by the rule its measured conditioning
-calls for (vibroimpact.outputs.figcheck); fails, naming the arrays, if the figure moved."""
+"""One figure's data against its committed reference, each array by the rule its figure declared from what
+produced it (vibroimpact.outputs.figcheck); fails, naming the arrays, if the figure moved."""
 import logging
 from pathlib import Path
 
 import pandas as pd
 import xarray as xr
 
-from vibroimpact.outputs.conditioning import ill_conditioned
 from vibroimpact.outputs.figdata import compare, compare_image, image_allowance
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
@@ -17,12 +16,11 @@ if not Path(p.reference).exists():
     raise SystemExit(f"{fig}: no committed reference {p.reference} (accept the figure with "
                      "`snakemake --cores 2 figure_conditioning update_figure_references`)")
 new, ref = xr.load_dataset(snakemake.input.data, engine="netcdf4"), xr.load_dataset(p.reference, engine="netcdf4")
-df = compare(new, ref, rtol=p.rtol, atol=p.atol, exclude=p.exclude_axis_labels, optional=p.optional_peers,
-             ill=ill_conditioned(cond, fig))
+df = compare(new, ref, rtol=p.rtol, atol=p.atol, optional=p.optional_peers)
 allowed, why = image_allowance(cond, fig, p.image_max_distance)
 image = compare_image(new, ref, max_distance=allowed, draws_timings=bool((df.status == "excluded").any()))
 df = pd.concat([df, pd.DataFrame([image | {"rule": why, "detail": ""}])], ignore_index=True).assign(figure=fig)
-df = df[["figure", "variable", "axes", "axis_label", "rule", "max_difference", "status", "detail"]]
+df = df[["figure", "variable", "axes", "axis_label", "rule", "provenance", "max_difference", "status", "detail"]]
 failed = df[~df.status.isin(["pass", "excluded"])]
 logging.info("%s: %d arrays, %d failed", fig, len(df), len(failed))
 if len(failed):

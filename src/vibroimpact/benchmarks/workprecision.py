@@ -16,6 +16,8 @@ import xarray as xr
 
 from .._progress import Progress
 from ..analysis.continuation import continue_orbit
+from ..analysis.lyapunov import lyapunov
+from ..analysis.motions import identify_attractor, no_period_label
 from ..analysis.orbits import find_orbit
 from ..analysis.sweeps import sweep
 from ..analysis.transitions import locate_transitions
@@ -24,6 +26,7 @@ from ..dynamics.device import PAPER
 from ..dynamics.events import next_impact
 from ..dynamics.params import Params
 from ..dynamics.reference import bounce_by_bounce, first_impact, grazing_state, trajectory
+from ..dynamics.runs import simulate
 from . import methods as M
 from . import peer_heyoka, peer_siconos
 
@@ -127,9 +130,12 @@ def work_precision(*, n_err=20, n_cost=None, ivp_methods=("RK45", "DOP853", "LSO
                                  for b, d, phi, v0 in scenes.values()])
               if any(f == "python" for f, _, _ in ladder) else None)
     bar = Progress(len(scenes) * len(ladder), "work-precision", progress, unit="run")
+    t_window = np.full(len(scenes), np.nan)
+    motion = [scene_motion(_params(b, d), phi, v0) for b, d, phi, v0 in scenes.values()]
     for j, (_, (beta, d, phi, v0)) in enumerate(scenes.items()):
         p = _params(beta, d)
         ref = trajectory(p.d, p.gbar, p.r, phi, v0, n_err)
+        t_window[j] = float(ref[-1][0]) if ref else np.nan
         for i, (family, setting, _) in enumerate(ladder):
             bar.update()
             n = max(n_err, n_cost[_cost_key(family)])
@@ -148,6 +154,10 @@ def work_precision(*, n_err=20, n_cost=None, ivp_methods=("RK45", "DOP853", "LSO
             "family": ("solver", [m[0] for m in ladder]),
             "setting": ("solver", [m[1] for m in ladder],
                         {"long_name": "tolerance (solve_ivp rtol, heyoka, Siconos event-driven) or step h (RK4, Moreau-Jean)"}),
+            "t_window": ("scene", t_window, {"units": "1", "long_name": "time of the last reference impact in the error "
+                                                                         "window (its ulp is the errors' rounding level)"}),
+            "scene_motion": ("scene", motion, {"long_name": "the motion each scene's start settles on (exact "
+                                                            "simulator; no period: split by lambda_1)"}),
             "compile_seconds": ("solver", [_compile_seconds(f, s) for f, s, _ in ladder],
                                 {"units": "s", "long_name": "compilation before the timed runs (excluded from the cost)"}),
         },
@@ -156,6 +166,18 @@ def work_precision(*, n_err=20, n_cost=None, ivp_methods=("RK45", "DOP853", "LSO
     ds.attrs.update(n_err=n_err, n_cost=str(n_cost), reference="40-digit mpmath chain of flights (vibroimpact.dynamics.reference)",
                     peers=str(peer_status()), matched_accuracy=MATCHED_ACCURACY)
     return annotate(ds)
+
+
+def scene_motion(p: Params, phi: float, v0: float, n_impacts: int = 4000) -> str:
+    """The motion a scene's start settles on, by the exact simulator: a periodic motion's label, or, where no
+    period is found, what the largest Lyapunov exponent of a long run says (``"chaotic"`` where its interval
+    lies above 0: :func:`vibroimpact.analysis.motions.no_period_label`)."""
+    att = identify_attractor(simulate(p, phi=phi, v0=v0, n_impacts=n_impacts))
+    if att.periodic:
+        return att.label
+    ly = lyapunov(p, phi, v0, n_impacts=5 * n_impacts)
+    (low, high), _ = ly.interval
+    return no_period_label("aperiodic", low, high, ly.sticks)
 
 
 def _compile_seconds(family, setting):
@@ -300,15 +322,23 @@ def failure_map(*, epsilons=(1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12), ivp_methods=
     ref = trajectory(pc.d, pc.gbar, pc.r, phi, v0, chaos_impacts)
     rt = np.array([float(x[0]) for x in ref])
     rw = np.array([x[1] for x in ref])
+    sensitive = np.zeros((len(ladder), len(cases)), bool)
     for i, (family, setting, _) in enumerate(ladder):
         bar.update()
         run = _run(family, setting, pc, phi, v0, chaos_impacts, max_seconds=max_seconds, max_evals=chaos_max_evals)
         outcome[i, len(grazing) + 1], detail[i, len(grazing) + 1] = _chaos_outcome(run, rt, rw)
+        # when a chaotic run parts from the reference is the last bit's to decide where the method's own error is
+        # rounding: the same run from a start one ulp away says whether its outcome is
+        moved = _run(family, setting, pc, math.nextafter(phi, math.inf), v0, chaos_impacts, max_seconds=max_seconds,
+                     max_evals=chaos_max_evals)
+        sensitive[i, len(grazing) + 1] = _chaos_outcome(moved, rt, rw)[0] != outcome[i, len(grazing) + 1]
     bar.close()
     ds = xr.Dataset(
         {
             "outcome": (("solver", "case"), outcome.astype(str), {"long_name": "outcome", "flag_meanings": " / ".join(OUTCOMES)}),
             "detail": (("solver", "case"), detail.astype(str)),
+            "sensitive": (("solver", "case"), sensitive, {"long_name": "outcome changes when the start moves by one ulp "
+                                                                        "(a chaotic run's, decided by the last bit)"}),
             "family": ("solver", [m[0] for m in ladder]),
             "setting": ("solver", [m[1] for m in ladder]),
         },
@@ -383,6 +413,11 @@ def _chaos_outcome(run, rt, rw):
 # ---------------------------------------------------------------------------------------------
 
 
+#: the located points' tolerances in d: the branch's critical points (the continuation's ``xtol``) and the sweeps'
+#: transitions (:func:`vibroimpact.locate_transitions`'s); an error below one is the location's noise
+BRANCH_XTOL, SWEEP_XTOL = 1e-13, 1e-9
+
+
 def analytics_accuracy(*, steps=(2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4), points=(25, 50, 100, 200, 400, 800),
                        g1: float, g2: float) -> xr.Dataset:
     """How critical points converge with the continuation step, and how the sweep-located grazing
@@ -392,17 +427,17 @@ def analytics_accuracy(*, steps=(2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4), poin
     the grid-only estimate (middle of the branch interval where the test function changes sign),
     against the finest step's located values.  (b) beta = pi/6 sweeps over 0.136 < d < 0.144: G1
     and G2 from the grid alone (middle of the interval where the motion changes) and located
-    (followed attractor, xtol 1e-9), against the analytic points ``g1``, ``g2``.
+    (followed attractor, ``SWEEP_XTOL``), against the analytic points ``g1``, ``g2``.
     """
 
 
     p = Params.from_physical(s=0.184 / 0.6225, beta=math.pi / 3)
     orbit = find_orbit(p, "BBT", 1.21, 0.2164)
-    continue_orbit(orbit, vary="s", d_range=(0.15, 0.23), step=2e-2)  # compile outside the timing
+    continue_orbit(orbit, vary="s", d_range=(0.15, 0.23), step=2e-2, xtol=BRANCH_XTOL)  # compile outside the timing
     located, grid, cost_a = [], [], []
     for h in steps:
         t0 = time.perf_counter()
-        br = continue_orbit(orbit, vary="s", d_range=(0.15, 0.23), step=h)
+        br = continue_orbit(orbit, vary="s", d_range=(0.15, 0.23), step=h, xtol=BRANCH_XTOL)
         cost_a.append(time.perf_counter() - t0)
         kinds, crit = br.critical_kind.values, br.critical_d.values
         located.append([float(crit[kinds == k][0]) for k in ("B", "fold")])
@@ -422,7 +457,7 @@ def analytics_accuracy(*, steps=(2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4), poin
         t0 = time.perf_counter()
         sw = sweep("s", np.linspace(0.136, 0.144, n) / k_s, beta=math.pi / 6, phi=5.855, v0=0.4185)
         t1 = time.perf_counter()
-        tr = locate_transitions(sw, xtol=1e-9)
+        tr = locate_transitions(sw, xtol=SWEEP_XTOL)
         t2 = time.perf_counter()
         est = []
         for k_dir, target in ((1, g1), (0, g2)):
@@ -449,5 +484,6 @@ def analytics_accuracy(*, steps=(2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4), poin
         coords={"step": list(steps), "point_kind": ["B", "fold"], "points": list(points), "grazing": ["G1", "G2"],
                 "stage": ["sweep", "locate"]},
     )
-    ds.attrs.update(B_reference=float(ref[0]), fold_reference=float(ref[1]), G1=g1, G2=g2)
+    ds.attrs.update(B_reference=float(ref[0]), fold_reference=float(ref[1]), G1=g1, G2=g2, branch_xtol=BRANCH_XTOL,
+                    sweep_xtol=SWEEP_XTOL)
     return annotate(ds)

@@ -14,6 +14,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from .figcheck import PROVENANCE
 from .paper import (
     CURVE_ORDER,
     FIGURE_NUMBERS,
@@ -516,12 +517,13 @@ IMAGE_ROW = "PNG (perceptual hash)"
 
 
 def figure_check_markdown(df: pd.DataFrame, conditioning: pd.DataFrame | None, *, rtol: float, atol: float) -> str:
-    """``results/checks/figures.md``: per figure, then per array, the rule it was compared by, why (its
-    measured spread under the conditioning's perturbations), this run's difference and the result."""
+    """``results/checks/figures.md``: per figure, then per array, the rule it was compared by (declared where it
+    was drawn, from what produced it), its measured spread under the conditioning's perturbations, this run's
+    difference and the result."""
     data = df[df.variable != IMAGE_ROW]
     image = df[df.variable == IMAGE_ROW].set_index("figure")
     summary = (data.assign(failed=~data.status.isin(["pass", "excluded"]),
-                           wellposed=~data.rule.isin(["strict", "excluded"]))
+                           wellposed=~data.rule.isin(["strict", "excluded", "timing"]))
                .groupby("figure", sort=False)
                .agg(arrays=("variable", "size"), pointwise=("rule", lambda s: int((s == "strict").sum())),
                     well_posed=("wellposed", "sum"), excluded=("status", lambda s: int((s == "excluded").sum())),
@@ -534,26 +536,28 @@ def figure_check_markdown(df: pd.DataFrame, conditioning: pd.DataFrame | None, *
     measured = (conditioning.set_index(["figure", "variable"]) if conditioning is not None and len(conditioning)
                 else None)
 
-    def why(fig, var, rule):
+    def why(fig, var, provenance):
+        made = f"{provenance}: {PROVENANCE[provenance]}" if provenance in PROVENANCE else ""
         if measured is None or (fig, var) not in measured.index:
-            return "not measured: pointwise"
+            return "; ".join(x for x in (made, "not measured") if x)
         m = measured.loc[(fig, var)]
-        if rule == "excluded":
-            return "timings or an optional peer"
         spread = "changed shape" if not math.isfinite(m.spread) else f"spread {m.spread:.2g} ({m.ratio:.2g} x tolerance)"
-        if m.conditioning == "strict":
-            return f"well-conditioned: {spread}"
-        return f"ill-conditioned: {spread} under {m.moved_by}"
+        moved = f", moved by {m.moved_by}" if isinstance(m.moved_by, str) and m.moved_by else ""
+        return "; ".join(x for x in (made, spread + moved) if x)
 
-    rows = df.assign(why=[why(f, v, r) for f, v, r in zip(df.figure, df.variable, df.rule, strict=True)])
+    prov = df.provenance if "provenance" in df else pd.Series(["exact"] * len(df), index=df.index)
+    rows = df.assign(why=[why(f, v, p) for f, v, p in zip(df.figure, df.variable, prov, strict=True)])
     cols = ["figure", "variable", "rule", "why", "max_difference", "status", "detail"]
     special = rows[(rows.rule != "strict") & (rows.variable != IMAGE_ROW)]
     plain = rows[rows.rule == "strict"]
-    out = [f"# Figure regeneration check\n\nEach array of every figure against its committed reference, by one "
-           f"rule: pointwise (|new - ref| <= {atol:g} + {rtol:g} |ref|) where the array's measured conditioning "
-           "keeps another machine's perturbations within that; by what is well-posed about it where it does not "
-           "(vibroimpact.outputs.figcheck: motions, run, located, curve, on curve, boundary).  The image: within twice the "
-           "perceptual-hash distance the perturbations moved it, and at least 2 bits.\n",
+    out = ["# Figure regeneration check\n\nEach array of every figure against its committed reference, by the rule "
+           "its figure declared where it drew the array, from what produced it: pointwise "
+           f"(|new - ref| <= {atol:g} + {rtol:g} |ref|) for an exact value; by what is well-posed about it for a "
+           "value that rides on bits no machine reproduces: a chaotic run, a long run's statistic, a random draw, a "
+           "method's error at its tolerance, a timing (vibroimpact.outputs.figcheck: motions, run, located, curve, "
+           "on curve, boundary, magnitude, outcome, timing).  The spread each array showed when the figures were "
+           "recomputed under another libm, other OpenBLAS kernels and inputs moved by ulps is listed beside it.  "
+           "The image: within twice the perceptual-hash distance the perturbations moved it, and at least 2 bits.\n",
            summary.to_markdown(index=False),
            "\n## Images\n", rows[rows.variable == IMAGE_ROW][["figure", "rule", "max_difference", "status"]]
            .to_markdown(index=False),

@@ -1,15 +1,18 @@
 """How well each figure's arrays are determined: their spread when the figure data is recomputed under
-perturbations that stand for another machine.
+perturbations that stand for another machine, and whether the check's declared rules tolerate it.
 
 Another CPU runs other code paths of glibc's ``sin``, ``cos``, ``exp`` (they agree to an ulp, not bit
-for bit), and the same physical inputs can arrive rounded differently.  :data:`PERTURBATIONS` emulate
-both on one machine: glibc's libm with its FMA and AVX2 paths masked (``GLIBC_TUNABLES``), and the ball's
-mass moved by a few ulps (every non-dimensional gravity and gap moves with it).  :func:`spreads`
-compares each perturbed regeneration with the unperturbed figure data, array by array: an array whose
-every perturbed copy passes the strict comparison is well-conditioned and keeps it; any other is
-ill-conditioned and is compared by what its figure recorded as well-posed (:mod:`vibroimpact.outputs.figcheck`).
-The measurement is run by the workflow's ``figure_conditioning`` target and kept with the committed
-references (``conditioning.csv``).
+for bit), OpenBLAS picks other kernels (a matrix product summed in another order), and the same physical
+inputs can arrive rounded differently.  :data:`PERTURBATIONS` emulate them on one machine: glibc's libm with
+its FMA and AVX2 paths masked (``GLIBC_TUNABLES``), OpenBLAS's kernels of other CPUs
+(``OPENBLAS_CORETYPE``; the machine's own is left out, :func:`perturbations`), and the ball's mass moved by a
+few ulps (every non-dimensional gravity and gap moves with it).  :func:`spreads` compares each perturbed
+regeneration with the unperturbed figure data, array by array: how far it moved (against the strict
+tolerance) and whether the rule the figure declared for it (:mod:`vibroimpact.outputs.figcheck`) passes it.
+The rules are declared where the arrays are drawn, from what produced them; this measurement does not
+choose them, it shows what they tolerate and finds an array that moves without a rule.  It is run by the
+workflow's ``figure_conditioning`` target and kept with the committed references (``conditioning.csv``, and
+``conditioning_summary.csv`` per figure and perturbation).
 """
 
 from __future__ import annotations
@@ -26,20 +29,55 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from .figdata import hash_distance
+from .checks import IMAGE_ROW
+from .figdata import compare, hash_distance
 
-__all__ = ["PERTURBATIONS", "LIBM_SWITCH", "libm_switch_works", "spreads", "ill_conditioned", "perturbed_config",
-           "regenerate"]
+__all__ = ["PERTURBATIONS", "LIBM_SWITCH", "BLAS_CORETYPES", "libm_switch_works", "openblas_core", "perturbations",
+           "spreads", "summary", "ill_conditioned", "perturbed_config", "regenerate"]
 
 #: glibc's libm with its FMA and AVX2 code paths masked: the other machine's ``sin`` (glibc >= 2.33 names;
 #: the older ``-AVX2_Usable,-FMA_Usable`` are ignored by glibc 2.36)
 LIBM_SWITCH = {"GLIBC_TUNABLES": "glibc.cpu.hwcaps=-AVX2,-FMA"}
-#: name -> (environment, relative change of the ball's mass M in ulps)
+#: OpenBLAS kernel sets any x86-64 CPU runs (``OPENBLAS_CORETYPE``): Haswell's (AVX2, as Zen's), Sandybridge's
+#: (AVX) and Nehalem's (SSE4); a machine with AVX-512 picks SkylakeX's, which only such a machine can run
+BLAS_CORETYPES = ("Haswell", "Sandybridge", "Nehalem")
+#: name -> (environment, relative change of the ball's mass M in ulps); the OpenBLAS kernel sets of
+#: :data:`BLAS_CORETYPES` that are not the machine's own are added by :func:`perturbations`
 PERTURBATIONS = {
     "libm": (LIBM_SWITCH, 0),
     "mass +2 ulp": ({}, 2),
     "libm, mass -2 ulp": (LIBM_SWITCH, -2),
+    **{f"OpenBLAS {c}": ({"OPENBLAS_CORETYPE": c}, 0) for c in BLAS_CORETYPES},
 }
+
+
+def openblas_core(python: str = sys.executable, env: dict | None = None) -> str:
+    """The kernel set numpy's OpenBLAS picks in a fresh ``python`` (with ``env`` added to the environment):
+    ``"Haswell"``, ``"SkylakeX"``, ... (``""`` where numpy's BLAS is not an OpenBLAS that says)."""
+    code = ("import ctypes, glob, os, numpy\n"
+            "libs = glob.glob(os.path.join(os.path.dirname(numpy.__path__[0]), 'numpy.libs', '*openblas*'))\n"
+            "name = ''\n"
+            "for lib in libs:\n"
+            "    dll = ctypes.CDLL(lib)\n"
+            "    for f in ('scipy_openblas_get_corename64_', 'openblas_get_corename64_', 'openblas_get_corename'):\n"
+            "        if hasattr(dll, f):\n"
+            "            fn = getattr(dll, f); fn.restype = ctypes.c_char_p; name = fn().decode(); break\n"
+            "print(name)")
+    res = subprocess.run([python, "-c", code], capture_output=True, text=True, env=os.environ | (env or {}))
+    return res.stdout.strip() if res.returncode == 0 else ""
+
+
+def perturbations(python: str = sys.executable) -> dict:
+    """:data:`PERTURBATIONS` that perturb something on this machine: an OpenBLAS kernel set that is the one the
+    machine picks anyway is left out (and so is one the CPU cannot run, which OpenBLAS replaces)."""
+    own = openblas_core(python)
+    out = {}
+    for name, (env, ulps) in PERTURBATIONS.items():
+        core = env.get("OPENBLAS_CORETYPE")
+        if core and (core == own or openblas_core(python, env) != core):
+            continue
+        out[name] = (env, ulps)
+    return out
 
 
 def libm_switch_works(python: str = sys.executable) -> bool:
@@ -69,6 +107,8 @@ def regenerate(root: Path, scratch: Path, name: str, targets: list[str], *, core
     import yaml
 
     env, ulps = PERTURBATIONS[name]
+    # a machine's own setting of the kernels would otherwise win over the perturbation's, or leak into another
+    base = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_CORETYPE", "GLIBC_TUNABLES")}
     if scratch.exists():
         shutil.rmtree(scratch)
     scratch.mkdir(parents=True)
@@ -80,54 +120,84 @@ def regenerate(root: Path, scratch: Path, name: str, targets: list[str], *, core
     cfg = yaml.safe_load(cfg_file.read_text())
     cfg_file.write_text(yaml.safe_dump(perturbed_config(cfg, ulps), sort_keys=False))
     res = subprocess.run([sys.executable, "-m", "snakemake", "--cores", str(cores), *targets], cwd=scratch,
-                         capture_output=True, text=True, env=os.environ | env)
+                         capture_output=True, text=True, env=base | env)
     if res.returncode:
         raise RuntimeError(f"the workflow under perturbation {name!r} failed:\n{res.stderr[-3000:]}")
     return scratch
 
 
 def spreads(reference: xr.Dataset, perturbed: dict[str, xr.Dataset], *, rtol: float, atol: float,
-            exclude=(), optional=()) -> pd.DataFrame:
-    """Per array of one figure: how far each perturbed copy moved it.
+            optional=()) -> pd.DataFrame:
+    """Per array of one figure: how far each perturbed copy moved it, and whether its declared rule passes it.
 
-    Returns one row per reference variable with ``spread`` (the largest ``|perturbed - reference|`` over
-    the perturbations; infinite where a copy changed shape or where it is NaN), ``ratio`` (that in units
-    of the strict tolerance ``atol + rtol |reference|``), ``moved_by`` (the perturbations that moved it
-    beyond the strict tolerance), ``conditioning`` (``"strict"`` or ``"ill-conditioned"``) and the
-    ``wellposed`` rule its figure recorded (``""`` where none).  Timings and optional peers are
-    ``"excluded"``, as in the check.
+    Returns one row per reference variable with its declared ``rule`` (``"strict"``: none) and ``provenance``,
+    ``spread`` (the largest ``|perturbed - reference|`` over the perturbations; infinite where a copy changed
+    shape or where it is NaN), ``ratio`` (that in units of the strict tolerance ``atol + rtol |reference|``),
+    ``moved_by`` (the perturbations that moved it beyond the strict tolerance), ``conditioning``
+    (``"strict"`` or ``"ill-conditioned"``), ``judged`` (``"pass"`` where every perturbed copy passes the
+    declared rule, else the perturbations it fails under) and ``by_perturbation`` (each perturbation's ratio).
+    Optional peers are ``"excluded"``, as in the check.
     """
-    pats = [p.lower() for p in exclude]
     opts = [p.lower() for p in optional]
+    verdicts = {name: compare(ds, reference, rtol=rtol, atol=atol, optional=optional).set_index("variable")
+                for name, ds in perturbed.items()}
     rows = []
     for name in reference.data_vars:
         r = reference[name]
         if r.attrs.get("role") == "wellposed":
             continue
+        rule, prov = r.attrs.get("wellposed", "strict"), r.attrs.get("provenance", "exact")
         text = (r.attrs.get("label", "") + " " + r.attrs.get("axes_title", "")).lower()
-        if any(p in r.attrs.get("axis_label", "").lower() for p in pats) or any(p in text for p in opts):
-            rows.append(dict(variable=name, spread=np.nan, ratio=np.nan, moved_by="", conditioning="excluded",
-                             wellposed=""))
+        if any(p in text for p in opts):
+            rows.append(dict(variable=name, rule=rule, provenance=prov, spread=np.nan, ratio=np.nan, moved_by="",
+                             conditioning="excluded", judged="excluded", by_perturbation=""))
             continue
         b = np.asarray(r.values, float)
-        spread, ratio, moved = 0.0, 0.0, []
+        spread, ratio, moved, each, failed = 0.0, 0.0, [], [], []
         for pname, ds in perturbed.items():
+            verdict = verdicts[pname].status.get(name, "fail: missing")
+            if verdict not in ("pass", "excluded"):
+                failed.append(pname)
             a = np.asarray(ds[name].values, float) if name in ds else None
             if a is None or a.shape != b.shape or np.any(np.isnan(a) != np.isnan(b)):
                 spread, ratio = math.inf, math.inf
                 moved.append(pname)
+                each.append(f"{pname}: moved")
                 continue
             ok = ~np.isnan(b)
             d = np.abs(a[ok] - b[ok])
             q = d / (atol + rtol * np.abs(b[ok])) if d.size else np.zeros(0)
             spread = max(spread, float(d.max(initial=0.0)))
             ratio = max(ratio, float(q.max(initial=0.0)))
+            each.append(f"{pname}: {float(q.max(initial=0.0)):.3g}")
             if q.size and q.max() > 1.0:
                 moved.append(pname)
-        rows.append(dict(variable=name, spread=spread, ratio=ratio, moved_by="; ".join(moved),
-                         conditioning="ill-conditioned" if moved else "strict",
-                         wellposed=r.attrs.get("wellposed", "")))
-    return pd.DataFrame(rows, columns=["variable", "spread", "ratio", "moved_by", "conditioning", "wellposed"])
+        rows.append(dict(variable=name, rule=rule, provenance=prov, spread=spread, ratio=ratio,
+                         moved_by="; ".join(moved), conditioning="ill-conditioned" if moved else "strict",
+                         judged="pass" if not failed else "fail under " + "; ".join(failed),
+                         by_perturbation="; ".join(each)))
+    return pd.DataFrame(rows, columns=["variable", "rule", "provenance", "spread", "ratio", "moved_by", "conditioning",
+                                       "judged", "by_perturbation"])
+
+
+def summary(table: pd.DataFrame, names) -> pd.DataFrame:
+    """Per figure and perturbation (``names``): the arrays compared, how many moved beyond the strict tolerance,
+    the largest move of an array compared pointwise (in units of its tolerance), and how many of the moved
+    arrays the declared rules fail (0: the check passes on a machine so perturbed)."""
+    rows = []
+    data = table[(table.variable != IMAGE_ROW) & (table.conditioning != "excluded")]
+    for fig, sub in data.groupby("figure", sort=False):
+        for name in names:
+            moved = sub.moved_by.fillna("").str.split("; ").apply(lambda m, n=name: n in m)
+            failed = sub.judged.fillna("").str.contains(name, regex=False)
+            strict = sub[sub.rule == "strict"]
+            ratios = [float(part.split(": ")[1]) for b in strict.by_perturbation.fillna("") for part in b.split("; ")
+                      if part.startswith(name + ": ") and part.split(": ")[1] not in ("moved",)]
+            rows.append(dict(figure=fig, perturbation=name, arrays=len(sub), moved=int(moved.sum()),
+                             moved_pointwise=int((moved & (sub.rule == "strict")).sum()),
+                             largest_pointwise_ratio=max(ratios, default=0.0), failed=int(failed.sum())))
+    return pd.DataFrame(rows, columns=["figure", "perturbation", "arrays", "moved", "moved_pointwise",
+                                       "largest_pointwise_ratio", "failed"])
 
 
 def image_spread(reference: xr.Dataset, perturbed: dict[str, xr.Dataset]) -> int:
@@ -144,3 +214,25 @@ def ill_conditioned(table: pd.DataFrame | None, figure: str) -> set[str]:
         return set()
     sel = table[(table.figure == figure) & (table.conditioning == "ill-conditioned")]
     return set(sel.variable)
+
+
+def conditioning_markdown(table: pd.DataFrame, per: pd.DataFrame) -> str:
+    """The testing page's account of the measured conditioning (``conditioning.csv`` and
+    ``conditioning_summary.csv`` as :func:`spreads` and :func:`summary` write them): per figure and perturbation,
+    how many arrays moved beyond the strict tolerance and how many of those the declared rules fail; then every
+    array that moved, with its rule, its provenance and how far each perturbation moved it (in units of the
+    strict tolerance)."""
+    names = list(dict.fromkeys(per.perturbation))
+    own = str(per.machine_openblas.iloc[0]) if "machine_openblas" in per and len(per) else ""
+    cell = {(r.figure, r.perturbation): f"{r.moved} ({r.failed})" for r in per.itertuples()}
+    figs = list(dict.fromkeys(per.figure))
+    pivot = pd.DataFrame([{"figure": f, "arrays": int(per.arrays[per.figure == f].iloc[0]),
+                           **{n: cell.get((f, n), "") for n in names}} for f in figs])
+    moved = table[(table.variable != IMAGE_ROW) & (table.conditioning == "ill-conditioned")]
+    moved = moved[["figure", "variable", "rule", "provenance", "by_perturbation", "judged"]].rename(
+        columns={"by_perturbation": "largest move / strict tolerance, per perturbation", "judged": "declared rule"})
+    head = (f"Measured on a machine whose OpenBLAS picks its {own or 'unreported'} kernels, under "
+            f"{len(names)} perturbations ({', '.join(names)}).  Per figure and perturbation: the arrays moved beyond "
+            "the strict tolerance, and in brackets how many of them their declared rule fails.\n\n")
+    return (head + pivot.to_markdown(index=False) + "\n\nThe arrays that moved, and by how much:\n\n"
+            + moved.to_markdown(index=False) + "\n")

@@ -49,7 +49,34 @@ import numpy as np
 
 from ..analysis.motions import no_period
 
-__all__ = ["Z_CRIT", "RULES", "judge", "motion_flips", "strict_close", "artist_base"]
+__all__ = ["PROVENANCE", "NOT_POINTWISE", "DEFAULT_PROVENANCE", "Z_CRIT", "MAGNITUDE_DECADES", "RULES", "judge",
+           "motion_flips", "strict_close", "artist_base"]
+
+
+#: what produced an artist's arrays, which decides how the check may compare them.  The arrays of an artist
+#: whose provenance is in :data:`NOT_POINTWISE` ride on bits no machine reproduces (another libm, another BLAS
+#: kernel, another CPU's code path turns the last bit of a chaotic run, a step-size decision or a timing into a
+#: visible difference): they are never compared pointwise, whatever one machine measures
+PROVENANCE = {
+    "exact": "a closed form, a Newton-solved orbit or a converged root: reproduced to rounding",
+    "continuation": "a curve sampled by step control: where its points fall along it depends on the steps",
+    "grid": "a value located between neighbouring points of a grid",
+    "simulation": "values at simulated attractors: an exact cycle where the motion is periodic, a long-run "
+                  "statistic where it is not, a motion that may differ where basins interleave",
+    "chaotic run": "computed along a chaotic trajectory, which amplifies the last bit of every step",
+    "method error": "the error of a method against a reference: at a tolerance or step, its truncation, set by "
+                    "the steps it took (an adaptive method's turn on comparisons a last bit can flip); below, "
+                    "rounding, a count of ulps",
+    "random starts": "shares over a random sample of starts: a statistic with a binomial error",
+    "timing": "a wall-clock time: the machine's speed, not a result",
+}
+#: provenances whose arrays are never compared pointwise
+NOT_POINTWISE = frozenset({"simulation", "chaotic run", "method error", "random starts", "timing"})
+#: the provenance a rule is recorded with where the figure names none
+DEFAULT_PROVENANCE = {"motions": "simulation", "run": "simulation", "boundary": "simulation", "located": "grid",
+                      "curve": "continuation", "on curve": "continuation", "magnitude": "method error",
+                      "outcome": "chaotic run", "timing": "timing"}
+
 
 
 #: two estimates of one statistic differ by more than this many combined standard errors with
@@ -395,9 +422,70 @@ def _boundary(new, ref, name, *, rtol, atol):
     return boundary(new, ref, artist_base(name), flipped, steps, rtol=rtol, atol=atol)[:3]
 
 
+#: an error against a reference is read off a work-precision chart in decades: two runs' errors agree when
+#: they are the same order of magnitude, within one decade of each other.  Above its rounding floor an
+#: integrator's error moves under another machine's libm or BLAS kernels by far less (its step sequence
+#: moves, the truncation error it leaves does not: measured in the conditioning table); a method made ten
+#: times less accurate fails
+MAGNITUDE_DECADES = 1.0
+
+
+def magnitude(new, ref, name, *, rtol, atol):
+    """The ``magnitude`` rule for errors against a reference (the y of an error-against-cost line, or a text's
+    anchor on it): each error within :data:`MAGNITUDE_DECADES` of the reference's, both read as at least the
+    artist's recorded ``floor`` (the rounding level of the quantity whose error it is: below it an error is
+    a count of ulps that any machine may change); NaN where the reference has NaN, an infinite error (wrong
+    walls) where the reference has one.  A text's x (a cost) is a timing and not compared."""
+    a, b = np.asarray(ref[name].values, float), np.asarray(new[name].values, float)
+    if a.shape != b.shape:
+        return False, math.nan, f"shape {b.shape}, reference {a.shape}"
+    if name.endswith("_xy"):  # a label placed on the line: its error coordinate only
+        a, b = a[1:], b[1:]
+    floor = float(ref[name].attrs.get("wp_floor", 0.0))
+    if np.any(np.isnan(a) != np.isnan(b)) or np.any(np.isinf(a) != np.isinf(b)):
+        return False, math.nan, "NaN or infinite errors at other places"
+    ok = np.isfinite(a)
+    with np.errstate(divide="ignore"):
+        da = np.log10(np.maximum(np.abs(a[ok]), floor))
+        db = np.log10(np.maximum(np.abs(b[ok]), floor))
+    diff = np.abs(db - da)
+    if np.any(~np.isfinite(diff)):
+        return False, math.nan, "a zero error with no rounding floor recorded"
+    worst = float(diff.max(initial=0.0))
+    good = worst <= MAGNITUDE_DECADES
+    return good, worst, (f"largest change {worst:.2g} decades (allowed {MAGNITUDE_DECADES:g}; errors below "
+                         f"{floor:.1e} count as {floor:.1e})")
+
+
+def outcome(new, ref, name, *, rtol, atol):
+    """The ``outcome`` rule for a map of categorical outcomes (an image of codes): the same code in every
+    cell, but in cells either run marks ``sensitive`` (an outcome its producer saw change when the start
+    moved by one ulp: a chaotic run's, decided by when two trajectories part)."""
+    a, b = np.asarray(ref[name].values, float), np.asarray(new[name].values, float)
+    if a.shape != b.shape:
+        return False, math.nan, f"shape {b.shape}, reference {a.shape}"
+    base = artist_base(name)
+    sensitive = np.zeros(a.shape, bool)
+    for ds in (ref, new):
+        key = f"{base}_wp_sensitive"
+        if key in ds and ds[key].size == a.size:
+            sensitive |= ds[key].values.astype(bool).reshape(a.shape)
+    differ = ~((a == b) | (np.isnan(a) & np.isnan(b)))
+    bad = int(np.sum(differ & ~sensitive))
+    detail = f"{int(differ.sum())} cells differ, {int((differ & sensitive).sum())} of them sensitive to the last bit"
+    return bad == 0, float(differ.sum()), detail + (f"; {bad} others" if bad else "")
+
+
+def timing(new, ref, name, *, rtol, atol):
+    """The ``timing`` rule: a wall-clock time is the machine's speed, not a result, and is not compared (its
+    presence is: a missing timing fails as a missing variable)."""
+    return True, math.nan, "a timing: not compared"
+
+
 #: every rule but ``strict`` (pointwise, :func:`strict_close`), the one place a rule's name meets its
 #: comparison: ``(new, ref, name, *, rtol, atol) -> (ok, max difference, detail)`` for a variable ``name``
-#: of the reference; all but ``located`` judge the variable's whole artist at once
+#: of the reference; all but ``located``, ``magnitude``, ``outcome`` and ``timing`` judge the variable's whole
+#: artist at once
 RULES = {
     "motions": lambda new, ref, name, **kw: motions(new, ref, artist_base(name), **kw)[:3],
     "run": run_text,
@@ -405,14 +493,19 @@ RULES = {
     "curve": lambda new, ref, name, **kw: curve(new, ref, artist_base(name), **kw),
     "on curve": _on_curve,
     "boundary": _boundary,
+    "magnitude": magnitude,
+    "outcome": outcome,
+    "timing": timing,
 }
+#: the rules that judge one variable, not its whole artist
+PER_VARIABLE = frozenset({"located", "magnitude", "outcome", "timing"})
 
 
 def judge(rule, new, ref, name, *, rtol, atol, cache=None):
     """``(ok, max difference, detail)`` of the variable ``name`` by its recorded ``rule`` (:data:`RULES`); a
     variable or artist missing from ``new`` fails, naming it.  ``cache``: a dict the results of one comparison
     of two figures share (a rule judging a whole artist runs once for its variables)."""
-    key = (rule, name if rule == "located" else artist_base(name))
+    key = (rule, name if rule in PER_VARIABLE else artist_base(name))
     if cache is not None and key in cache:
         return cache[key]
     if rule not in RULES:

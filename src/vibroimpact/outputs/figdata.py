@@ -24,11 +24,27 @@ from .checks import IMAGE_ROW
 #: matplotlib's objects; an artist's entry goes with the artist
 WELLPOSED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
+def record_wellposed(artist, rule: str, *, provenance: str | None = None, timed=(), **fields):
+    """Record what is well-posed about ``artist``'s arrays: ``rule`` (one of
+    :data:`vibroimpact.outputs.figcheck.RULES`) and its fields, and ``provenance`` (what produced the arrays, one
+    of :data:`vibroimpact.outputs.figcheck.PROVENANCE`; by default the rule's, :data:`~vibroimpact.outputs.figcheck.DEFAULT_PROVENANCE`).  ``timed``: the parts of the
+    artist (``"x"``, ``"y"``, ``"xy"``) that are timings, recorded with the rule ``timing`` (not compared).
+    :func:`figure_data` saves all of it beside the arrays.  Returns the artist.
 
-def record_wellposed(artist, rule: str, **fields):
-    """Record what is well-posed about ``artist``'s arrays (``rule``, one of :data:`vibroimpact.outputs.figcheck.RULES`,
-    and its fields): :func:`figure_data` saves it beside them.  Returns the artist."""
-    WELLPOSED[artist] = {"rule": rule, **fields}
+    Raises
+    ------
+    ValueError
+        For an unknown rule or provenance, or a part of ``timed`` an artist does not have.
+    """
+    if rule not in fc.RULES:
+        raise ValueError(f"rule = {rule!r}; allowed: {', '.join(fc.RULES)}")
+    provenance = provenance or fc.DEFAULT_PROVENANCE[rule]
+    if provenance not in fc.PROVENANCE:
+        raise ValueError(f"provenance = {provenance!r}; allowed: {', '.join(fc.PROVENANCE)}")
+    bad = set(timed) - {"x", "y", "xy", "c"}
+    if bad:
+        raise ValueError(f"timed = {sorted(timed)!r}; allowed: the parts x, y, xy, c")
+    WELLPOSED[artist] = {"rule": rule, "provenance": provenance, "timed": tuple(timed), **fields}
     return artist
 
 
@@ -67,16 +83,19 @@ def figure_data(fig, attrs: dict | None = None) -> xr.Dataset:
                                                  "long_name": long_name, **extra})
 
         def wellposed(artist, base, names):
-            """What the artist carries for the check (:func:`vibroimpact.outputs.plots._common.wellposed`): the rule
-            on its variables ``names``, per-element fields as ``<base>_wp_<field>``, scalars as attributes."""
+            """What the artist carries for the check (:func:`record_wellposed`): the rule and the provenance on
+            its variables ``names`` (the rule ``timing`` on its timed parts), per-element fields as
+            ``<base>_wp_<field>``, scalars as attributes."""
             wp = WELLPOSED.get(artist)
             if not wp:
                 return
-            scalars = {f"wp_{k}": v for k, v in wp.items() if np.ndim(v) == 0 and k != "rule"}
+            scalars = {f"wp_{k}": v for k, v in wp.items() if np.ndim(v) == 0 and k not in ("rule", "provenance")}
             for name in names:
-                data[name].attrs.update(wellposed=wp["rule"], **scalars)
+                timed = name.rsplit("_", 1)[-1] in wp["timed"]
+                data[name].attrs.update(wellposed="timing" if timed else wp["rule"],
+                                        provenance="timing" if timed else wp["provenance"], **scalars)
             for key, v in wp.items():
-                if np.ndim(v) == 0:
+                if np.ndim(v) == 0 or key == "timed":
                     continue
                 v = np.asarray(v)
                 arr = v.astype(str) if v.dtype.kind in "UOS" else v.astype(np.int8) if v.dtype == bool else v.astype(float)
@@ -120,31 +139,30 @@ def figure_data(fig, attrs: dict | None = None) -> xr.Dataset:
             k += 1
         for j, im in enumerate(ax.get_images()):
             put(f"a{i}_image{j}_z", im.get_array(), f"image over x: {xlab}; y: {ylab}", im.get_label())
+            wellposed(im, f"a{i}_image{j}", [f"a{i}_image{j}_z"])
     ds = xr.Dataset(data)
     ds.attrs.update(attrs or {})
     return ds
 
 
-def compare(new: xr.Dataset, ref: xr.Dataset, *, rtol: float, atol: float, exclude=(), optional=(),
-            ill=()) -> pd.DataFrame:
-    """One row per reference variable: ``variable``, ``axes``, ``axis_label``, ``rule``,
+def compare(new: xr.Dataset, ref: xr.Dataset, *, rtol: float, atol: float, optional=()) -> pd.DataFrame:
+    """One row per reference variable: ``variable``, ``axes``, ``axis_label``, ``rule``, ``provenance``,
     ``max_difference``, ``status`` and ``detail``.
 
-    A variable is compared pointwise (``rule`` ``"strict"``): it passes when it is present with the
+    Each variable is compared by the rule its figure declared when drawing it (attribute ``wellposed``,
+    :func:`record_wellposed`; :mod:`vibroimpact.outputs.figcheck`), whatever one machine measured: a value that
+    rides on a chaotic run, a step-size decision or a timing is never compared pointwise.  A variable that
+    declares no rule is compared pointwise (``rule`` ``"strict"``): it passes when it is present with the
     reference's shape, NaN exactly where the reference is NaN, and ``|new - ref| <= atol + rtol |ref|``
-    elsewhere.  The variables named in ``ill`` (measured ill-conditioned,
-    :mod:`vibroimpact.outputs.conditioning`) are compared by the rule their figure recorded as well-posed
-    (:mod:`vibroimpact.outputs.figcheck`).  Variables whose axis label contains one of ``exclude``
-    (case-insensitive), or whose legend label or axes title contains one of ``optional`` (methods that
-    need a system package, present on some machines only), are ``excluded``, in the reference or only
-    in the new data (e.g. timings, which are not results).  Variables only in ``new`` are reported as
-    ``new`` (a figure that gained an artist fails until the reference is updated).
+    elsewhere.  A timing (rule ``timing``) is ``excluded``.  Variables whose legend label or axes title
+    contains one of ``optional`` (methods that need a system package, present on some machines only) are
+    ``excluded``, in the reference or only in the new data.  Variables only in ``new`` are reported as
+    ``new`` (a figure that gained an artist fails until the reference is updated); a variable whose declared
+    rule differs from the reference's fails.
     """
 
     rows = []
-    pats = [p.lower() for p in exclude]
     opts = [p.lower() for p in optional]
-    ill = set(ill)
     cache = {}
 
     def is_optional(var):
@@ -158,19 +176,26 @@ def compare(new: xr.Dataset, ref: xr.Dataset, *, rtol: float, atol: float, exclu
         r = ref[name]
         if aux(r):
             continue
+        rule = r.attrs.get("wellposed", "strict")
         row = {"variable": name, "axes": r.attrs.get("axes_title", ""), "axis_label": r.attrs.get("axis_label", ""),
-               "rule": "strict", "max_difference": np.nan, "detail": ""}
-        if any(p in row["axis_label"].lower() for p in pats) or is_optional(r):
-            rows.append(row | {"rule": "excluded", "status": "excluded"})
+               "rule": rule, "provenance": r.attrs.get("provenance", "exact"), "max_difference": np.nan, "detail": ""}
+        if is_optional(r):
+            rows.append(row | {"rule": "excluded", "status": "excluded", "detail": "an optional peer"})
             continue
         if name not in new:
-            rows.append(row | {"status": "fail: missing"})
+            if r.attrs.get("wp_sensitive"):  # a glyph of a cell whose outcome the last bit decides
+                rows.append(row | {"status": "pass", "detail": "a sensitive cell's mark, absent here"})
+            else:
+                rows.append(row | {"status": "fail: missing"})
             continue
-        rule = r.attrs.get("wellposed", "strict") if name in ill else "strict"
+        if new[name].attrs.get("wellposed", "strict") != rule:
+            rows.append(row | {"status": f"fail: declares rule {new[name].attrs.get('wellposed', 'strict')!r}, "
+                                         f"the reference {rule!r}"})
+            continue
         if rule != "strict":
             ok, diff, detail = fc.judge(rule, new, ref, name, rtol=rtol, atol=atol, cache=cache)
-            rows.append(row | {"rule": rule, "max_difference": diff, "detail": detail,
-                               "status": "pass" if ok else "fail"})
+            status = "excluded" if rule == "timing" else "pass" if ok else "fail"
+            rows.append(row | {"max_difference": diff, "detail": detail, "status": status})
             continue
         a, b = np.asarray(new[name].values, float), np.asarray(r.values, float)
         if a.shape != b.shape:
@@ -189,9 +214,13 @@ def compare(new: xr.Dataset, ref: xr.Dataset, *, rtol: float, atol: float, exclu
         if aux(new[name]):
             continue
         rows.append({"variable": name, "axes": new[name].attrs.get("axes_title", ""),
-                     "axis_label": new[name].attrs.get("axis_label", ""), "rule": "strict", "max_difference": np.nan,
-                     "detail": "", "status": "excluded" if is_optional(new[name]) else "fail: new (not in the reference)"})
-    return pd.DataFrame(rows, columns=["variable", "axes", "axis_label", "rule", "max_difference", "status", "detail"])
+                     "axis_label": new[name].attrs.get("axis_label", ""),
+                     "rule": new[name].attrs.get("wellposed", "strict"),
+                     "provenance": new[name].attrs.get("provenance", "exact"), "max_difference": np.nan,
+                     "detail": "", "status": "excluded" if is_optional(new[name]) else
+                     "pass" if new[name].attrs.get("wp_sensitive") else "fail: new (not in the reference)"})
+    return pd.DataFrame(rows, columns=["variable", "axes", "axis_label", "rule", "provenance", "max_difference",
+                                       "status", "detail"])
 
 
 #: side of the perceptual hash (bits: its square)

@@ -89,6 +89,11 @@ def orbit_dataset(
     return annotate(ds)
 
 
+#: the located grazing d is refined to this (the continuation's ``xtol``): the margin to grazing there is zero to
+#: this times its slope in d, and below that rounding, which differs between machines
+GRAZING_XTOL = 1e-13
+
+
 def add_located_grazing(ds: xr.Dataset, params: Params, *, window: float = 0.01, step: float = 2e-4,
                         samples_per_unit: int = 400) -> xr.Dataset:
     """For a caption that shows "grazing behaviour": the same orbit at its located grazing point.
@@ -105,7 +110,8 @@ def add_located_grazing(ds: xr.Dataset, params: Params, *, window: float = 0.01,
     k, word = int(ds.attrs["period"]), ds.attrs["orbit_word"]
     try:
         o = find_orbit(params, word, ds.attrs["phase_orbit"], ds.attrs["v_orbit"], k=k)
-        br = continue_orbit(o, vary="d", d_range=(params.d - window, params.d + window), step=step)
+        br = continue_orbit(o, vary="d", d_range=(params.d - window, params.d + window), step=step,
+                            xtol=GRAZING_XTOL)
     except OrbitError as err:
         ds.attrs["grazing_status"] = f"continuation failed: {err}"
         return ds
@@ -135,7 +141,7 @@ def add_located_grazing(ds: xr.Dataset, params: Params, *, window: float = 0.01,
                           {"long_name": "Zdot of the orbit at the located grazing d", "units": "1"})
     ds = ds.assign_coords(grazing_time=("grazing_time", times, {"long_name": "time from its first bottom impact",
                                                                 "units": "1"}))
-    ds.attrs.update(grazing_status="located", grazing_d=dg, grazing_clearance=float(og.clearance),
+    ds.attrs.update(grazing_status="located", grazing_d=dg, grazing_clearance=float(og.clearance), grazing_xtol=GRAZING_XTOL,
                     grazing_phi=float(og.phase[0]), grazing_v0=float(og.v_minus[0]))
     return ds
 

@@ -1,29 +1,184 @@
 """The workflow's configuration, checked as a whole and typed.
 
-``config/schema.yaml`` checks each value on its own (types, ranges, enums); :func:`check` checks what a
-schema cannot express, across keys (a scene's caption must exist, a range must increase, a sweep of F
-needs its fixed s, a map's axes differ, ...), before any job runs, and returns a :class:`WorkflowConfig`
-that the rule files read instead of raw keys.  Every refusal names the key, the value and what is allowed.
+``config/schema.yaml`` checks each value on its own (types, ranges, enums, and no key it does not name);
+:func:`validate_schema` applies it and turns its first error into one line (:func:`schema_error`).
+:func:`check` checks what a schema cannot express, across keys (a scene's caption must exist, a range must
+increase, a sweep of F needs its fixed s, a map's axes differ, ...), before any job runs, and returns a
+:class:`WorkflowConfig` that the rule files read instead of raw keys.  Every refusal is one line naming the
+key, the value and what is allowed, and for a misspelt key or choice the closest valid one.
 """
 
 from __future__ import annotations
 
+import difflib
 import math
+import reprlib
 from dataclasses import dataclass, field
+
+from jsonschema import Draft202012Validator
+from jsonschema.exceptions import best_match, by_relevance
 
 from ..analysis.design import DESIGN_AXES, DISTRIBUTIONS, MIN_STARTS, RELATIVE, start_states
 from ..dynamics.device import Device
 from .checks import item_names
 
-__all__ = ["ConfigError", "WorkflowConfig", "check", "check_design", "figure_names"]
+__all__ = ["ConfigError", "WorkflowConfig", "check", "check_design", "figure_names", "schema_error",
+           "validate_schema"]
+
+#: how a value is shown in a refusal: on one line, a long value cut short (``...``) at about 120 characters
+_SHORT = reprlib.Repr()
+_SHORT.maxlevel, _SHORT.maxdict, _SHORT.maxlist, _SHORT.maxstring, _SHORT.maxother = 2, 4, 8, 80, 80
+
+
+def _shown(value) -> str:
+    text = _SHORT.repr(value)
+    return text if len(text) <= 120 else text[:117] + "..."
 
 
 class ConfigError(ValueError):
-    """A config value that is not allowed: its key, the value and what is allowed."""
+    """A config value that is not allowed: its key, the value and what is allowed, on one line.
 
-    def __init__(self, key: str, value, allowed: str):
-        self.key, self.value, self.allowed = key, value, allowed
-        super().__init__(f"config: {key} = {value!r} is not allowed; allowed: {allowed}")
+    ``suggestion``, where given, is the closest valid key or choice (a misspelling's correction).
+    """
+
+    def __init__(self, key: str, value, allowed: str, suggestion: str | None = None):
+        self.key, self.value, self.allowed, self.suggestion = key, value, allowed, suggestion
+        hint = f"; did you mean {suggestion}?" if suggestion else ""
+        text = f"config: {key} = {_shown(value)} is not allowed; allowed: {allowed}{hint}"
+        super().__init__(" ".join(text.split()))
+
+
+#: a schema type in words
+_TYPES = {"number": "a number", "integer": "an integer", "string": "a string", "boolean": "true or false",
+          "object": "a mapping", "array": "a list", "null": "nothing"}
+_BOUNDS = (("minimum", ">="), ("exclusiveMinimum", ">"), ("maximum", "<="), ("exclusiveMaximum", "<"))
+
+
+def _resolve(node: dict, schema: dict) -> dict:
+    """A schema node with its local ``$ref`` (``#/definitions/...``) followed."""
+    while isinstance(node, dict) and "$ref" in node:
+        target = schema
+        for part in node["$ref"].lstrip("#/").split("/"):
+            target = target[part]
+        node = target
+    return node
+
+
+def _describe(node, schema: dict, depth: int = 0) -> str:
+    """What a schema node allows, in words, on one line (nested nodes one level deep)."""
+    node = _resolve(node, schema)
+    if node is True or node == {}:
+        return "any value"
+    if "enum" in node:
+        text = ("one of " if len(node["enum"]) > 1 else "") + ", ".join(repr(x) for x in node["enum"])
+    elif "const" in node:
+        text = repr(node["const"])
+    elif "oneOf" in node or "anyOf" in node:
+        text = " or ".join(_describe(n, schema, depth) for n in node.get("oneOf", node.get("anyOf")))
+    else:
+        kinds = node.get("type", [])
+        text = " or ".join(_TYPES[k] for k in ([kinds] if isinstance(kinds, str) else kinds)) or "a value"
+        bounds = [f"{op} {node[k]!r}" for k, op in _BOUNDS if k in node]
+        text += (" " + " and ".join(bounds)) if bounds else ""
+        if "pattern" in node:
+            text += f" matching {node['pattern']}"
+        if "minLength" in node:
+            text += f" of at least {_count(node['minLength'], 'character')}"
+        lo, hi = node.get("minItems"), node.get("maxItems")
+        if lo is not None and lo == hi:
+            text += f" of {_count(lo, 'item')}"
+        elif lo is not None or hi is not None:
+            text += " of " + " and ".join(w for w in (lo and f"at least {lo}", hi and f"at most {hi}") if w)
+            text += " items" if (hi or lo) > 1 else " item"
+        if "items" in node and depth < 2:
+            text += ", each " + _describe(node["items"], schema, depth + 1)
+        if "contains" in node:
+            text += ", including " + _describe(node["contains"], schema, depth + 1)
+        if node.get("uniqueItems"):
+            text += ", without repeats"
+        if "properties" in node and depth < 1:
+            text += " of the keys " + ", ".join(node["properties"])
+    if "description" in node and depth < 1:
+        text += f" ({node['description']})"
+    return text
+
+
+def _count(n: int, noun: str) -> str:
+    return f"{n} {noun}" + ("" if n == 1 else "s")
+
+
+def _closest(word, choices) -> str | None:
+    """The valid key or choice closest to a misspelt ``word`` (difflib's ratio >= 0.6), if any."""
+    names = [str(c) for c in choices]
+    found = difflib.get_close_matches(str(word), names, n=1) if isinstance(word, str) else []
+    return found[0] if found else None
+
+
+def _path(parts) -> str:
+    """A key's path as the refusals write it: ``studies[0].r``, ``physics.omega``."""
+    out = ""
+    for p in parts:
+        out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
+    return out or "(the config)"
+
+
+def schema_error(error, schema: dict) -> ConfigError:
+    """One line for a schema error: the key (its path), the value, what is allowed, the closest valid key.
+
+    Parameters
+    ----------
+    error : jsonschema.exceptions.ValidationError
+        An error of ``config/schema.yaml`` on a config.
+    schema : dict
+        The schema (for its ``$ref`` definitions).
+
+    Returns
+    -------
+    ConfigError
+        The refusal: e.g. ``config: physiks = {...} is not allowed; allowed: one of the keys device, quality,
+        physics, ...; did you mean physics?`` for a misspelt top-level key, not the schema's dump.
+    """
+    path, node, kind = list(error.absolute_path), error.schema, error.validator
+    if kind == "additionalProperties" and isinstance(error.instance, dict):
+        known = list(node.get("properties", {}))
+        extra = [k for k in error.instance if k not in known]
+        key = extra[0]
+        allowed = "one of the keys " + ", ".join(known) if known else "no key"
+        if len(extra) > 1:
+            allowed += f" (not allowed either: {', '.join(map(str, extra[1:]))})"
+        return ConfigError(_path([*path, key]), error.instance[key], allowed, _closest(key, known))
+    if kind == "required":
+        missing = next(k for k in error.validator_value if k not in error.instance)
+        wanted = _describe(node.get("properties", {}).get(missing, {}), schema)
+        return ConfigError(_path([*path, missing]), None, f"a value, which is required: {wanted}")
+    if "propertyNames" in list(error.absolute_schema_path)[-2:]:  # a name of a mapping, not a value
+        return ConfigError(_path(path) + " name", error.instance, _describe(node, schema).replace("a value", "a name"))
+    parent = _resolve(error.parent.schema, schema) if error.parent is not None else None
+    whole = parent if kind in ("oneOf", "anyOf") and parent is not None else node
+    choices = node.get("enum", [])
+    return ConfigError(_path(path), error.instance, _describe(whole, schema), _closest(error.instance, choices))
+
+
+def validate_schema(config: dict, schema: dict) -> None:
+    """Check a config against the schema (``config/schema.yaml``, JSON Schema 2020-12), refusing in one line.
+
+    Parameters
+    ----------
+    config : dict
+        The merged config (``config/config.yaml``, ``--configfile`` and ``--config``).
+    schema : dict
+        The schema, as loaded from YAML.
+
+    Raises
+    ------
+    ConfigError
+        The most relevant schema error (the shallowest key; at one key, an unknown key before a missing one,
+        which is often the same key misspelt), as :func:`schema_error` writes it.
+    """
+    relevance = by_relevance(strong={"additionalProperties"})
+    error = best_match(Draft202012Validator(schema).iter_errors(config), key=relevance)
+    if error is not None:
+        raise schema_error(error, schema)
 
 
 def _range(key, value, what="[low, high] with low < high"):
@@ -57,6 +212,9 @@ class WorkflowConfig:
         The figures the figure check compares (``figure_checks.figures``).
     all_figures : list of str
         Every figure the workflow draws whose arrays are checked.
+    d_range, force, study_s_range
+        ``branches.d_range``, ``branches.force`` and ``study_defaults.s_range``: where the branches are continued
+        at least (:meth:`branch_d_range`, :meth:`branch_force` widen them to what the figures draw).
     """
 
     device: Device
@@ -73,10 +231,67 @@ class WorkflowConfig:
     studies: list
     figures: list
     all_figures: list = field(default_factory=list)
+    d_range: list = field(default_factory=lambda: [0.11, 0.46])
+    force: dict = field(default_factory=dict)
+    study_s_range: list = field(default_factory=lambda: [0.19, 0.72])
 
     def device_spec(self) -> dict:
         """The device as a rule parameter (``Device.from_config(**spec)`` rebuilds it in a job)."""
         return dict(physics=self.device.physics(), membrane=vars(self.device.membrane).copy(), name=self.device.name)
+
+    def branch_d_range(self, beta: float, r: float) -> list[float]:
+        """The d range over which the branches of s at incline ``beta`` and restitution ``r`` are continued.
+
+        ``branches.d_range``, widened to every d a figure draws these branches over: the sweeps of s at the
+        device's force at this incline (Figures 2 and 9, the lambda_1 figure, Figure 8), the branch scenes' rows
+        at it (Figures 5 and 6) and a study's sweep at this (beta, r).  The sweeps' d follows from the device
+        (d = s M omega^2 / (F pi^2)): a lighter device driven faster reaches larger d over the same lengths, and
+        its branches are continued as far.  The paper's device's sweeps lie inside ``branches.d_range``, which
+        it keeps as it is.
+
+        Parameters
+        ----------
+        beta, r : float
+            The branches' incline (rad) and restitution, told apart from others to 4 decimals (as their paths).
+
+        Returns
+        -------
+        list of float
+            ``[d_min, d_max]``.
+        """
+        same = lambda a, b: f"{a:.4f}" == f"{b:.4f}"
+        lengths = []
+        if same(r, self.device.r):
+            lengths += [sc["range"] for sc in self.sweeps.values()
+                        if sc["vary"] == "s" and sc["F"] == self.device.F and same(sc["beta"], beta)]
+            lengths += [s for sc in self.branch_scenes.values() for b, s in zip(sc["betas"], sc["s_ranges"], strict=True)
+                        if same(b, beta)]
+        lengths += [st.get("s_range", self.study_s_range) for st in self.studies
+                    if same(st["beta"], beta) and same(st["r"], r)]
+        lo, hi = self.d_range
+        for s_lo, s_hi in lengths:
+            lo, hi = min(lo, float(self.device.d(s_lo))), max(hi, float(self.device.d(s_hi)))
+        return [lo, hi]
+
+    def branch_force(self, beta: float) -> dict:
+        """The continuation in F of the branches at incline ``beta``: ``branches.force``, its ``F_range`` widened
+        to every sweep of F at this incline and at its fixed length ``s`` (drawn with these branches).
+
+        Parameters
+        ----------
+        beta : float
+            The branches' incline (rad), told apart from others to 4 decimals.
+
+        Returns
+        -------
+        dict
+            ``{"s": s, "F_range": [F_min, F_max]}``.
+        """
+        lo, hi = self.force["F_range"]
+        for sc in self.sweeps.values():
+            if sc["vary"] == "F" and sc["s"] == self.force["s"] and f"{sc['beta']:.4f}" == f"{beta:.4f}":
+                lo, hi = min(lo, sc["range"][0]), max(hi, sc["range"][1])
+        return {**self.force, "F_range": [lo, hi]}
 
 
 def check(config: dict) -> WorkflowConfig:
@@ -111,7 +326,9 @@ def check(config: dict) -> WorkflowConfig:
         quality=config["quality"], resolution=config["resolution"][config["quality"]], captions=config["captions"],
         scenes=list(config["scenes"]), branch_scenes=config["branch_scenes"], words=config["branches"]["words"],
         sweeps={n: _at_force(sc, config["physics"]["F"]) for n, sc in config["sweeps"]["scenes"].items()}, maps=all_maps, studies=list(config.get("studies") or []),
-        figures=figures if chosen == "all" else list(chosen), all_figures=figures)
+        figures=figures if chosen == "all" else list(chosen), all_figures=figures,
+        d_range=list(config["branches"]["d_range"]), force=dict(config["branches"]["force"]),
+        study_s_range=list(config["study_defaults"]["s_range"]))
 
 
 def _at_force(scene: dict, F: float) -> dict:
@@ -245,9 +462,6 @@ def _studies(config):
                               f"{studies[j]!r} (both would write results/studies/{key}; beta and r are told apart to "
                               "4 decimals)")
         seen[key] = i
-        if not st["r"] > 0:
-            raise ConfigError(f"studies[{i}].r", st["r"], "r > 0 (with r = 0 the ball never rebounds: every impact "
-                              "ends at rest on the wall, so no impact orbit exists and no branch can start)")
         gbar = ph["M"] * ph["g"] * math.sin(st["beta"]) / ph["F"]
         if gbar >= 1:
             raise ConfigError(f"studies[{i}].beta", st["beta"], f"an incline with gbar = M g sin(beta) / F < 1 (here "

@@ -6,7 +6,9 @@ points as open markers, the bottom wall blue and the top wall green as in the pa
 
 from __future__ import annotations
 
+import io
 import logging
+import subprocess
 import zlib
 from pathlib import Path
 
@@ -38,7 +40,8 @@ FORMATS = ("png", "pdf", "svg")
 
 
 def save(fig, stem, *, data=None, attrs=None, formats=("png", "pdf")) -> list[Path]:
-    """Save ``stem.png`` and ``stem.<f>`` for the other ``formats`` and, with ``data``, the arrays the
+    """Save ``stem.png`` (the committed file kept where the image is the same, :func:`keep_committed_png`) and
+    ``stem.<f>`` for the other ``formats`` and, with ``data``, the arrays the
     figure draws (netCDF, :func:`vibroimpact.outputs.figdata.figure_data`, with ``attrs`` such as the config)
     and its layout verdict (attribute ``layout_problems``, :mod:`vibroimpact.outputs.layout`: recorded and
     logged, never fatal, so the figure is always written; the tests fail on it); returns the paths."""
@@ -51,6 +54,7 @@ def save(fig, stem, *, data=None, attrs=None, formats=("png", "pdf")) -> list[Pa
     paths = [stem.with_suffix(".png")] + [stem.with_suffix(f".{f}") for f in formats if f != "png"]
     for p in paths:
         fig.savefig(p)
+    keep_committed_png(paths[0])
     if data is not None:
         ds = figure_data(fig, attrs)
         ds.attrs["png_phash"] = image_hash(paths[0])  # the image layer of the regeneration check
@@ -64,6 +68,47 @@ def save(fig, stem, *, data=None, attrs=None, formats=("png", "pdf")) -> list[Pa
     return paths
 
 
+#: grey levels (of 255) by which a pixel may differ and the image still be the same: data moved at rounding
+#: level shift an antialiased edge by a fraction of a pixel, which changes its pixels by a level or two
+#: (measured: 4 pixels of Figure 5 by one level under another OpenBLAS kernel set)
+SAME_IMAGE_LEVELS = 2
+
+
+def same_image(a: bytes | Path, b: bytes | Path) -> bool:
+    """Whether two PNGs (bytes or files) show the same image: the same size, and no pixel of one differs from
+    the other's by more than :data:`SAME_IMAGE_LEVELS` grey levels in any channel."""
+    from PIL import Image
+
+    def pixels(x):
+        with Image.open(io.BytesIO(x) if isinstance(x, bytes) else x) as im:
+            return np.asarray(im.convert("RGBA"), dtype=np.int16)
+
+    pa, pb = pixels(a), pixels(b)
+    return pa.shape == pb.shape and int(np.abs(pa - pb).max(initial=0)) <= SAME_IMAGE_LEVELS
+
+
+def committed(path: Path) -> bytes | None:
+    """The content git holds at ``HEAD`` for ``path`` (None outside a git work tree, or for a file git does not
+    track)."""
+    path = Path(path)
+    try:
+        res = subprocess.run(["git", "-C", str(path.parent), "show", f"HEAD:./{path.name}"], capture_output=True,
+                             timeout=60)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return res.stdout if res.returncode == 0 else None
+
+
+def keep_committed_png(png: Path) -> bool:
+    """Put back the committed bytes of ``png`` where the figure just drawn shows the same image
+    (:func:`same_image`): a run that changes no figure leaves a clean clone clean.  Returns whether it did."""
+    old = committed(png)
+    if old is None or not same_image(old, Path(png)):
+        return False
+    Path(png).write_bytes(old)
+    return True
+
+
 def save_outputs(fig, output, *, data=None, attrs=None) -> list[Path]:
     """:func:`save` into a Snakemake rule's named outputs: ``png`` and whichever of the other
     :data:`FORMATS` the rule declares (the quality preset's ``figure_formats``)."""
@@ -71,10 +116,12 @@ def save_outputs(fig, output, *, data=None, attrs=None) -> list[Path]:
     return save(fig, str(output.png).removesuffix(".png"), data=data, attrs=attrs, formats=formats)
 
 
-def wellposed(artist, rule: str, **fields):
-    """Record for a drawn ``artist`` what is well-posed about its data, for the figure regeneration check
-    (:mod:`vibroimpact.outputs.figcheck`, which applies it where the data's measured conditioning calls for it);
-    :func:`vibroimpact.outputs.figdata.figure_data` saves it beside the artist's arrays.  ``rule``:
+def wellposed(artist, rule: str, *, provenance: str | None = None, timed=(), **fields):
+    """Record for a drawn ``artist`` what produced its data and what is well-posed about it, for the figure
+    regeneration check (:mod:`vibroimpact.outputs.figcheck`, which compares the artist's arrays by ``rule``,
+    whatever one machine measures); :func:`vibroimpact.outputs.figdata.figure_data` saves it beside the
+    artist's arrays.  ``provenance``: what produced the data (:data:`vibroimpact.outputs.figcheck.PROVENANCE`;
+    by default the rule's); ``timed``: the artist's parts that are timings (not compared).  ``rule``:
 
     * ``"motions"``: values at simulated attractors; per element ``motion`` (its label), ``settled``
       (the value is exact: a Newton-solved or sticking cycle), ``unsettled`` (no period found but the motion
@@ -87,9 +134,14 @@ def wellposed(artist, rule: str, **fields):
     * ``"curve"``: a curve sampled by continuation (its points lie on the curve; where they lie along it
       depends on the step control);
     * ``"on curve"``: points located on sampled curves (events, crossings), known to within a segment;
-    * ``"boundary"``: points between grid cells whose motions differ.
+    * ``"boundary"``: points between grid cells whose motions differ;
+    * ``"magnitude"``: errors against a reference, as orders of magnitude; ``floor``: the rounding level
+      below which an error is a count of ulps;
+    * ``"outcome"``: categorical outcomes (codes of an image, or a cell's mark); ``sensitive``: the cells whose
+      outcome a start one ulp away changed;
+    * ``"timing"``: a wall-clock time, not compared.
     """
-    return record_wellposed(artist, rule, **fields)
+    return record_wellposed(artist, rule, provenance=provenance, timed=timed, **fields)
 
 
 def pi_label(x, unit=""):

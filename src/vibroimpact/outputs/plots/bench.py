@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ast
+import math
 import re
 
 import matplotlib.pyplot as plt
@@ -11,9 +12,10 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 from matplotlib.ticker import NullFormatter
 
+from ...analysis.motions import no_period
 from ...benchmarks.workprecision import OUTCOMES
 from ..layout import AROUND, place_labels
-from ._common import use_style
+from ._common import use_style, wellposed
 
 FAMILY_STYLE = {
     "exact": ("k", "*", "exact (numba)"),
@@ -63,17 +65,34 @@ def _setting_label(family, setting):
     return f"{setting:.0e}".replace("e-0", "e-")
 
 
+#: an impact-time error within this many ulps of the window's last impact time is rounding: a count of ulps
+#: another machine's libm or BLAS may change (the exact closed form's own error is 1 to 4 ulps, its plain-Python
+#: run's alike); what the figure check compares it by (:func:`vibroimpact.outputs.figcheck.magnitude`)
+ROUNDING_ULPS = 64
+
+
+def _scene_provenance(wp, scene):
+    """What produced a scene's errors: a chaotic run where its start settles on no period, else the methods'
+    own errors (:data:`vibroimpact.outputs.figcheck.PROVENANCE`)."""
+    motion = str(wp.scene_motion.sel(scene=scene).values) if "scene_motion" in wp else ""
+    return "chaotic run" if no_period(motion) else "method error"
+
+
 def fig_work_precision(wp):
     """Error in impact times against cost per impact, log-log, one line per method (tolerance or
     step ladder, its first and last setting printed at its ends); a cross at the top where the
-    method put impacts on the wrong walls."""
+    method put impacts on the wrong walls.  Each line's errors are recorded for the figure check as
+    magnitudes above the scene's rounding level, its costs as timings."""
     use_style()
     names = []  # the ladders' end labels, placed once the layout is fixed
+    rules = []  # each end label's rule, recorded once it is placed
     scenes = list(wp.scene.values)
     fig, axes = plt.subplots(1, len(scenes), figsize=(3.6 * len(scenes), 3.9), squeeze=False, sharey=True)
     top = 1.0
     for ax, sc in zip(axes[0], scenes, strict=True):
         sub = wp.sel(scene=sc)
+        rule = dict(provenance=_scene_provenance(wp, sc),
+                    floor=ROUNDING_ULPS * math.ulp(float(sub.t_window)) if "t_window" in sub else 0.0)
         # first, so that the methods' lines follow in FAMILY_STYLE's order, optional peers last
         ax.axhline(top, color="0.7", lw=0.6, ls=":")
         for fam, (color, marker, label) in FAMILY_STYLE.items():
@@ -85,20 +104,27 @@ def fig_work_precision(wp):
             if np.isfinite(settings).any():
                 label += f" ({_setting_name(fam)} {settings[0]:.3g} … {settings[-1]:.3g})"
             finite = np.isfinite(y)
-            ax.loglog(x[finite], np.maximum(y[finite], 1e-17), marker=marker, color=color, lw=1, ms=5, label=label)
+            line = ax.loglog(x[finite], np.maximum(y[finite], 1e-17), marker=marker, color=color, lw=1, ms=5,
+                             label=label)[0]
+            wellposed(line, "magnitude", timed=("x",), **rule)
             if (~finite).any():
-                ax.plot(x[~finite], np.full((~finite).sum(), top), "x", color=color, ms=7, label=f"_{label}: wrong walls")
+                cross = ax.plot(x[~finite], np.full((~finite).sum(), top), "x", color=color, ms=7,
+                                label=f"_{label}: wrong walls")[0]
+                wellposed(cross, "magnitude", timed=("x",), **rule)
             # the ladder's ends, so its direction and range can be read off each panel
             ends = [k for k in (0, len(x) - 1) if np.isfinite(settings[k]) and finite[k]]
             for k in ends[: 2 if len(x) > 1 else 1]:
                 names.append((ax, _setting_label(fam, settings[k]),
                               [((x[k], max(y[k], 1e-17)), off) for off in AROUND], dict(fontsize=5, color=color)))
+                rules.append(rule)
         ax.set_title(f"{sc} motion")
         ax.set_xlabel("cost per impact (µs)")
-    axes[0, 0].set_ylabel("largest impact-time error vs 40-digit reference\n(first 20 impacts; x: wrong walls)")
+    axes[0, 0].set_ylabel(f"largest impact-time error vs 40-digit reference\n(first {int(wp.attrs.get('n_err', 20))} impacts; "
+                          "x: wrong walls)")
     fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="outside lower center", ncol=4, fontsize=6,
                title=_peers_note(wp), title_fontsize=6)
-    place_labels(fig, names)
+    for text, rule in zip(place_labels(fig, names), rules, strict=True):  # at (cost, error): the error's rule
+        wellposed(text, "magnitude", **rule)
     return fig
 
 
@@ -119,12 +145,18 @@ def fig_failure_map(fm):
     for ax, (rows, title) in zip(axes[:, 0], parts, strict=True):
         sub = fm.isel(solver=np.flatnonzero(rows))
         codes = np.vectorize(OUTCOMES.index)(sub.outcome.values)
-        ax.imshow(codes, cmap=ListedColormap(colors), vmin=-0.5, vmax=len(OUTCOMES) - 0.5, aspect="auto")
+        # a chaotic run's outcome is decided by when it parts from the reference: where a start one ulp away
+        # changes it, another machine's last bit may too (the figure check allows those cells to differ)
+        sensitive = sub.sensitive.values.astype(bool) if "sensitive" in sub else np.zeros(codes.shape, bool)
+        im = ax.imshow(codes, cmap=ListedColormap(colors), vmin=-0.5, vmax=len(OUTCOMES) - 0.5, aspect="auto")
+        wellposed(im, "outcome", provenance="chaotic run", sensitive=sensitive.ravel())
         ax.grid(False)
         for (i, j), code in np.ndenumerate(codes):
+            # a text in every cell (empty where the outcome has no glyph), so that a cell's glyph keeps its name
             glyph = OUTCOME_STYLE[OUTCOMES[code]][1]
-            if glyph:
-                ax.text(j, i, glyph, ha="center", va="center", fontsize=6, color="white" if glyph == "X" else "black")
+            text = ax.text(j, i, glyph, ha="center", va="center", fontsize=6,
+                           color="white" if glyph == "X" else "black")
+            wellposed(text, "outcome", provenance="chaotic run", sensitive=bool(sensitive[i, j]))
         ax.set_yticks(range(sub.sizes["solver"]), sub.solver.values, fontsize=7)
         if title:
             ax.set_title(title, fontsize=7, loc="left")
@@ -166,7 +198,8 @@ def fig_analytics_accuracy(a):
     x = a.branch_seconds.values
     names += _grid_and_located(ax, x, a.branch_grid_err.values, x[:-1], a.branch_located_err.values[:-1].clip(1e-17),
                                (("B", "tab:blue"), ("fold", "tab:orange")), "o", [f"h={h:g}" for h in a.step.values],
-                               {k: f" (reference d = {v:.10f})" for k, v in ref.items()})
+                               {k: f" (reference d = {v:.10f})" for k, v in ref.items()},
+                               float(a.attrs.get("branch_xtol", 0.0)))
     ax.set_xlabel("continuation time (s)")
     ax.set_ylabel(f"|d − d(located at finest step h={a.step.values[-1]:g})|\n(zero drawn at 1e-17)")
     ax.set_title(r"(a) 2:1 branch, $\beta=\pi/3$: B and fold by arclength step h")
@@ -175,7 +208,8 @@ def fig_analytics_accuracy(a):
     x = a.sweep_seconds.values.sum(axis=1)
     names += _grid_and_located(ax, x, a.sweep_grid_err.values, x, a.sweep_located_err.values,
                                (("G1", "k"), ("G2", "tab:red")), "s", [f"{n} pts" for n in a.points.values],
-                               {k: f" (analytic d = {a.attrs[k]:.10f})" for k in ("G1", "G2") if a.attrs.get(k) is not None})
+                               {k: f" (analytic d = {a.attrs[k]:.10f})" for k in ("G1", "G2") if a.attrs.get(k) is not None},
+                               float(a.attrs.get("sweep_xtol", 0.0)))
     ax.set_xlabel("sweep + location time (s)")
     ax.set_ylabel("|d − d(analytic branch)|")
     ax.set_title(r"(b) grazing G1 and fold G2 from sweeps, $\beta=\pi/6$, by sweep points")
@@ -183,16 +217,22 @@ def fig_analytics_accuracy(a):
 
     for ax in axes:  # decades only: the minor labels of a short log axis overlap
         ax.xaxis.set_minor_formatter(NullFormatter())
-    place_labels(fig, names)
+    for text, (ax, *_rest) in zip(place_labels(fig, names), names, strict=True):  # at (time, grid error)
+        wellposed(text, "magnitude", provenance="method error",
+                  floor=float(a.attrs.get("branch_xtol" if ax is axes[0] else "sweep_xtol", 0.0)))
     return fig
 
 
-def _grid_and_located(ax, x, grid, x_located, located, kinds, marker, point_names, reference):
+def _grid_and_located(ax, x, grid, x_located, located, kinds, marker, point_names, reference, floor):
     """One panel of the analytics' accuracy: per kind (its colour), the error of the grid alone (dashed) and of
-    the located point (solid) against the time; the names of the first kind's grid points, to place."""
+    the located point (solid) against the time; the names of the first kind's grid points, to place.  The
+    errors are recorded for the figure check as magnitudes above ``floor`` (the location's tolerance: an error
+    below it is the location's noise), the times as timings."""
     for k, (kind, color) in enumerate(kinds):
-        ax.loglog(x, grid[:, k], f"{marker}--", color=color, mfc="none", label=f"{kind}: grid only")
-        ax.loglog(x_located, located[:, k], f"{marker}-", color=color,
-                  label=f"{kind}: located" + reference.get(kind, ""))
+        wellposed(ax.loglog(x, grid[:, k], f"{marker}--", color=color, mfc="none", label=f"{kind}: grid only")[0],
+                  "magnitude", provenance="method error", timed=("x",), floor=floor)
+        wellposed(ax.loglog(x_located, located[:, k], f"{marker}-", color=color,
+                            label=f"{kind}: located" + reference.get(kind, ""))[0],
+                  "magnitude", provenance="method error", timed=("x",), floor=floor)
     return [(ax, name, [((xi, y), off) for off in AROUND], dict(fontsize=6))
             for xi, name, y in zip(x, point_names, grid[:, 0], strict=True)]

@@ -63,7 +63,8 @@ def _cells(ax, xs, ys, v, norm, rows, field, info):
             mesh = ax.pcolormesh(xe, [y - step / 4, y + step / 4], v[sel], shading="flat", norm=norm, cmap="viridis",
                                  label=f"{field} at {rows} = {y:.6g}", zorder=1.5)
         if info is not None:
-            wellposed(mesh, "motions", **{k: a[sel].ravel() for k, a in info.items()})
+            # each cell: the attractors a random sample of starts reached, and statistics over them
+            wellposed(mesh, "motions", provenance="random starts", **{k: a[sel].ravel() for k, a in info.items()})
     return mesh
 
 

@@ -6,6 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ...dynamics import kernels as K
+from ..portraits import GRAZING_XTOL
 from ._common import BALL, BOTTOM, TOP, pi_label, use_style
 
 #: an orbit whose margin to grazing is below this fraction of d is titled "near grazing"
@@ -25,7 +26,8 @@ def _title(ds, panel):
         near = "near grazing, " if margin < NEAR_GRAZING * a["d"] else ""
         head += f", {near}margin {margin:.1e}"
     if a.get("grazing_status") == "located":
-        head += f"\ngrazes at d={a['grazing_d']:.5f} (located: margin {abs(a['grazing_clearance']):.0e})"
+        # the margin there is zero to the location's tolerance (its printed digits would be rounding's)
+        head += f"\ngrazes at d={a['grazing_d']:.5f} (located to {a.get('grazing_xtol', GRAZING_XTOL):.0e} in d)"
     elif "grazing_status" in a:
         head += f"\ngrazing not located: {a['grazing_status']}"
     line2 = r"$\dot Z(t_0)$" f"={a['v0']:.4g}, " r"$\varphi$" f"={a['phi']:.4g}"

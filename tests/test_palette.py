@@ -1,11 +1,13 @@
 """One motion, one colour: the palette of every map, basin plot and sweep figure, read back from the figures."""
 
 import json
+import re
 
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 import xarray as xr
+from conftest import ROOT
 from matplotlib.colors import to_hex
 
 from vibroimpact.analysis.motions import NO_PERIOD_LABELS
@@ -235,3 +237,39 @@ def test_a_motion_with_sticking_is_drawn_in_brown_by_its_flag_with_the_key_that_
     assert got["flag"][0] in [c.lower() for c in STICKING_COLORS] and got["none"][0] in [c.lower() for c in EXTRA_COLORS]
     first = STICKING_KEY.split("\n")[0]
     assert first in got["flag"][1] and first not in got["none"][1]
+
+
+def _flat(path):
+    return " ".join((ROOT / path).read_text().split())
+
+
+def test_captions_and_pages_name_the_colours_and_styles_things_are_drawn_in():
+    """Fig BiS's caption and the sweeps page name 2:1 and 3:1 by the colours the figure draws them in (the page
+    said black for a vermillion 2:1); the captions of Figures 2 and 9, the lambda_1 figure and the bifurcation sets,
+    and the energy page, name d_graz and the 1:1 exit by their colour and line style in every figure."""
+    from vibroimpact.outputs.plots._common import COLOR_NAMES, MARKS, STYLE_NAMES
+
+    name = {m: COLOR_NAMES[motion_color(m)] for m in ("2:1 period-2", "3:1 period-2")}
+    for path in ("workflow/report/figBiS.rst", "docs/guide/sweeps.md"):
+        assert f"2:1 {name['2:1 period-2']}, 3:1 {name['3:1 period-2']}" in _flat(path), path
+    d_graz = f"({COLOR_NAMES[MARKS['d_graz'][0]]}, {STYLE_NAMES[MARKS['d_graz'][1]]})"
+    exit_ = f"1:1 exit ({COLOR_NAMES[MARKS['1:1 exit: grazing'][0]]})"
+    assert MARKS["1:1 exit: grazing"][0] == MARKS["1:1 exit: jump"][0]
+    styles = [rf'"{re.escape(k)}" \(?{STYLE_NAMES[MARKS[k][1]]}\b' for k in ("1:1 exit: grazing", "1:1 exit: jump")]
+    for path in ("workflow/report/energy.rst", "workflow/report/lyapunov.rst", "docs/guide/energy.md"):
+        text = _flat(path)
+        assert f"d_graz {d_graz}" in text and exit_ in text, path
+        assert all(re.search(s, text) for s in styles), path
+    assert f"The 2:1 fold {d_graz} is the paper's d_graz" in _flat("workflow/report/bifurcation_set.rst")
+    assert "The 2:1 fold" in _flat("workflow/report/bifurcation_set.rst") and MARKS["d_graz"][1] == ":"
+
+
+def test_the_captions_say_how_few_points_go_unnamed():
+    """The names over the sweep panels leave gaps where fewer than MIN_POINTS points hold one motion; the captions
+    and the figures' own notes say how many."""
+    from vibroimpact.outputs.plots.energy import MIN_POINTS, RUNS_NOTE
+
+    words = {3: "three", 4: "four", 5: "five", 6: "six", 8: "eight", 10: "ten"}
+    for path in ("workflow/report/energy.rst", "workflow/report/lyapunov.rst"):
+        assert f"fewer than {words[MIN_POINTS]} points of one motion" in _flat(path), path
+    assert f"fewer than {MIN_POINTS} points of one motion" in RUNS_NOTE

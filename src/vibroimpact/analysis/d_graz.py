@@ -77,6 +77,14 @@ def down_entry(sw: xr.Dataset, label: str = TWO_TO_ONE) -> tuple[float, float]:
         The largest d of the down direction's points with that motion and the spacing to the sweep's next
         point above it: the motion is entered in ``(d, d + step]``.  NaN, NaN where no point has it; the step
         is NaN where it is found at the sweep's largest d.
+
+    Examples
+    --------
+    >>> import math, numpy as np, vibroimpact as vi
+    >>> sw = vi.sweep("s", np.linspace(0.326, 0.338, 7), beta=math.pi / 6, phi=0.42, v0=0.87, long_impacts=0)
+    >>> d, step = vi.down_entry(sw)         # beta = pi/6: the 2:1 below the chaos under the 1:1 exit
+    >>> round(d, 4), round(step, 5)
+    (0.2067, 0.00125)
     """
     dn = sw.sel(direction="down")
     d = dn.d.values
@@ -139,6 +147,16 @@ def sweep_d_graz(sw: xr.Dataset, transitions: xr.Dataset | None, branch: xr.Data
         ``band_chaotic``, ``band_motions`` (the down sweep's motions there, by count) and ``band_lyap1_max``;
         ``tolerance`` (the sweep step, to which the entry is known) and ``identity``: the 1:1 exit is a
         grazing within ``tolerance`` of both the entry and d_graz.
+
+    Examples
+    --------
+    >>> import math, numpy as np, vibroimpact as vi
+    >>> sw = vi.sweep("s", np.linspace(0.326, 0.338, 7), beta=math.pi / 6, phi=0.42, v0=0.87, long_impacts=0)
+    >>> p = vi.Params.from_physical(s=0.14 / 0.6225, beta=math.pi / 6)
+    >>> br = vi.continue_orbit(vi.find_orbit(p, "BBT", 5.855, 0.4185), vary="s", d_range=(0.13, 0.23), step=2e-3)
+    >>> r = vi.sweep_d_graz(sw, None, br)       # without the sweep's transitions: no 1:1 exit
+    >>> round(r["d_graz"], 4), round(r["entry_d"], 4), round(r["d_graz_minus_entry"], 4), r["identity"]
+    (0.2158, 0.2067, 0.0091, False)
     """
     fold, source = branch_d_graz(branch) if branch is not None else (math.nan, "no 2:1 branch")
     entry, step = down_entry(sw)

@@ -343,6 +343,10 @@ def _drawn(fig):
         for patch in ax.patches:
             if patch.get_visible() and patch.get_fill():
                 faces.append(to_rgba(patch.get_facecolor()))
+        for image in ax.images:  # a map's cells, in the colours its colormap gives their values
+            if image.get_visible() and image.get_array() is not None:
+                rgba = np.asarray(image.to_rgba(image.get_array(), bytes=False), float).reshape(-1, 4)
+                faces += [tuple(c) for c in np.unique(np.round(rgba, 6), axis=0)]
     return marks, lines, faces
 
 

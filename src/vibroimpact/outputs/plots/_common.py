@@ -197,6 +197,11 @@ MARKS = {
     "G1": ("k", "-.", "G1: the 2:1 orbit grazes, 3:1 born"),
 }
 
+#: the names the captions and pages give the colours and line styles things are drawn in (tested against the drawing)
+COLOR_NAMES = {MOTION_COLORS["2:1 period-2"]: "vermillion", MOTION_COLORS["3:1 period-2"]: "blue", EXIT_COLOR: "purple",
+               "k": "black", "tab:brown": "brown"}
+STYLE_NAMES = {"-": "solid", "--": "dashed", ":": "dotted", "-.": "dash-dotted"}
+
 #: colours of the other periodic motions, and of the other motions with sticking (browns), by :func:`motion_color`
 EXTRA_COLORS = ("#CC6677", "#BBCC33", "#EE8866", "#FFAABB", "#E7298A", "#99DDFF")
 STICKING_COLORS = ("#BF812D", "#6B3A07")

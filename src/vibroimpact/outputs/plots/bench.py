@@ -178,8 +178,10 @@ def fig_failure_map(fm):
             f"  followed to {a['time_rtol']:g} (relative)",
             f"chaotic run: every impact on its wall, within {a['chaos_atol']:g} in t",
             f"flights at d = {a['d']:g}, gbar = {a['gbar']:g}"])
+    # the outcomes the map shows (an outcome no method meets would be a key to nothing)
+    shown = set(np.asarray(fm.outcome.values).astype(str).ravel())
     ax.legend(handles=[Patch(color=c, label=f"{o} ({OUTCOME_STYLE[o][1]})" if OUTCOME_STYLE[o][1] else o)
-                       for c, o in zip(colors, OUTCOMES, strict=True)],
+                       for c, o in zip(colors, OUTCOMES, strict=True) if o in shown],
               loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, title="outcome")
     if rule:
         ax.annotate(rule, (1.01, 0.0), xycoords="axes fraction", fontsize=6, va="bottom", ha="left")

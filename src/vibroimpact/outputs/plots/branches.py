@@ -8,6 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.lines import Line2D
 
+from .. import layout
 from ..checks import transition_name
 from ..layout import AROUND, place_labels
 from ._common import BOTTOM, TOP, beta_label, branch_line, use_style, wellposed
@@ -103,7 +104,8 @@ def _branch_legend(fig, grazing=None):
     if grazing is not None:
         handles += [Line2D([], [], color="k", ls="-.", lw=0.8, label="G1: the 2:1 orbit grazes (2:1 to 3:1 as d decreases)"),
                     Line2D([], [], color="tab:red", ls="-.", lw=0.8, label="G2: the 3:1 branch folds (3:1 to 2:1 as d increases)")]
-    fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=7)
+    leg = fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=7)
+    layout.style_keys(leg, "stable", "unstable")  # solid and dashed, in the walls' colours
 
 
 def fig2(branches, sims, d_ranges, grazing=None):
@@ -240,6 +242,7 @@ def fig3(branches, d_ranges):
                Line2D([], [], color="tab:red", ls="-.", lw=0.8, label=r"$\Delta=0$, $\lambda=-1$: stability boundaries"),
                Line2D([], [], color="tab:red", marker="s", mfc="none", ls="", label=r"A: $\Delta=0$ (node $\leftrightarrow$ focus)"),
                Line2D([], [], color="tab:red", marker="o", mfc="none", ls="", label=r"B: $\lambda=-1$ (period doubling)")]
-    fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=7)
+    leg = fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=7)
+    layout.style_keys(leg, "stable", "unstable")  # solid and dashed, in the eigenvalues' colours
     place_labels(fig, names)
     return fig

@@ -145,6 +145,9 @@ def test_minus_infinity_is_a_triangle_at_the_foot_and_every_other_point_a_circle
     (["1:1 period-2"] * 12 + ["chaotic", "chaotic", "6:3 over 4 forcing periods", "chaotic", "chaotic",
                               "4:2 over 3 forcing periods", "chaotic"] + ["2:1 period-2"] * 12,
      [("1:1 T=2", 12), ("chaotic, periodic windows", 7), ("2:1 T=2", 12)]),
+    # a run of exactly min_points is named alone, not merged with the short runs beside it
+    (["1:1 period-2"] * 10 + ["unsettled"] * 5 + ["chaotic"] * 2 + ["2:1 period-2"] * 12,
+     [("1:1 T=2", 10), ("unsettled", 5), ("2:1 T=2", 12)]),
     # too short to name, even together: a gap
     (["1:1 period-2"] * 12 + ["chaotic", "3:1 period-2"] + ["2:1 period-2"] * 12, [("1:1 T=2", 12), ("2:1 T=2", 12)]),
 ])

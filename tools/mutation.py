@@ -68,7 +68,7 @@ SAMPLES = os.path.join(REPO, "tools", "mutation_samples")
 #: the layer of the package each module lives in
 LAYER = {**{m: "dynamics" for m in ("params", "flight", "events", "kernels", "runs", "reference", "device")},
          **{m: "analysis" for m in ("orbits", "grazing", "continuation", "bifurcation", "settled", "sweeps", "energy",
-                                    "design", "lyapunov", "family_exit", "motions", "windows", "transitions",
+                                    "design", "lyapunov", "family_exit", "d_graz", "motions", "windows", "transitions",
                                     "bistability", "grids", "basins", "regime_maps")},
          **{m: "benchmarks" for m in ("methods", "peer_heyoka", "peer_siconos", "workprecision", "bench")},
          **{m: "outputs" for m in ("tables", "checks", "paper", "portraits", "figdata", "figcheck", "conditioning")}}
@@ -128,6 +128,7 @@ TESTS = {
     "settled": ["tests/test_settled.py", "tests/test_energy.py"],
     "lyapunov": ["tests/test_lyapunov.py"],
     "family_exit": ["tests/test_family_exit.py"],
+    "d_graz": ["tests/test_d_graz.py"],
     "figcheck": ["tests/test_figcheck.py", "tests/test_provenance.py"],
     "figdata": ["tests/test_figdata.py", "tests/test_figcheck.py", "tests/test_provenance.py"],
     # its unit tests (the workflow-level test regenerates the whole figure set: minutes a mutant)

@@ -208,7 +208,8 @@ def d_graz_rows(readings: pd.DataFrame, bt_branches: list[xr.Dataset],
                      "the 1:1 branch's period doubling B of largest d (analytic)"))
     for _, r in readings.iterrows():
         scene = (scenes or {}).get(r.sweep, {"beta": r.beta, "vary": r.vary})
-        band = (f"band {r.band_width:.4f} wide: {r.band_points} points of the down sweep ({r.band_motions}), λ₁ per "
+        points = f"{r.band_points} point{'s' if r.band_points != 1 else ''}"
+        band = (f"band {r.band_width:.4f} wide: {points} of the down sweep ({r.band_motions}), λ₁ per "
                 f"impact up to {r.band_lyap1_max:.3f}" if r.band_points else f"no sweep point between (band {r.band_width:.4f})")
         rows.append(_row(identity_item(r.sweep, scene), "sections 2, 5", "the 1:1 motion grazes at d_graz; 2:1 below",
                          f"1:1 exit: {r.exit_kind} at {r.exit_d:.6f} (clearance {r.exit_clearance:.1e}); the down sweep "

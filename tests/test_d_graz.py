@@ -209,3 +209,17 @@ def test_the_1to1_exit_is_not_where_2to1_begins(name):
     assert not in_family(run.wall.values, run.kind.values, 1) and not in_family(run.wall.values, run.kind.values, 2)
     lam = vi.lyapunov(chaos, phi=case["chaos"][1], v0=case["chaos"][2], n_impacts=20000)
     assert lam.interval[0][0] > 0, (name, lam.interval)
+
+
+def test_a_sweep_s_exit_without_located_transitions_and_a_sweep_of_one_point():
+    """The transitions of a sweep that located no label change hold the 1:1 exit alone (no transition dimension):
+    the exit is read, the up sweep's end of 2:1 is NaN.  A sweep of one point has no step: the tolerance is NaN."""
+    d = np.round(np.arange(0.2050, 0.2351, 0.0015), 4)
+    down = np.where(d <= 0.2196, "2:1 period-2", "1:1 period-4").tolist()
+    sw = synthetic_sweep(down, ["2:1 period-2"] * d.size, d)
+    only_exit = _transitions(0.2200, "grazing").drop_dims("transition")
+    r = sweep_d_graz(sw, only_exit, _branch("BBT", d, d < 0.2201, [("fold", 0.2201, True)]))
+    assert r["exit_d"] == 0.2200 and math.isnan(r["up_end_d"]) and r["identity"] is True
+    one = synthetic_sweep(["2:1 period-2"], ["2:1 period-2"], [0.21])
+    r = sweep_d_graz(one, None, None)
+    assert r["entry_d"] == 0.21 and math.isnan(r["entry_step"]) and math.isnan(r["tolerance"])

@@ -193,3 +193,35 @@ def test_a_line_of_two_points_is_enough():
     p = [vi.Params.from_physical(s=s, beta=math.pi / 6) for s in (0.345, 0.33)]
     ex = family_exit([q.d for q in p], [q.gbar for q in p], 0.5, phi=0.42, v0=0.87, xtol=1e-5)
     assert ex["status"] == "located" and round(ex["d"], 3) == 0.211
+
+
+def test_the_default_xtol_brackets_the_exit_to_1e_7():
+    """Called without xtol (as the sweeps' defaults do), the exit is bracketed to 1e-7 and said so."""
+    d, g = _line(math.pi / 6, 0.212, 0.210, 3)
+    ex = family_exit(d, g, 0.5, 0.242, 0.676)
+    assert ex["status"] == "located" and 1e-9 < ex["d_width"] <= 1e-7
+
+
+def test_along_a_force_line_the_exit_is_where_the_attractor_followed_at_each_point_s_own_gbar_leaves():
+    """Along a line of the force at fixed s, gbar changes with d (both inversely proportional to F): between the line's
+    points the runs interpolate it.  The exit located from the sweep's coarse grid (step 1.2e-3 in d) is where the
+    attractor, followed down a grid 2e-6 fine around it with each point's own device (no interpolation), leaves the
+    1:1 family (beta = pi/6, Figure 9 (f)'s force sweep)."""
+    from vibroimpact.analysis.family_exit import _last_bottom
+
+    beta, start = math.pi / 6, (0.010141, 0.59229)  # the 1:1 period-4 motion at F = 13.075 N
+
+    def params(x):
+        return vi.Params.from_physical(s=0.85, F=K_F / x, beta=beta)
+
+    coarse = np.linspace(K_F / 13.075377, K_F / 13.477387, 6)
+    ex = family_exit([params(x).d for x in coarse], [params(x).gbar for x in coarse], 0.5, *start, xtol=1e-7)
+    assert ex["status"] == "located" and ex["kind"] == "grazing"
+    state, first_out = start, None
+    for x in np.concatenate([coarse[coarse > ex["d"] + 2e-5], np.arange(ex["d"] + 2e-5, ex["d"] - 2e-5, -2e-6)]):
+        run = vi.simulate(params(x), phi=state[0], v0=state[1], n_impacts=5000).isel(impact=slice(1000, None))
+        if not in_family(run.wall.values, run.kind.values, 1):
+            first_out = x
+            break
+        state = _last_bottom(run) or state
+    assert first_out is not None and abs(first_out - ex["d"]) <= 2e-6 + 1e-7, (ex["d"], first_out)

@@ -420,7 +420,7 @@ def test_every_verdict_on_the_paper_s_intervals_and_points_is_the_check_s(check_
     """What the pages say the check finds for the stability intervals, d_B, G1 and G2 is what the check's rows give
     for the package's located points; model.md names every one of them."""
     said = {}
-    for page, pattern, verdicts in VERDICTS:
+    for page, _, verdicts in VERDICTS:
         verdict_spans(page)
         for item, status in verdicts:
             if item in check_status:

@@ -96,10 +96,11 @@ def test_the_detector_gives_up_within_the_predicted_critical_slowing(across_flip
 def test_without_a_branch_the_two_sweeps_bracket_the_flip(across_flip):
     """An independent location: with no branch, between where one motion was last and the other first identified;
     the Newton flip lies in that bracket."""
-    sw, tr, _ = across_flip
+    sw, tr, br = across_flip
     b, _ = newton_flip(0.157, 0.159)
     pd = period_doublings(tr, sw, [])
     assert pd.kind.values.tolist() == [PERIOD_DOUBLING] * 2 and set(pd.bifurcation_source.values) == {"sweeps"}
+    xr.testing.assert_identical(period_doublings(period_doublings(tr, sw, [br]), sw, []), pd)  # named afresh
     assert np.all(np.abs(pd.bifurcation_d.values - b) <= pd.bifurcation_d_width.values / 2)
     assert np.all(pd.bifurcation_d_width.values < 5e-4)
     # the up sweep's loss moved below the grid point 0.158 (no period found there): still a flip between; with that
@@ -207,8 +208,7 @@ def test_the_workflow_s_period_doublings_sit_at_the_branches_flips():
         pytest.skip("no located transitions with period doublings in results/: run the default target")
     n = 0
     for name, sw, tr, brs in found:
-        alone = period_doublings(tr.drop_vars(["bifurcation_d", "bifurcation_d_width", "bifurcation_source",
-                                               "beyond", "slowing_width"]), sw, [])
+        alone = period_doublings(tr, sw, [])  # named afresh, without the branches
         for k in np.flatnonzero(tr.bifurcation_source.values.astype(str) != ""):
             r = tr.isel(transition=k)
             if str(r.bifurcation_source.values) == "sweeps":

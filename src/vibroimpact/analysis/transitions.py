@@ -186,7 +186,8 @@ def period_doublings(transitions: xr.Dataset, sw: xr.Dataset, branches=()) -> xr
       is chaotic: the flip lies in that bracket, located at its middle, uncertain by half its width.
 
     The motion past the flip, ``beyond``, is the doubled (or halved) motion where a sweep identifies it next
-    beyond the flip, and empty where it does not (a flip past which the sweeps find another motion).
+    beyond the flip, and empty where it does not (a flip past which the sweeps find another motion).  Applied
+    again (to transitions it named, with other branches), it names them afresh.
 
     Parameters
     ----------
@@ -225,40 +226,45 @@ def period_doublings(transitions: xr.Dataset, sw: xr.Dataset, branches=()) -> xr
     >>> pd.kind.values.tolist(), pd.bifurcation_d.values.round(7).tolist(), pd.beyond.values.tolist()
     (['period doubling', 'period doubling'], [0.1580747, 0.1580747], ['2:1 period-2', '2:1 period-4'])
     """
-    tr = transitions.copy()
-    n = tr.sizes.get("transition", 0)
-    bif_d, bif_w, source, beyond, slowing = (np.full(n, np.nan), np.full(n, np.nan), [""] * n, [""] * n,
-                                             np.full(n, np.nan))
-    kinds = tr["kind"].values.astype(str).copy() if n else np.array([], str)
+    n = transitions.sizes.get("transition", 0)
+    kinds = transitions["kind"].values.astype(str).copy() if n else np.array([], str)
+    found = [None] * n
     if n:
-        seen = _identified(tr, sw)
-        flips = _flips(sw, branches, float(sw.attrs["tol"]), float(tr.attrs["max_periods"]))
+        seen = _identified(transitions, sw)
+        flips = _flips(sw, branches, float(sw.attrs["tol"]), float(transitions.attrs["max_periods"]))
         for k in range(n):
-            if not kinds[k].startswith("period lost"):
+            before, after = seen["motions"].get(str(transitions.before.values[k])), str(transitions.after.values[k])
+            if before is None or not before.periodic or after not in NO_PERIOD_LABELS:
                 continue
-            sign = 1.0 if str(tr.direction.values[k]) == "up" else -1.0
-            d, w = float(tr.d.values[k]), float(tr.d_width.values[k])
+            # the detector's kind (a period lost), whether or not a call before named it
+            kinds[k] = transition_kind(before, motion_without_period(after))
+            sign = 1.0 if str(transitions.direction.values[k]) == "up" else -1.0
+            d, w = float(transitions.d.values[k]), float(transitions.d_width.values[k])
             x, far = d - sign * w / 2, d + sign * w / 2  # the last d with the motion, the first without it
-            before = seen["motions"].get(str(tr.before.values[k]))
-            if before is None:
-                continue
-            found = _at_flip(before, x, far, sign, flips, seen) or _between(before, x, sign, seen)
-            if found is None:
-                continue
-            kinds[k] = PERIOD_DOUBLING
-            bif_d[k], bif_w[k], source[k], beyond[k], slowing[k] = found
-    tr["kind"] = ("transition", kinds.astype(str), tr["kind"].attrs)
-    tr["bifurcation_d"] = ("transition", bif_d, {
+            found[k] = _at_flip(before, x, far, sign, flips, seen) or _between(before, x, sign, seen)
+            if found[k] is not None:
+                kinds[k] = PERIOD_DOUBLING
+    return _with_doublings(transitions, kinds, found)
+
+
+def _with_doublings(transitions, kinds, found):
+    """The transitions with their kinds and the variables of :func:`period_doublings` (``found``: per transition,
+    ``(bifurcation_d, its width, source, beyond, slowing width)`` or None)."""
+    tr = transitions.copy()
+    nan = (np.nan, np.nan, "", "", np.nan)
+    cols = list(zip(*[f or nan for f in found], strict=True)) if found else [()] * 5
+    tr["kind"] = ("transition", np.asarray(kinds).astype(str), tr["kind"].attrs)
+    tr["bifurcation_d"] = ("transition", np.array(cols[0], float), {
         "units": "1", "long_name": "d of the period doubling (flip) the transition is: a branch's B, or the middle "
         "of the sweeps' bracket"})
-    tr["bifurcation_d_width"] = ("transition", bif_w, {
+    tr["bifurcation_d_width"] = ("transition", np.array(cols[1], float), {
         "units": "1", "long_name": "twice the uncertainty of bifurcation_d: it covers where the detector gave up "
         "(critical slowing)"})
-    tr["bifurcation_source"] = ("transition", np.array(source, dtype=object).astype(str), {
+    tr["bifurcation_source"] = ("transition", np.array(cols[2], dtype=object).astype(str), {
         "long_name": "where bifurcation_d comes from: the branch (its motion) whose B it is, or the sweeps"})
-    tr["beyond"] = ("transition", np.array(beyond, dtype=object).astype(str), {
+    tr["beyond"] = ("transition", np.array(cols[3], dtype=object).astype(str), {
         "long_name": "the motion past the period doubling, as a sweep identifies it next (empty: not identified)"})
-    tr["slowing_width"] = ("transition", slowing, {
+    tr["slowing_width"] = ("transition", np.array(cols[4], float), {
         "units": "1", "long_name": "twice the half-width of critical slowing around the branch's B, within which "
         "the detector cannot identify the motion"})
     return tr

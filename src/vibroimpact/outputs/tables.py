@@ -397,7 +397,8 @@ def design_trends_markdown(df: pd.DataFrame) -> str:
     for _, r in df.iterrows():
         if r.falling:
             fall = f"{r.value_from / 1e3:.1f} → {r.value_to / 1e3:.1f} kV (−{100 * r.fall:.0f} %)"
-            where = f"{'‖F̂‖' if r.vary == 'F' else 's'} = {r.fall_from:.3g}–{r.fall_to:.3g} {units[r.vary]}"
+            fmt = ".2f" if r.vary == "F" else ".3f"
+            where = f"{'‖F̂‖' if r.vary == 'F' else 's'} = {r.fall_from:{fmt}}–{r.fall_to:{fmt}} {units[r.vary]}"
             motions = r.motion_from if r.motion_from == r.motion_to else f"{r.motion_from} → {r.motion_to}"
         else:
             fall, where, motions = "none", "", ""

@@ -562,3 +562,36 @@ def test_the_design_paragraph_holds_in_a_fresh_clone(readme_clone):
     clone, first, _ = readme_clone
     assert first.returncode == 0
     design_prose_holds(clone / "results")
+
+
+def bistable_band_prose_holds(results) -> None:
+    """orbits.md on the band where 2:1 and 3:1 coexist: shortest near pi/12, lengthening with the incline and again
+    towards the smallest inclines; at pi/2 the curves stop (no interval)."""
+    import xarray as xr
+
+    band = xr.load_dataset(results / "bifurcation" / "bistable_band.nc")
+    beta, lo, hi = band.beta.values, band.s_G1.values, band.s_G2.values
+    width = hi - lo
+    ok = np.isfinite(width)
+    k = int(np.nanargmin(np.where(ok, width, np.nan)))
+    assert math.isclose(beta[k], math.pi / 12, rel_tol=1e-9), beta[k]
+    assert np.all(np.diff(width[k:][ok[k:]]) > 0) and np.all(np.diff(width[: k + 1][ok[: k + 1]]) < 0)
+    assert k > 0 and not ok[np.isclose(beta, math.pi / 2)].any()
+    text = " ".join((DOCS / "guide" / "orbits.md").read_text().split())
+    assert ("The interval is shortest near β = π/12 and lengthens with the incline, but lengthens again towards the "
+            "smallest inclines, where the two curves bend apart; at π/2 exactly the curves stop") in text
+
+
+def test_the_bistable_band_paragraph_holds_in_the_results():
+    """Against this checkout's results of the bifurcation target (skipped where it has not run)."""
+    if not (ROOT / "results" / "bifurcation" / "bistable_band.nc").exists():
+        pytest.skip("results/bifurcation/bistable_band.nc: run `snakemake --cores 2 bifurcation`")
+    bistable_band_prose_holds(ROOT / "results")
+
+
+@pytest.mark.slow
+def test_the_bistable_band_paragraph_holds_in_a_fresh_clone(readme_clone):
+    """Against README's check (which runs the bifurcation target) in a scratch clone."""
+    clone, _, check = readme_clone
+    assert check.returncode == 0
+    bistable_band_prose_holds(clone / "results")

@@ -182,8 +182,12 @@ def period_doublings(transitions: xr.Dataset, sw: xr.Dataset, branches=()) -> xr
       detector gave up (the far end of the transition's bracket), so that it covers the slowing;
     * **between two identifications** (where no branch applies): the nearest motion either sweep identifies
       beyond the transition (a grid point's or the other direction's located transition's last d) is the
-      same motion over twice or half the period (the same impacts per forcing period), and no point between
-      is chaotic: the flip lies in that bracket, located at its middle, uncertain by half its width.
+      same motion over twice or half the period (the same impacts per forcing period), and the transition's
+      sweep found no chaos between: the flip lies in that bracket, located at its middle, uncertain by half its
+      width.
+
+    A period lost into chaos (its long run's lambda_1 above 0) is not the slowing near a flip, where lambda_1
+    tends to 0, and stays a period lost.
 
     The motion past the flip, ``beyond``, is the doubled (or halved) motion where a sweep identifies it next
     beyond the flip, and empty where it does not (a flip past which the sweeps find another motion).  Applied
@@ -238,10 +242,14 @@ def period_doublings(transitions: xr.Dataset, sw: xr.Dataset, branches=()) -> xr
                 continue
             # the detector's kind (a period lost), whether or not a call before named it
             kinds[k] = transition_kind(before, motion_without_period(after))
-            sign = 1.0 if str(transitions.direction.values[k]) == "up" else -1.0
+            if after == CHAOTIC:
+                continue  # lambda_1 > 0: chaos, not the slowing near a flip (lambda_1 -> 0 there)
+            direction = str(transitions.direction.values[k])
+            sign = 1.0 if direction == "up" else -1.0
             d, w = float(transitions.d.values[k]), float(transitions.d_width.values[k])
             x, far = d - sign * w / 2, d + sign * w / 2  # the last d with the motion, the first without it
-            found[k] = _at_flip(before, x, far, sign, flips, seen) or _between(before, x, sign, seen)
+            found[k] = (_at_flip(before, x, far, sign, flips, seen)
+                        or _between(before, x, sign, seen, direction))
             if found[k] is not None:
                 kinds[k] = PERIOD_DOUBLING
     return _with_doublings(transitions, kinds, found)
@@ -284,24 +292,25 @@ def _partners(m: Motion) -> list[Motion]:
 
 def _identified(tr: xr.Dataset, sw: xr.Dataset) -> dict:
     """Where each sweep identified which motion: every grid point's motion, and every located transition's last
-    d with its motion before and, where it has a period, its first d with the motion after; the d of chaotic points; each motion by its label."""
+    d with its motion before and, where it has a period, its first d with the motion after; the d of each
+    direction's chaotic points; each motion by its label."""
     motions = window_motions(sw)
     dv = sw["d"].values
-    at, chaotic, by_label = [], [], {}
+    at, chaotic, by_label = [], {str(n): [] for n in sw.direction.values}, {}
     for idx in np.ndindex(motions.shape):
         m = motions[idx]
         by_label.setdefault(m.label, m)
         if m.periodic:
             at.append((float(dv[idx[-1]]), m.label))
         elif m.kind == CHAOTIC:
-            chaotic.append(float(dv[idx[-1]]))
+            chaotic[str(sw.direction.values[idx[0]])].append(float(dv[idx[-1]]))
     for k in range(tr.sizes["transition"]):
         sign = 1.0 if str(tr.direction.values[k]) == "up" else -1.0
         d, half = float(tr.d.values[k]), float(tr.d_width.values[k]) / 2
         at.append((d - sign * half, str(tr.before.values[k])))
         if str(tr.after.values[k]) not in NO_PERIOD_LABELS:
             at.append((d + sign * half, str(tr.after.values[k])))
-    return {"at": at, "chaotic": np.array(chaotic), "motions": by_label}
+    return {"at": at, "chaotic": {k: np.array(v) for k, v in chaotic.items()}, "motions": by_label}
 
 
 def _next_identified(x, sign, seen):
@@ -310,9 +319,10 @@ def _next_identified(x, sign, seen):
     return min(ahead)[1:] if ahead else None
 
 
-def _chaotic_between(a, b, seen):
+def _chaotic_between(a, b, seen, direction):
+    """Whether the sweep's ``direction`` found chaos strictly between ``a`` and ``b``."""
     lo, hi = min(a, b), max(a, b)
-    c = seen["chaotic"]
+    c = seen["chaotic"][direction]
     return bool(np.any((c > lo) & (c < hi)))
 
 
@@ -381,11 +391,13 @@ def _at_flip(before, x, far, sign, flips, seen):
     return b, 2 * max(abs(x - b), abs(far - b)), motion.label, past, 2 * delta
 
 
-def _between(before, x, sign, seen):
+def _between(before, x, sign, seen, direction):
     """The flip between the transition's last sight of ``before`` at ``x`` and the next identification
-    beyond, where that is ``before`` over twice or half its period."""
+    beyond, where that is ``before`` over twice or half its period and the transition's sweep found no chaos
+    between (the other direction's may follow another, coexisting motion there)."""
     nxt = _next_identified(x, sign, seen)
-    if nxt is None or nxt[1] not in {m.label for m in _partners(before)} or _chaotic_between(x, nxt[0], seen):
+    if (nxt is None or nxt[1] not in {m.label for m in _partners(before)}
+            or _chaotic_between(x, nxt[0], seen, direction)):
         return None
     return 0.5 * (x + nxt[0]), abs(nxt[0] - x), "sweeps", nxt[1], math.nan
 

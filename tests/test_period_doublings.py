@@ -78,6 +78,12 @@ def test_a_period_lost_short_of_a_flip_is_a_period_doubling_at_the_newton_flip(a
         assert abs(gave_up - b) <= float(r.bifurcation_d_width) / 2
     beyond = dict(zip(pd.direction.values.tolist(), pd.beyond.values.tolist(), strict=True))
     assert beyond == {"up": "2:1 period-2", "down": "2:1 period-4"}
+    # a transition whose bracket holds the flip: the uncertainty is the bracket, which covers where it gave up
+    down = int(np.flatnonzero(tr.direction.values == "down")[0])
+    inside = tr.copy(deep=True)
+    inside["d"].values[down], inside["d_width"].values[down] = b, 1e-5
+    r = period_doublings(inside, sw, [br]).isel(transition=down)
+    assert str(r.kind.values) == PERIOD_DOUBLING and float(r.bifurcation_d_width) == pytest.approx(1e-5, rel=1e-6)
     # what the detector found is kept
     xr.testing.assert_equal(pd[["d", "d_width", "before", "after"]], tr[["d", "d_width", "before", "after"]])
 

@@ -401,3 +401,61 @@ def test_delivered_takes_each_point_s_well_posed_average():
     value, se = delivered(en)
     np.testing.assert_array_equal(value, [[1.0, 2.0, 30.0, np.nan]])
     np.testing.assert_array_equal(se, [[0.0, STICK_REL * 2.0, 0.3, np.nan]])
+
+
+def _energy(values, labels, x, vary="s", direction="down"):
+    """A sweep energy of one direction with the given U_T (and U_I = 2 U_T) along the swept parameter."""
+    import xarray as xr
+
+    u = np.asarray(values, float)[None]
+    return xr.Dataset({"U_T": (("direction", "point"), u), "U_I": (("direction", "point"), 2 * u),
+                       "label": (("direction", "point"), np.asarray(labels)[None])},
+                      coords={"direction": [direction], vary: ("point", np.asarray(x, float))},
+                      attrs={"beta": math.pi / 6, "vary": vary})
+
+
+def test_design_trends_count_the_steps_and_find_the_largest_fall():
+    """Steps between known neighbours only (a gap breaks the line, in the swept parameter's order whatever the
+    points' order); the largest fall is the run of falling steps that loses the most, not the steepest step."""
+    from vibroimpact.outputs.tables import design_trends
+
+    # in F order: 1, 2, 3, then a run losing 0.6 (2.8, 2.6, 2.4), a gap, a step losing 0.5 (2, 1.5), then 1.6
+    v = np.array([1.0, 2.0, 3.0, 2.8, 2.6, 2.4, np.nan, 2.0, 1.5, 1.6])
+    lab = np.array(list("aaabbbcdde"))
+    x = np.arange(10.0)
+    shuffled = [9, 0, 8, 1, 7, 2, 6, 3, 5, 4]  # the points in another order
+    t = design_trends([_energy(v[shuffled], lab[shuffled], x[shuffled], vary="F")])
+    u_t = t.set_index("average").loc["U_T"]
+    assert (u_t.steps, u_t.rising, u_t.falling) == (7, 3, 4)
+    assert (u_t.fall_from, u_t.fall_to, u_t.value_from, u_t.value_to) == (2.0, 5.0, 3.0, 2.4)
+    assert (u_t.motion_from, u_t.motion_to) == ("a", "b") and u_t.fall == pytest.approx(0.2)
+    u_i = t.set_index("average").loc["U_I"]
+    assert u_i.value_from == 6.0 and u_i.value_to == pytest.approx(4.8)  # the same run at twice the values
+    rising = design_trends([_energy([1.0, 2.0, 3.0], ["a"] * 3, [0.2, 0.3, 0.4])]).iloc[0]
+    assert (rising.falling, rising.fall, rising.motion_from) == (0, 0.0, "")
+
+
+def test_2to1_output_grows_with_force_and_with_length_up_to_just_below_its_fold():
+    """The energy page: on the stable 2:1 branches U_T grows with the force at every point, and with the length up to
+    a maximum less than 1e-3 in d below the fold, past which it falls to the fold (one turn: rising, then falling to
+    the end)."""
+    dev = DEVICE.replace(membrane=Membrane(**PAPER))
+    for beta in (math.pi / 2, math.pi / 3, math.pi / 4, math.pi / 6):
+        p = vi.Params.from_physical(s=0.18 / K_S, beta=beta)
+        br = branch_from_simulation(p, "BBT", vary="s", d_range=(0.13, 0.23), step=1e-3)
+        e = branch_energy(br, dev)
+        m = (e.stable & e.admissible).values
+        order = np.argsort(e.s.values[m])
+        rising = np.diff(e.U_T.values[m][order]) > 0
+        turns = np.flatnonzero(rising[:-1] != rising[1:])
+        assert rising[0] and not rising[-1] and turns.size == 1, (beta, turns)
+        fold = float(br.critical_d.values[br.critical_kind.values == "fold"].max())
+        d_top = float(e.d.values[m][order][turns[0] + 1])
+        assert fold - 1e-3 < d_top < fold, (beta, d_top, fold)  # the page: "less than 1e-3 in d below it"
+    for beta in (math.pi / 2, math.pi / 6):
+        p = vi.Params.from_physical(s=0.85, beta=beta, F=16.0)
+        e = branch_energy(branch_from_simulation(p, "BBT", vary="F", d_range=(K_S * 5 * 0.85 / 22, K_S * 5 * 0.85 / 6),
+                                                 step=1e-3), dev)
+        m = (e.stable & e.admissible).values
+        order = np.argsort(e.F.values[m])
+        assert m.sum() > 50 and np.all(np.diff(e.U_T.values[m][order]) > 0), beta

@@ -123,3 +123,57 @@ def test_the_check_table_and_the_figures_page_name_figures_by_their_printed_numb
     assert not [t for t in vibroimpact_pages.TITLES.values() if bare_labels(t)]
     assert all(vibroimpact_pages.TITLES[f].startswith(figure_name(f)) for f in FIGURE_NUMBERS)
     assert vibroimpact_pages.page_order(["basins", "fig5", "fig0b", "fig0"]) == ["fig0", "fig0b", "fig5", "basins"]
+
+
+#: where a page shows one of the paper's figures: its image (by the file stem) or its bold heading
+SHOWN = re.compile(r"!\[[^\]]*\]\([^)]*?/(\w+)\.png\)|\*\*Figure (\d+)\*\*")
+
+
+def shown_order(text: str) -> list[int]:
+    """The printed numbers of the paper's figures a page shows, each at its first image or bold heading, in the
+    page's order."""
+    order = []
+    for m in SHOWN.finditer(text):
+        number = FIGURE_NUMBERS.get(m.group(1)) if m.group(1) else int(m.group(2))
+        if number is not None and number not in order:
+            order.append(number)
+    return order
+
+
+def test_the_order_check_finds_a_figure_out_of_order():
+    assert shown_order("**Figure 4** ![a](x/fig0b.png) **Figure 7** ![b](../figFN2.png) ![c](y/basins.png)") == [4, 7, 3]
+    assert shown_order("![Figure 2](results/figures/fig0.png) ... ![Figure 8](results/figures/figBiS.png)") == [2, 8]
+
+
+def test_every_page_shows_the_paper_s_figures_in_the_paper_s_order():
+    """README, the guide and the site's own pages show the paper's figures by increasing printed number."""
+    files = [ROOT / "README.md", *sorted(ROOT.glob("docs/*.md")), *sorted(ROOT.glob("docs/guide/*.md"))]
+    shown = {str(f.relative_to(ROOT)): shown_order(f.read_text()) for f in files if f.name != "paper.md"}
+    assert {k: v for k, v in shown.items() if v != sorted(v)} == {}
+    assert sum(len(v) for v in shown.values()) >= 8  # the check sees them: every figure is shown somewhere
+
+
+def test_the_generated_figures_page_shows_them_in_the_paper_s_order(tmp_path):
+    """The site's figures page (docs/_ext, built from the results), from results listing the figures in another
+    order: the paper's first, by printed number, then the project's own."""
+    pytest.importorskip("sphinx")
+    import pandas as pd
+
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    import vibroimpact_pages
+
+    figures = ["basins", "fig5", "fig4", "fig0b", "figBiS", "fig3", "fig2", "figFN2", "fig0", "lyapunov"]
+    (tmp_path / "results" / "checks").mkdir(parents=True)
+    (tmp_path / "results" / "figures").mkdir()
+    (tmp_path / "workflow").mkdir()
+    (tmp_path / "workflow" / "report").symlink_to(ROOT / "workflow" / "report")
+    pd.DataFrame({"item": ["x"], "where": ["section 3"], "paper": [1.0], "computed": [1.0], "tolerance": [0.1],
+                  "status": ["pass"], "note": [""]}).to_csv(tmp_path / "results" / "checks" / "paper_values.csv",
+                                                            index=False)
+    pd.DataFrame({"figure": figures, "variable": "a", "rule": "strict", "max_difference": 0.0, "status": "pass",
+                  "detail": ""}).to_csv(tmp_path / "results" / "checks" / "figures.csv", index=False)
+    for f in figures:
+        (tmp_path / "results" / "figures" / f"{f}.png").write_bytes(b"")
+    page = vibroimpact_pages.paper_page(tmp_path)
+    assert shown_order(page) == sorted(FIGURE_NUMBERS.values())
+    assert page.index("(../results/figures/fig5.png)") < page.index("(../results/figures/basins.png)")

@@ -120,7 +120,7 @@ TESTS = {
     "continuation": ["tests/test_orbits.py"],
     "motions": ["tests/test_motion_names.py", "tests/test_sweeps.py", "tests/test_attractor.py"],
     "windows": ["tests/test_sweeps.py", "tests/test_kernels.py", "tests/test_progress.py"],
-    "transitions": ["tests/test_sweeps.py"],
+    "transitions": ["tests/test_sweeps.py", "tests/test_period_doublings.py"],
     "bistability": ["tests/test_sweeps.py"],
     "sweeps": ["tests/test_sweeps.py"],
     "energy": ["tests/test_energy.py"],

@@ -41,6 +41,7 @@ _WHERE = {
     "lyapunov": "analysis.lyapunov", "Lyapunov": "analysis.lyapunov",
     "identify_attractor": "analysis.motions", "Attractor": "analysis.motions",
     "sweep": "analysis.sweeps", "attractor_batch": "analysis.windows", "locate_transitions": "analysis.transitions",
+    "period_doublings": "analysis.transitions",
     "bistable_intervals": "analysis.bistability", "basins": "analysis.basins", "regime_map": "analysis.regime_maps",
     "family_exit": "analysis.family_exit", "sweep_family_exit": "analysis.family_exit",
     "family_exit_curve": "analysis.family_exit",

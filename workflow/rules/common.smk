@@ -197,6 +197,16 @@ def sweep_scene(wc):
     return sc
 
 
+def sweep_branches(wc):
+    """The 1:1 and 2:1 branches at a sweep's incline and restitution, continued in its swept parameter."""
+    vary = sweep_scene(wc)["vary"]
+    return [
+        f"results/branches/beta-{wc.beta}_r-{wc.r}/orbit-{w}_vary-{vary}.nc"
+        for w in ("BT", "BBT")
+        if w in WORDS
+    ]
+
+
 #: every figure whose plotted data the `check` target compares with its committed reference, and the ones
 #: figure_checks.figures chooses
 ALL_FIGURES = CFG.all_figures

@@ -64,6 +64,8 @@ rule design:
     output:
         **figure_formats("results/figures/design"),
         csv="results/tables/design.csv",
+        # where each average rises and falls along each sweep (the design figure's direction)
+        trends="results/tables/design_trends.csv",
         md="results/tables/design.md",
         png=report(
             "results/figures/design.png",

@@ -2,6 +2,10 @@
 
 
 rule sweep:
+    input:
+        # the continued 1:1 and 2:1 branches on the sweep's parameters: a period lost within critical
+        # slowing of a branch's flip is a period doubling there (vibroimpact.period_doublings)
+        branches=sweep_branches,
     output:
         sweep="results/sweeps/beta-{beta}_r-{r}/{sweep}.nc",
         # its located transitions and bistable intervals, and its output voltages and averages

@@ -1,5 +1,5 @@
-"""One numerical sweep (up and down), following the attractor; its located transitions and bistable
-intervals; its output voltages and averages."""
+"""One numerical sweep (up and down), following the attractor; its located transitions (the period doublings
+among them placed at the branches' flips) and bistable intervals; its output voltages and averages."""
 import logging
 
 import numpy as np
@@ -9,7 +9,7 @@ from vibroimpact.analysis.bistability import bistable_intervals
 from vibroimpact.analysis.energy import sweep_energy
 from vibroimpact.analysis.family_exit import sweep_family_exit
 from vibroimpact.analysis.sweeps import sweep
-from vibroimpact.analysis.transitions import locate_transitions
+from vibroimpact.analysis.transitions import locate_transitions, period_doublings
 from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.dynamics.device import Device
 
@@ -28,6 +28,8 @@ write_netcdf(en, snakemake.output.energy)
 logging.info("labels: %s", sorted(set(ds.label.values.ravel())))
 loc = snakemake.params.locate
 tr = locate_transitions(ds, xtol=loc["xtol"], max_periods=loc["max_periods"], max_trials=loc["max_trials"])
+# a period lost where the detector gave up short of a flip (critical slowing) is a period doubling, at the flip
+tr = period_doublings(tr, ds, [xr.load_dataset(f, engine="netcdf4") for f in snakemake.input.branches])
 # the 1:1 exit: where the 1:1 attractor followed down leaves the 1:1 family (by grazing or by a jump)
 trs = xr.merge([tr, bistable_intervals(ds, tr), sweep_family_exit(ds, xtol=loc["xtol"])], combine_attrs="drop_conflicts")
 trs.attrs.update(provenance(**loc), beta=ds.attrs["beta"], vary=ds.attrs["vary"])

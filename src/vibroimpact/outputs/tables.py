@@ -14,6 +14,7 @@ from ..analysis.energy import delivered
 from ..analysis.lyapunov import t_quantile
 from ..analysis.motions import CHAOTIC
 from ..analysis.settled import LONG_BATCHES
+from ..analysis.transitions import PERIOD_DOUBLING
 from ..benchmarks.workprecision import OUTCOMES
 from .paper import paper_stable, pi_tex
 
@@ -265,9 +266,22 @@ def transitions_markdown(named: dict[str, xr.Dataset]) -> str:
         for k in range(tr.sizes.get("transition", 0)):
             r = tr.isel(transition=k)
             status = str(r.status.values) if "status" in r else "refined"
-            lines.append(f"| {name} | {str(r.direction.values)} | {float(r.d):.7f} | {float(r.d_width) / 2:.0e} | "
-                         f"{str(r.before.values)} | {str(r.after.values)} | {str(r.kind.values)} | {status} |")
-    lines += ["", "Bistable intervals: the lower end is where the down sweep loses its motion, the upper end where "
+            d, half, after = float(r.d), float(r.d_width) / 2, str(r.after.values)
+            if str(r.kind.values) == PERIOD_DOUBLING:
+                d, half = float(r.bifurcation_d), float(r.bifurcation_d_width) / 2
+                src = str(r.bifurcation_source.values)
+                at = "between the sweeps' identifications" if src == "sweeps" else f"B of the {src} branch"
+                status += f"; {at}, the detector gave up at {float(r.d):.7f} ({after})"
+                after = str(r.beyond.values) or "not identified"
+            lines.append(f"| {name} | {str(r.direction.values)} | {d:.7f} | {half:.0e} | "
+                         f"{str(r.before.values)} | {after} | {str(r.kind.values)} | {status} |")
+    lines += ["", "Period doubling: near a flip the attractor converges ever more slowly and the detector gives up "
+              "short of it (critical slowing), so its label change is not the bifurcation; d is the flip, the "
+              "period-doubling point B of the continued branch the status names (Newton's method, eigenvalue −1) "
+              "or the middle of the bracket between the motions the two sweeps identify on either side, "
+              "± covers where the detector gave up, and 'to' is the motion a sweep identifies past the flip "
+              "(vibroimpact.period_doublings).", "",
+              "Bistable intervals: the lower end is where the down sweep loses its motion, the upper end where "
               "the up sweep loses its motion (located transitions; an aperiodic motion's end is only known to the "
               "grid step; at a range end the interval may go on beyond the swept range).", "",
               "| sweep | bistable for d in | ± (lower, upper) | ends from | up sweep | down sweep | found by |",
@@ -327,6 +341,102 @@ def design_markdown(df: pd.DataFrame) -> str:
         lines.append(f"| {names.get(r.beta_deg, f'{r.beta:.4f}')} | {r.vary} | {r.maximise} | {at} | {r.d:.4f} | "
                      f"{value(r.U_T, r.get('U_T_se', np.nan))} | {value(r.U_I, r.get('U_I_se', np.nan))} | "
                      f"{r.motion} |")
+    return "\n".join(lines) + "\n"
+
+
+def design_trends(energies: list[xr.Dataset], direction: str = "down") -> pd.DataFrame:
+    """Where each average of each sweep energy rises and where it falls as the swept parameter grows.
+
+    Along one direction of each sweep (the design figure's, ``"down"``: d decreasing), what the device delivers
+    (:func:`vibroimpact.analysis.energy.delivered`) is compared between neighbouring points of the swept
+    parameter (``s`` or ``F``, increasing); a point where it is not known (a transient longer than the cap) breaks
+    the line, and the steps across it are not counted.  A fall is a run of consecutive falling steps.
+
+    Parameters
+    ----------
+    energies : list of xarray.Dataset
+        Sweep energies (:func:`vibroimpact.sweep_energy`), each of one incline and one swept ``s`` or ``F``.
+    direction : str
+        The sweep direction compared.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per energy and average (``U_T``, ``U_I``): ``beta``, ``beta_deg``, ``vary``, ``average``,
+        ``direction``, ``steps`` (compared), ``rising`` and ``falling`` (how many of them), and the largest fall
+        (the run of falling steps that loses the most): ``fall_from``, ``fall_to`` (the swept parameter at its
+        ends), ``value_from``, ``value_to`` (V), ``motion_from``, ``motion_to`` (the motions there), ``fall``
+        (its loss relative to ``value_from``; 0 and NaN ends where nothing falls).
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> en = xr.Dataset({"U_T": (("direction", "point"), [[1.0, 2.0, 3.0, 1.5, 4.0]]),
+    ...                  "U_I": (("direction", "point"), [[5.0, 4.0, 3.0, 2.0, 1.0]]),
+    ...                  "label": (("direction", "point"), [["a", "a", "a", "b", "b"]])},
+    ...                 coords={"direction": ["down"], "s": ("point", [0.1, 0.2, 0.3, 0.4, 0.5])},
+    ...                 attrs={"beta": 0.5, "vary": "s"})
+    >>> t = design_trends([en]).set_index("average")
+    >>> u_t, u_i = t.loc["U_T"], t.loc["U_I"]
+    >>> int(u_t.steps), int(u_t.rising), int(u_t.falling), float(u_t.fall_from), float(u_t.fall_to), u_t.motion_to
+    (4, 3, 1, 0.3, 0.4, 'b')
+    >>> int(u_i.rising), int(u_i.falling), float(u_i.value_from), float(u_i.value_to), float(u_i.fall)
+    (0, 4, 5.0, 1.0, 0.8)
+    """
+    rows = []
+    for e in energies:
+        vary = e.attrs["vary"]
+        k = list(e.direction.values).index(direction)
+        x = e[vary].values
+        order = np.argsort(x)
+        labels = e["label"].values[k][order]
+        for q in ("U_T", "U_I"):
+            v = delivered(e, q)[0][k][order]
+            known = np.isfinite(v)
+            step = known[:-1] & known[1:]  # neighbours both known: a step of the line
+            dv = np.diff(v)
+            falls = step & (dv < 0)
+            best, i = (0.0, -1, -1), 0
+            while i < falls.size:  # runs of consecutive falling steps
+                if not falls[i]:
+                    i += 1
+                    continue
+                j = i
+                while j + 1 < falls.size and falls[j + 1]:
+                    j += 1
+                if v[i] - v[j + 1] > best[0]:
+                    best = (v[i] - v[j + 1], i, j + 1)
+                i = j + 1
+            _, a, b = best
+            rows.append({
+                "beta": float(e.attrs["beta"]), "beta_deg": round(math.degrees(float(e.attrs["beta"])), 6),
+                "vary": vary, "average": q, "direction": direction, "steps": int(step.sum()),
+                "rising": int((step & (dv > 0)).sum()), "falling": int(falls.sum()),
+                "fall_from": float(x[order][a]) if a >= 0 else math.nan,
+                "fall_to": float(x[order][b]) if a >= 0 else math.nan,
+                "value_from": float(v[a]) if a >= 0 else math.nan, "value_to": float(v[b]) if a >= 0 else math.nan,
+                "motion_from": str(labels[a]) if a >= 0 else "", "motion_to": str(labels[b]) if a >= 0 else "",
+                "fall": float((v[a] - v[b]) / v[a]) if a >= 0 else 0.0,
+            })
+    return pd.DataFrame(rows)
+
+
+def design_trends_markdown(df: pd.DataFrame) -> str:
+    """:func:`design_trends` as Markdown: per sweep and average, how many steps rise and the largest fall."""
+    names = {"U_T": "Ū_T", "U_I": "Ū_I"}
+    units = {"s": "m", "F": "N"}
+    lines = ["| β | swept | average | steps rising (of those compared) | largest fall | where | motions across it |",
+             "|---|---|---|---|---|---|---|"]
+    for _, r in df.iterrows():
+        if r.falling:
+            fall = f"{r.value_from / 1e3:.1f} → {r.value_to / 1e3:.1f} kV (−{100 * r.fall:.0f} %)"
+            fmt = ".2f" if r.vary == "F" else ".3f"
+            where = f"{'‖F̂‖' if r.vary == 'F' else 's'} = {r.fall_from:{fmt}}–{r.fall_to:{fmt}} {units[r.vary]}"
+            motions = r.motion_from if r.motion_from == r.motion_to else f"{r.motion_from} → {r.motion_to}"
+        else:
+            fall, where, motions = "none", "", ""
+        lines.append(f"| {_pi_name(r.beta)} | {r.vary} | {names[r.average]} | {r.rising} of {r.steps} | {fall} | "
+                     f"{where} | {motions} |")
     return "\n".join(lines) + "\n"
 
 

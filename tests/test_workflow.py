@@ -139,8 +139,9 @@ def test_a_dry_run_creates_no_folder(tmp_path):
     res = _snakemake(tmp_path, "-n", "--configfile", "config/example_device.yaml")
     assert res.returncode == 0, res.stderr[-2000:]
     assert _tree(tmp_path) == before
-    # 16 branches: those the figures draw, and the 2:1 along pi/4's force sweep (where the d_graz table reads d_graz)
-    assert re.search(r"^branch\s+16$", res.stdout, re.M) and re.search(r"^all\s+1$", res.stdout, re.M), res.stdout[-3000:]
+    # 17 branches: those the figures draw, and the 1:1 and 2:1 along every sweep's line (its period doublings; where
+    # the d_graz table reads d_graz)
+    assert re.search(r"^branch\s+17$", res.stdout, re.M) and re.search(r"^all\s+1$", res.stdout, re.M), res.stdout[-3000:]
     res = _snakemake(tmp_path, "-n")
     assert res.returncode == 0, res.stderr[-2000:]
     assert [p for p in _tree(tmp_path) if p not in before and not p.startswith(".snakemake")] == []

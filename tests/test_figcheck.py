@@ -543,11 +543,11 @@ def test_an_exact_value_from_a_matrix_is_held_to_the_strict_tolerance_times_its_
 
 
 def _located(x, y, step_x, sampled=None):
-    """Points located along lines of a grid (d_graz over a plane), with their text at the first one."""
+    """Points located along lines of a grid (the 1:1 exit over a plane), with their text at the first one."""
     fig, ax = plt.subplots()
     fields = {"step_x": step_x} | ({} if sampled is None else {"sampled": np.asarray(sampled, bool)})
     wellposed(ax.plot(x, y, "o")[0], "located", **fields)
-    wellposed(ax.annotate("d_graz", (x[0], 0.02), xycoords=("data", "axes fraction")), "located", step_x=step_x)
+    wellposed(ax.annotate("1:1 exit", (x[0], 0.02), xycoords=("data", "axes fraction")), "located", step_x=step_x)
     ds = figure_data(fig)
     plt.close(fig)
     return ds

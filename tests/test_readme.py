@@ -79,9 +79,8 @@ def test_the_check_passes_under_another_libm(readme_clone):
     published value reproduced or a listed discrepancy, every figure's arrays by the rule its figure declared
     from what produced them: pointwise for exact values, never for what rides on a chaotic run, a statistic,
     a method's error or a timing."""
-    from vibroimpact.outputs.figcheck import NOT_POINTWISE
-
     from vibroimpact.outputs.conditioning import libm_switch_works
+    from vibroimpact.outputs.figcheck import NOT_POINTWISE
 
     if not libm_switch_works():
         pytest.skip("glibc does not dispatch sin on FMA/AVX2 here: the libm switch emulates nothing on this CPU")

@@ -1,11 +1,14 @@
 """The rules the figure regeneration check compares a figure's arrays by.
 
-One rule for tolerances: an array is compared **pointwise** (``|new - ref| <= atol + rtol |ref|``,
-``rtol`` the attractors' identification tolerance 1e-9) where its measured conditioning keeps a
-machine-level perturbation below that (:mod:`vibroimpact.outputs.conditioning`: the figure data recomputed
-with another libm and with the inputs moved by a few ulps).  Where it does not, the array is compared
-by what is well-posed about it, which its figure recorded when drawing it
-(:func:`vibroimpact.outputs.plots._common.wellposed`):
+One rule for tolerances, declared where an array is drawn, from what produced it (its provenance,
+:data:`PROVENANCE`), and applied on every machine: an exact value (a closed form, a Newton-solved orbit) is
+compared **pointwise** (``|new - ref| <= atol + rtol |ref|``, ``rtol`` the attractors' identification
+tolerance 1e-9); a value that rides on bits no machine reproduces (a chaotic run, a long run's statistic, a
+random draw, a method's error at its tolerance, a timing: :data:`NOT_POINTWISE`) never is, whatever one
+machine measured.  It is compared by what is well-posed about it, which its figure recorded when drawing it
+(:func:`vibroimpact.outputs.plots._common.wellposed`); :mod:`vibroimpact.outputs.conditioning` measures
+what each rule tolerates (the figure data recomputed under another libm, other OpenBLAS kernels and inputs
+moved by a few ulps):
 
 ``motions``
     values at simulated attractors (sweep points, map cells), grouped by the point they belong to.
@@ -22,7 +25,7 @@ by what is well-posed about it, which its figure recorded when drawing it
 ``run``
     a text naming a run of one motion, at its middle: the same text, within one sweep step.
 ``located``
-    values located between neighbouring points of a grid (a transition along a sweep, d_graz): each
+    values located between neighbouring points of a grid (a transition along a sweep, the 1:1 exit): each
     coordinate within the artist's recorded grid step along it (``step_x``, ``step_y``; none: pointwise); an
     element the artist marks ``sampled`` (a classification from a finite sample of a motion with no period:
     another run may draw it in the artist beside) may be present in one and missing in the other.
@@ -36,9 +39,15 @@ by what is well-posed about it, which its figure recorded when drawing it
 ``boundary``
     markers between grid cells whose motions differ: any marker in one and not the other lies beside
     a cell whose motion differs between the two.
+``magnitude``
+    errors against a reference, as orders of magnitude above their rounding floor (:func:`magnitude`).
+``outcome``
+    categorical outcomes, the same but in cells the producer found sensitive to the last bit (:func:`outcome`).
+``timing``
+    a wall-clock time: not compared.
 
-An ill-conditioned array with no rule recorded is compared pointwise (and fails: a figure that draws
-ill-conditioned data must say what is well-posed about it).
+An array with no rule recorded is compared pointwise; one whose values move on another machine must say
+what is well-posed about it, and the conditioning's test finds any that does not.
 """
 
 from __future__ import annotations

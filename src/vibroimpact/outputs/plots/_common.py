@@ -130,7 +130,7 @@ def wellposed(artist, rule: str, *, provenance: str | None = None, timed=(), **f
     * ``"run"``: a text naming a run of one motion along a sweep, placed at its middle; ``step``: the
       sweep's spacing (each end of the run is known to one point);
     * ``"located"``: values located between neighbouring points of a grid (a transition along a sweep,
-      d_graz); ``step_x``, ``step_y``: the grid's step along each coordinate (none: pointwise);
+      the 1:1 exit); ``step_x``, ``step_y``: the grid's step along each coordinate (none: pointwise);
     * ``"curve"``: a curve sampled by continuation (its points lie on the curve; where they lie along it
       depends on the step control);
     * ``"on curve"``: points located on sampled curves (events, crossings), known to within a segment;

@@ -25,7 +25,7 @@ TARGETS = {
     "bifurcation": "bifurcation curves in two parameters over brute-force maps",
     "design_maps": "expected and worst-case output under multistability, robust designs",
     "docs": "the documentation site",
-    "figure_conditioning": "each figure array's spread under another libm and inputs moved by ulps",
+    "figure_conditioning": "each figure array's spread under another libm, other OpenBLAS kernels and inputs moved by ulps",
     "update_figure_references": "accepting the current figures' arrays as the new references",
 }
 

@@ -493,21 +493,6 @@ def pages_agree_with_the_check(results) -> None:
     assert df.loc["1:1 -> 2:1: U_T rises", "computed"] == f"rises in {n} of {n} sweeps"
 
 
-def test_the_pages_agree_with_the_check_s_results():
-    """Against this checkout's results (skipped where the default target has not run)."""
-    if not (ROOT / "results" / "checks" / "paper_values.csv").exists():
-        pytest.skip("results/checks/paper_values.csv: run the default target")
-    pages_agree_with_the_check(ROOT / "results")
-
-
-@pytest.mark.slow
-def test_the_pages_agree_with_the_check_of_a_fresh_clone(readme_clone):
-    """Against the check README's commands run in a scratch clone."""
-    clone, first, _ = readme_clone
-    assert first.returncode == 0
-    pages_agree_with_the_check(clone / "results")
-
-
 def design_prose_holds(results) -> None:
     """energy.md's paragraph on the design sweeps, against the tables the design rule writes into ``results`` and the
     sweep energies they come from."""
@@ -562,21 +547,6 @@ def design_prose_holds(results) -> None:
                         row.motion.startswith("2:1") or row.motion == CHAOTIC), (name, q, row.motion)
 
 
-def test_the_design_paragraph_holds_in_the_results():
-    """Against this checkout's results (skipped where the default target has not written the trends)."""
-    if not (ROOT / "results" / "tables" / "design_trends.csv").exists():
-        pytest.skip("results/tables/design_trends.csv: run the default target")
-    design_prose_holds(ROOT / "results")
-
-
-@pytest.mark.slow
-def test_the_design_paragraph_holds_in_a_fresh_clone(readme_clone):
-    """Against the default target README's first command runs in a scratch clone."""
-    clone, first, _ = readme_clone
-    assert first.returncode == 0
-    design_prose_holds(clone / "results")
-
-
 def bistable_band_prose_holds(results) -> None:
     """orbits.md on the band where 2:1 and 3:1 coexist: shortest near pi/12, lengthening with the incline and again
     towards the smallest inclines; at pi/2 the curves stop (no interval)."""
@@ -593,21 +563,6 @@ def bistable_band_prose_holds(results) -> None:
     text = " ".join((DOCS / "guide" / "orbits.md").read_text().split())
     assert ("The interval is shortest near β = π/12 and lengthens with the incline, but lengthens again towards the "
             "smallest inclines, where the two curves bend apart; at π/2 exactly the curves stop") in text
-
-
-def test_the_bistable_band_paragraph_holds_in_the_results():
-    """Against this checkout's results of the bifurcation target (skipped where it has not run)."""
-    if not (ROOT / "results" / "bifurcation" / "bistable_band.nc").exists():
-        pytest.skip("results/bifurcation/bistable_band.nc: run `snakemake --cores 2 bifurcation`")
-    bistable_band_prose_holds(ROOT / "results")
-
-
-@pytest.mark.slow
-def test_the_bistable_band_paragraph_holds_in_a_fresh_clone(readme_clone):
-    """Against README's check (which runs the bifurcation target) in a scratch clone."""
-    clone, _, check = readme_clone
-    assert check.returncode == 0
-    bistable_band_prose_holds(clone / "results")
 
 
 def design_maps_prose_holds(results) -> None:
@@ -627,19 +582,36 @@ def design_maps_prose_holds(results) -> None:
     assert by_force.motion.startswith("2:2 ") and by_force.F < 22.0
 
 
-def test_the_design_maps_paragraph_holds_in_the_results():
-    """Against this checkout's results of the design_maps target (skipped where it has not run)."""
-    if not (ROOT / "results" / "tables" / "design_robust.csv").exists():
-        pytest.skip("results/tables/design_robust.csv: run `snakemake --cores 2 design_maps`")
-    design_maps_prose_holds(ROOT / "results")
+#: each page's passage tested against results: the function that holds it, the file it needs, the target that
+#: writes it and which of README's runs (the first command, or the check after it) does in a fresh clone
+PASSAGES = {
+    "the pages' verdicts against the check": (pages_agree_with_the_check, "checks/paper_values.csv",
+                                              "the default target", "first"),
+    "the design paragraph": (design_prose_holds, "tables/design_trends.csv", "the default target", "first"),
+    "the bistable band paragraph": (bistable_band_prose_holds, "bifurcation/bistable_band.nc",
+                                    "`snakemake --cores 2 bifurcation`", "check"),
+    "the design maps paragraph": (design_maps_prose_holds, "tables/design_robust.csv",
+                                  "`snakemake --cores 2 design_maps`", "check"),
+}
+
+
+@pytest.mark.parametrize("passage", PASSAGES)
+def test_a_passage_holds_in_this_checkout_s_results(passage):
+    """Against this checkout's results (skipped where the target that writes them has not run)."""
+    holds, needs, target, _ = PASSAGES[passage]
+    if not (ROOT / "results" / needs).exists():
+        pytest.skip(f"results/{needs}: run {target}")
+    holds(ROOT / "results")
 
 
 @pytest.mark.slow
-def test_the_design_maps_paragraph_holds_in_a_fresh_clone(readme_clone):
-    """Against README's check (which runs the design_maps target) in a scratch clone."""
-    clone, _, check = readme_clone
-    assert check.returncode == 0
-    design_maps_prose_holds(clone / "results")
+@pytest.mark.parametrize("passage", PASSAGES)
+def test_a_passage_holds_in_a_fresh_clone(readme_clone, passage):
+    """Against README's commands run in a scratch clone (the first, or the check after it)."""
+    holds, _, _, run = PASSAGES[passage]
+    clone, first, check = readme_clone
+    assert (first if run == "first" else check).returncode == 0
+    holds(clone / "results")
 
 
 def test_figure_5_s_caption_states_the_check_s_tolerance_for_the_simulated_points():

@@ -718,3 +718,58 @@ def test_an_array_whose_declared_rule_changed_fails_until_the_reference_is_remad
     new["a0_line0_y"].attrs["wellposed"] = "located"
     df = compare(new, ref, rtol=RTOL, atol=ATOL).set_index("variable")
     assert df.status["a0_line0_y"] == "fail: declares rule 'located', the reference 'magnitude'"
+
+
+def _named_line(x, y_place, step_x=0.0, free="y"):
+    fig, ax = plt.subplots()
+    ax.axvline(x)
+    wellposed(ax.annotate("1:1 exit", (x, y_place), xycoords=("data", "axes fraction")), "placed", free=free,
+              step_x=step_x)
+    ds = figure_data(fig)
+    plt.close(fig)
+    return ds
+
+
+def test_a_line_s_name_may_take_another_place_up_the_line_but_not_leave_it():
+    """A name the layout placed at one of several heights beside its line (clear of markers that move): another
+    height passes, the line's d held to its grid step (pointwise without one); the layout's records it so."""
+    ref = _named_line(0.2, 0.02, step_x=0.01)
+    df = compare(_named_line(0.205, 0.6, step_x=0.01), ref, rtol=RTOL, atol=ATOL).set_index("variable")
+    assert df.status["a0_text0_xy"] == "pass" and df.provenance["a0_text0_xy"] == "layout"
+    assert compare(_named_line(0.212, 0.02, step_x=0.01), ref, rtol=RTOL, atol=ATOL).set_index(
+        "variable").status["a0_text0_xy"] == "fail"
+    exact = _named_line(0.2, 0.02)
+    assert compare(_named_line(0.2 + 1e-6, 0.4), exact, rtol=RTOL, atol=ATOL).set_index(
+        "variable").status["a0_text0_xy"] == "fail"
+    assert compare(_named_line(0.2, 0.4), exact, rtol=RTOL, atol=ATOL).set_index(
+        "variable").status["a0_text0_xy"] == "pass"
+    # place_labels records the rule where its candidates' anchors differ in height, and not where they share one
+    from vibroimpact.outputs.layout import place_labels
+
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [0, 1], "o")
+    a, b = place_labels(fig, [(ax, "up the line", [((0.5, y), (2, 1)) for y in (0.02, 0.5)],
+                               dict(xycoords=("data", "axes fraction"))),
+                              (ax, "at a point", [((0.5, 0.5), off) for off in ((3, 3), (-3, -3))], {})])
+    ds = figure_data(fig)
+    plt.close(fig)
+    assert ds["a0_text0_xy"].attrs["wellposed"] == "placed" and ds["a0_text0_xy"].attrs["wp_free"] == "y"
+    assert "wellposed" not in ds["a0_text1_xy"].attrs
+
+
+def test_a_name_of_merged_short_runs_may_change_its_motions_but_not_its_place():
+    """Short runs merged under one name list motions that interleave where they meet (which, and in what order,
+    moves with any point there): such a name may change, within one sweep step of its place; a run of one
+    motion keeps its name."""
+    def name(text, x, merged):
+        fig, ax = plt.subplots()
+        wellposed(ax.text(x, 0.9, text), "run", step=0.25, merged=merged)
+        ds = figure_data(fig)
+        plt.close(fig)
+        return ds
+
+    ref = name("chaotic, unsettled, …", 5.0, True)
+    assert set(compare(name("unsettled, chaotic, …", 5.2, True), ref, rtol=RTOL, atol=ATOL).status) == {"pass"}
+    assert set(compare(name("unsettled, chaotic, …", 5.3, True), ref, rtol=RTOL, atol=ATOL).status) == {"fail"}
+    one = name("2:1 T=2", 5.0, False)
+    assert set(compare(name("2:1 T=4", 5.0, False), one, rtol=RTOL, atol=ATOL).status) == {"fail"}

@@ -23,7 +23,10 @@ moved by a few ulps):
     basins interleave) or where one of the two is a transient that outlasted the cap (on a map of
     motions only: no period within the cap on either side, whether chaotic, quasi-periodic or unsettled).
 ``run``
-    a text naming a run of one motion, at its middle: the same text, within one sweep step.
+    a text naming a run of one motion, at its middle: the same text, within one sweep step (a name of merged
+    short runs: within one sweep step).
+``placed``
+    a text the layout placed at one of several anchors: the coordinates the anchors share, within their step.
 ``located``
     values located between neighbouring points of a grid (a transition along a sweep, the 1:1 exit): each
     coordinate within the artist's recorded grid step along it (``step_x``, ``step_y``; none: pointwise); an
@@ -78,13 +81,14 @@ PROVENANCE = {
                     "rounding, a count of ulps",
     "random starts": "shares over a random sample of starts: a statistic with a binomial error",
     "timing": "a wall-clock time: the machine's speed, not a result",
+    "layout": "a label's place, chosen among candidates to clear what is drawn (which may move)",
 }
 #: provenances whose arrays are never compared pointwise
-NOT_POINTWISE = frozenset({"simulation", "chaotic run", "method error", "random starts", "timing"})
+NOT_POINTWISE = frozenset({"simulation", "chaotic run", "method error", "random starts", "timing", "layout"})
 #: the provenance a rule is recorded with where the figure names none
 DEFAULT_PROVENANCE = {"motions": "simulation", "run": "simulation", "boundary": "simulation", "located": "grid",
                       "curve": "continuation", "on curve": "continuation", "magnitude": "method error",
-                      "outcome": "chaotic run", "timing": "timing"}
+                      "outcome": "chaotic run", "timing": "timing", "placed": "layout"}
 
 
 
@@ -238,14 +242,35 @@ def motions(new, ref, base, *, rtol, atol):
 
 
 def run_text(new, ref, name, *, rtol, atol):
-    """The ``run`` rule for a text variable: same text, within one sweep step along x, y pointwise."""
+    """The ``run`` rule for a text variable: within one sweep step along x (its row, y, is the layout's), and the
+    same text where it names one motion (a name of merged short runs, ``merged``, lists motions that interleave
+    where they meet, and is not compared)."""
     a, b = ref[name], new[name]
     step = float(a.attrs.get("wp_step", 0.0))
-    if a.attrs.get("label") != b.attrs.get("label"):
+    merged = bool(a.attrs.get("wp_merged", False)) or bool(b.attrs.get("wp_merged", False))
+    if not merged and a.attrs.get("label") != b.attrs.get("label"):
         return False, math.nan, f"text {b.attrs.get('label')!r} where the reference has {a.attrs.get('label')!r}"
     dx = abs(float(b.values[0]) - float(a.values[0]))
-    ok = dx <= step + atol + rtol * abs(float(a.values[0])) and strict_close(b.values[1:], a.values[1:], rtol, atol)
-    return ok, dx, f"moved {dx:.3g} along the sweep (one step: {step:.3g})"
+    ok = dx <= step + atol + rtol * abs(float(a.values[0]))
+    return ok, dx, f"moved {dx:.3g} along the sweep (one step: {step:.3g})" + ("; merged runs" if merged else "")
+
+
+def placed(new, ref, name, *, rtol, atol):
+    """The ``placed`` rule for a text the layout placed at one of several anchors (a line's name beside it): the
+    coordinates the candidates share (not in ``free``) within their recorded step (``wp_step_x``, ``wp_step_y``;
+    none: pointwise); the ``free`` ones, the layout's choice, not compared."""
+    a, b = np.asarray(ref[name].values, float), np.asarray(new[name].values, float)
+    attrs = ref[name].attrs
+    if a.shape != b.shape:
+        return False, math.nan, f"shape {b.shape}, reference {a.shape}"
+    free = str(attrs.get("wp_free", ""))
+    keep = [k for k, axis in enumerate("xy") if axis not in free and k < a.size]
+    step = np.array([float(attrs.get(f"wp_step_{'xy'[k]}", 0.0)) for k in keep])
+    diff = np.abs(a[keep] - b[keep])
+    good = bool(np.all(diff <= step + atol + rtol * np.abs(a[keep])))
+    worst = float(diff.max(initial=0.0))
+    return good, worst, f"moved {worst:.3g} along {', '.join('xy'[k] for k in keep) or 'nothing'} ({free or 'no'} " \
+                        "coordinate the layout's choice)"
 
 
 def located(new, ref, name, *, rtol, atol):
@@ -493,8 +518,7 @@ def timing(new, ref, name, *, rtol, atol):
 
 #: every rule but ``strict`` (pointwise, :func:`strict_close`), the one place a rule's name meets its
 #: comparison: ``(new, ref, name, *, rtol, atol) -> (ok, max difference, detail)`` for a variable ``name``
-#: of the reference; all but ``located``, ``magnitude``, ``outcome`` and ``timing`` judge the variable's whole
-#: artist at once
+#: of the reference; all but those of :data:`PER_VARIABLE` judge the variable's whole artist at once
 RULES = {
     "motions": lambda new, ref, name, **kw: motions(new, ref, artist_base(name), **kw)[:3],
     "run": run_text,
@@ -502,12 +526,13 @@ RULES = {
     "curve": lambda new, ref, name, **kw: curve(new, ref, artist_base(name), **kw),
     "on curve": _on_curve,
     "boundary": _boundary,
+    "placed": placed,
     "magnitude": magnitude,
     "outcome": outcome,
     "timing": timing,
 }
 #: the rules that judge one variable, not its whole artist
-PER_VARIABLE = frozenset({"located", "magnitude", "outcome", "timing"})
+PER_VARIABLE = frozenset({"located", "placed", "magnitude", "outcome", "timing"})
 
 
 def judge(rule, new, ref, name, *, rtol, atol, cache=None):

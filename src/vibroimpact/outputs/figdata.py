@@ -108,8 +108,11 @@ def figure_data(fig, attrs: dict | None = None) -> xr.Dataset:
             # matplotlib's own names ("_child3") are dropped; "_name" (kept out of legends) is kept
             label = "" if label.startswith("_child") else label.lstrip("_")
             style = dict(marker=str(line.get_marker()), linestyle=str(line.get_linestyle()))
-            put(f"a{i}_line{j}_x", line.get_xdata(), xlab, label, **style)
-            put(f"a{i}_line{j}_y", line.get_ydata(), ylab, label, **style)
+            # a coordinate in axes fraction (a line across the axes, axhline's x) is no value of its axis
+            in_data = line.get_transform().contains_branch_seperately(ax.transData)
+            for part, values, lab, data_coords in (("x", line.get_xdata(), xlab, in_data[0]),
+                                                  ("y", line.get_ydata(), ylab, in_data[1])):
+                put(f"a{i}_line{j}_{part}", values, lab if data_coords else "axes fraction", label, **style)
             wellposed(line, f"a{i}_line{j}", [f"a{i}_line{j}_x", f"a{i}_line{j}_y"])
         for j, text in enumerate(ax.texts):  # annotations: names of marked points
             if text.get_text():

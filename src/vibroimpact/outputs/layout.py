@@ -45,6 +45,8 @@ from matplotlib.patches import Patch
 from matplotlib.text import Text
 from matplotlib.transforms import Bbox
 
+from .figdata import record_wellposed
+
 #: texts closer than this (points) overprint: an extent is the box of a text's advance and line height,
 #: so two labels set less than a point apart read as one word ("h=0.02h=0.01"); a text crosses an edge,
 #: or a legend covers something, only by more than this: extents are rounded out to whole pixels (a
@@ -552,6 +554,11 @@ def place_labels(fig, labels, gap_pt: float = 3.0) -> list:
                 break
         taken.append(best[2])
         placed.append(best[1])
+        # where the candidates' anchors differ, the one taken is the layout's choice, which moves with what is
+        # drawn: the figure check compares the other coordinate only
+        free = "".join(axis for k, axis in enumerate("xy") if len({float(xy[k]) for xy, _ in candidates}) > 1)
+        if free:
+            record_wellposed(best[1], "placed", provenance="layout", free=free)
     return placed
 
 

@@ -128,7 +128,11 @@ def wellposed(artist, rule: str, *, provenance: str | None = None, timed=(), **f
       settles later: a transient longer than the cap) and ``mean``, ``se`` (the long-run statistic of the
       quantity drawn, where no period was found), each aligned with the artist's points;
     * ``"run"``: a text naming a run of one motion along a sweep, placed at its middle; ``step``: the
-      sweep's spacing (each end of the run is known to one point);
+      sweep's spacing (each end of the run is known to one point); ``merged``: it names merged short runs,
+      whose motions interleave (its text is not compared);
+    * ``"placed"``: a text the layout placed at one of several anchors; ``free``: the coordinates the layout
+      chose (``"x"``, ``"y"``), not compared; ``step_x``, ``step_y``: the others' grid steps
+      (:func:`vibroimpact.outputs.layout.place_labels` records it where the candidates' anchors differ);
     * ``"located"``: values located between neighbouring points of a grid (a transition along a sweep,
       the 1:1 exit); ``step_x``, ``step_y``: the grid's step along each coordinate (none: pointwise);
     * ``"curve"``: a curve sampled by continuation (its points lie on the curve; where they lie along it

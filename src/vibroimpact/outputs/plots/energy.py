@@ -144,13 +144,16 @@ def motion_runs(ax, sw, direction="down", min_points=MIN_POINTS):
     s = sw.sel(direction=direction)
     names = {m.label: m.short_label for m in window_motions(s)}
     for a, b, name in motion_blocks(s.label.values, min_points, names):
+        single = len(set(s.label.values[a:b].astype(str))) == 1
         ax.annotate("", (d[a], 0.985), (d[b - 1], 0.985), xycoords=tr, arrowprops=dict(arrowstyle="|-|", lw=0.5,
                     color="0.4", shrinkA=0, shrinkB=0, mutation_scale=2))
         text = ax.text(0.5 * (d[a] + d[b - 1]), 0.965, name, transform=tr, ha="center", va="top", fontsize=5,
                        color="0.25")
         text.set_gid(RUN_NAME)  # placed in rows by rows_of_names once the figure is laid out
         RUN_SPANS[text] = (float(d[a]), float(d[b - 1]))
-        wellposed(text, "run", step=step)
+        # a name of merged short runs lists motions that interleave where they meet: which, and in what order,
+        # moves with any point there
+        wellposed(text, "run", step=step, merged=not single)
 
 
 #: how much an axis' top is raised at a time to clear its motion names of markers, and at most how often
@@ -319,8 +322,8 @@ def name_marks(fig, todo, fontsize=5.5):
                  dict(xycoords=("data", "axes fraction"), fontsize=fontsize, color=mark_style(name)[0], rotation=90))
                 for ax, name, d, _ in todo]
     for text, (_, name, _, step) in zip(layout.place_labels(fig, requests), todo, strict=True):
-        if name.startswith("1:1 exit"):
-            wellposed(text, "located", step_x=step)
+        if name.startswith("1:1 exit"):  # located along the sweep: its d to a grid step, its place the layout's
+            wellposed(text, "placed", provenance="layout", free="y", step_x=step)
 
 
 def mark_handles(names):

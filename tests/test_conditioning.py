@@ -149,3 +149,29 @@ def test_references_are_accepted_with_their_measured_conditioning(tmp_path):
     check = subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", "results/checks/figures/fig4.csv"],
                            cwd=tmp_path, capture_output=True, text=True, timeout=600)
     assert check.returncode == 0, check.stderr[-3000:]
+
+
+def test_the_testing_page_s_table_counts_per_figure_and_perturbation_in_the_paper_s_order():
+    """summary() counts, per figure and perturbation, the arrays moved beyond the strict tolerance and those
+    their declared rule fails; conditioning_markdown() lists the paper's figures by printed number first, then
+    every array that moved with how far each perturbation moved it."""
+    from vibroimpact.outputs.conditioning import conditioning_markdown, summary
+
+    table = pd.DataFrame([
+        dict(figure="basins", variable="a", rule="motions", provenance="simulation", conditioning="ill-conditioned",
+             spread=1.0, ratio=9.0, moved_by="p", judged="pass", by_perturbation="p: 9; q: 0.5"),
+        dict(figure="fig5", variable="b", rule="strict", provenance="exact", conditioning="strict", spread=0.0,
+             ratio=0.25, moved_by="", judged="pass", by_perturbation="p: 0.25; q: 0"),
+        dict(figure="fig5", variable="c", rule="magnitude", provenance="method error", conditioning="ill-conditioned",
+             spread=1.0, ratio=3.0, moved_by="p; q", judged="fail under q", by_perturbation="p: 3; q: 2")])
+    per = summary(table, ["p", "q"]).assign(machine_openblas="Haswell")
+    got = per.set_index(["figure", "perturbation"])
+    assert got.loc[("fig5", "p"), "moved"] == 1 and got.loc[("fig5", "q"), "failed"] == 1
+    assert got.loc[("fig5", "p"), "failed"] == 0 and got.loc[("fig5", "p"), "largest_pointwise_ratio"] == 0.25
+    assert got.loc[("basins", "q"), "moved"] == 0 and got.loc[("basins", "p"), "arrays"] == 1
+    md = conditioning_markdown(table, per)
+    assert "OpenBLAS picks its Haswell kernels" in md
+    assert md.index("Figure 9 (Fig 5)") < md.index("| basins")  # the paper's figure first
+    row = md.split("| Figure 9 (Fig 5)")[1].split("\n")[0]
+    assert [c.strip() for c in row.split("|")[1:4]] == ["2", "1 (0)", "1 (1)"]
+    assert "p: 3; q: 2" in md and "fail under q" in md and "| b " not in md  # only the arrays that moved

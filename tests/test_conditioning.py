@@ -175,3 +175,69 @@ def test_the_testing_page_s_table_counts_per_figure_and_perturbation_in_the_pape
     row = md.split("| Figure 9 (Fig 5)")[1].split("\n")[0]
     assert [c.strip() for c in row.split("|")[1:4]] == ["2", "1 (0)", "1 (1)"]
     assert "p: 3; q: 2" in md and "fail under q" in md and "| b " not in md  # only the arrays that moved
+
+
+def test_a_probe_of_the_libm_switch_that_cannot_run_is_an_error_not_a_no(tmp_path):
+    """An interpreter that cannot run the probe (here one that fails as a Python without numpy would) is an error:
+    it must not read as 'the switch changes nothing here', which the workflow and the tests would take for a CPU
+    whose glibc takes one path anyway (and skip the other libm)."""
+    from vibroimpact.outputs.conditioning import libm_switch_works
+
+    broken = tmp_path / "python"
+    broken.write_text("#!/bin/sh\necho \"ModuleNotFoundError: No module named 'numpy'\" >&2\nexit 1\n")
+    broken.chmod(0o755)
+    with pytest.raises(subprocess.CalledProcessError):
+        libm_switch_works(str(broken))
+
+
+def _table():
+    """A conditioning table as figure_conditioning writes it, counted by hand: figure f has four arrays compared
+    (an optional peer's excluded, the image row apart): a strict array moved 3 tolerances by libm (and failing
+    there), a cloud that libm moved (NaN elsewhere) and mass +2 ulp by 40 tolerances (its rule passing both), a
+    strict array that moved by neither, and a strict array that mass +2 ulp changed in shape (failing there);
+    figure g (first, as the workflow's figures come in no sorted order) one strict array that moved by neither;
+    figure h one timing, moved by both, no strict array."""
+    from vibroimpact.outputs.checks import IMAGE_ROW
+
+    rows = [("g", "d", "strict", "strict", "", "pass", "libm: 0.7; mass +2 ulp: 0.9"),
+            ("f", "a", "strict", "ill-conditioned", "libm", "fail under libm", "libm: 3; mass +2 ulp: 0.5"),
+            ("f", "b", "motions", "ill-conditioned", "libm; mass +2 ulp", "pass", "libm: moved; mass +2 ulp: 40"),
+            ("f", "c", "strict", "strict", "", "pass", "libm: 0.2; mass +2 ulp: 0"),
+            ("f", "e", "strict", "ill-conditioned", "mass +2 ulp", "fail under mass +2 ulp", "libm: 0; mass +2 ulp: moved"),
+            ("f", "s", "strict", "excluded", "", "excluded", ""),
+            ("f", IMAGE_ROW, "", "ill-conditioned", "", "", ""),
+            ("h", "t", "timing", "ill-conditioned", "libm; mass +2 ulp", "pass", "libm: 5; mass +2 ulp: 7")]
+    return pd.DataFrame(rows, columns=["figure", "variable", "rule", "conditioning", "moved_by", "judged",
+                                       "by_perturbation"]).assign(provenance="exact")
+
+
+def _cells(text, first):
+    line = next(x for x in text.splitlines() if x.startswith(f"| {first} "))
+    return [c.strip() for c in line.strip("|").split("|")]
+
+
+def test_the_summary_and_the_testing_page_count_each_figure_s_moved_and_failed_arrays():
+    from vibroimpact.outputs.conditioning import conditioning_markdown, summary
+
+    table = _table()
+    per = summary(table, ["libm", "mass +2 ulp"])
+    record = lambda fig, name, *counts: dict(zip(per.columns, (fig, name, *counts), strict=True))
+    assert per.to_dict("records") == [record("g", "libm", 1, 0, 0, 0.7, 0), record("g", "mass +2 ulp", 1, 0, 0, 0.9, 0),
+                                      record("f", "libm", 4, 2, 1, 3.0, 1), record("f", "mass +2 ulp", 4, 2, 1, 0.5, 1),
+                                      record("h", "libm", 1, 1, 0, 0.0, 0), record("h", "mass +2 ulp", 1, 1, 0, 0.0, 0)]
+    md = conditioning_markdown(table, per.assign(machine_openblas="Haswell"))
+    assert md.startswith("Measured on a machine whose OpenBLAS picks its Haswell kernels, under 2 perturbations "
+                         "(libm, mass +2 ulp).")
+    assert _cells(md, "figure") == ["figure", "arrays", "libm", "mass +2 ulp"]
+    assert _cells(md, "f") == ["f", "4", "2 (1)", "2 (1)"] and _cells(md, "g") == ["g", "1", "0 (0)", "0 (0)"]
+    assert _cells(md, "h") == ["h", "1", "1 (0)", "1 (0)"]
+    moved = md.split("The arrays that moved, and by how much:")[1]
+    rows = [[c.strip() for c in x.strip("|").split("|")] for x in moved.splitlines() if x.startswith("| f ")]
+    assert [r[:4] for r in rows] == [["f", "a", "strict", "exact"], ["f", "b", "motions", "exact"],
+                                     ["f", "e", "strict", "exact"]]
+    assert rows[0][4:] == ["libm: 3; mass +2 ulp: 0.5", "fail under libm"] and "| g " not in moved
+    # measured under one perturbation, with no kernel set reported
+    one = conditioning_markdown(table, summary(table, ["mass +2 ulp"]))
+    assert one.startswith("Measured on a machine whose OpenBLAS picks its unreported kernels, under 1 "
+                          "perturbations (mass +2 ulp).")
+    assert _cells(one, "f") == ["f", "4", "2 (1)"] and _cells(one, "g") == ["g", "1", "0 (0)"]

@@ -773,3 +773,41 @@ def test_a_name_of_merged_short_runs_may_change_its_motions_but_not_its_place():
     assert set(compare(name("unsettled, chaotic, …", 5.3, True), ref, rtol=RTOL, atol=ATOL).status) == {"fail"}
     one = name("2:1 T=2", 5.0, False)
     assert set(compare(name("2:1 T=4", 5.0, False), one, rtol=RTOL, atol=ATOL).status) == {"fail"}
+
+
+def test_a_sweep_point_s_abscissa_is_one_point_within_the_strict_tolerance_of_its_own_magnitude():
+    """One of the three values at d = 4 carries its d rounded otherwise, moved by 2e-10 of it (within the strict
+    tolerance 1e-9 |d|, far beyond its atol 1e-12): still one point of seven, as in the reference, whatever the
+    sweep's first d (here 0); moved by 2e-9 of it, beyond the tolerance, it is a point of its own."""
+    def moved(rel):
+        ds = _variant()
+        x = ds["a0_line0_x"].values.copy()
+        assert x[9] == 4.0  # points 0-3 hold two values each: point 4's are 8, 9, 10
+        x[9] = 4.0 * (1 + rel)
+        ds["a0_line0_x"].values = x
+        return ds
+
+    df = _check(moved(2e-10), _variant())
+    assert set(df.status) == {"pass"} and df.detail.iloc[0].startswith("7 points: 6 exact values, 1 statistics")
+    df = _check(moved(2e-9), _variant())
+    assert set(df.status) == {"fail"} and "the points moved (8 points, reference 7)" in df.detail.iloc[0]
+
+
+def test_the_detail_counts_the_motions_changed_at_a_boundary():
+    """Two points take another motion, each at a boundary of its own in the reference (point 5 beside the
+    aperiodic point 4, point 2 two points from it): the detail counts both, and no transient."""
+    new = _variant(motions=_at(5, "1:1 period-4", _at(2, "no period found", BASE["motions"])),
+                   settled=_at(2, False, BASE["settled"]))
+    df = _check(new, _variant())
+    assert set(df.status) == {"pass"}
+    assert "2 motion changed at a boundary, 0 at a transient longer than the cap" in df.detail.iloc[0], df.detail.iloc[0]
+
+
+def test_an_error_where_the_reference_has_none_or_an_infinite_one_fails():
+    """An error compared by its magnitude: a finite error where the reference has no error (NaN: no run reached
+    the tolerance) or an infinite one (the wrong walls) fails, as does the converse."""
+    ref = [1e-5, 1e-8, 7.5e-11]
+    for a, b in (([1e-5, np.nan, 7.5e-11], ref), ([1e-5, np.inf, 7.5e-11], ref), (ref, [1e-5, np.nan, 7.5e-11])):
+        df = compare(_errors(b), _errors(a), rtol=RTOL, atol=ATOL).set_index("variable")
+        assert df.status["a0_line0_y"] == "fail", (a, b)
+        assert "NaN or infinite errors at other places" in df.detail["a0_line0_y"], df.detail["a0_line0_y"]

@@ -139,7 +139,9 @@ TESTS = {
         "test_the_mass_moves_by_the_given_number_of_ulps_and_nothing_else",
         "test_a_move_between_one_and_two_tolerances_is_a_move",
         "test_the_image_spread_and_the_ill_conditioned_variables_of_a_figure",
-        "test_a_perturbed_regeneration_runs_the_workflow_in_a_copy_with_the_switch_and_the_moved_mass")]
+        "test_a_perturbed_regeneration_runs_the_workflow_in_a_copy_with_the_switch_and_the_moved_mass",
+        "test_a_probe_of_the_libm_switch_that_cannot_run_is_an_error_not_a_no",
+        "test_the_summary_and_the_testing_page_count_each_figure_s_moved_and_failed_arrays")]
     + ["tests/test_readme.py::test_the_libm_switch_changes_sin_where_glibc_dispatches_it"],
 }
 NUMBA_MODULES = {"events", "kernels"}

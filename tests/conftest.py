@@ -153,6 +153,16 @@ def readme_clone(tmp_path_factory):
 
 
 @pytest.fixture(scope="session")
+def docs_build(readme_clone):
+    """README's docs command run once in the scratch clone after its first command and its check (it runs the
+    bench, bifurcation and design_maps targets too): the clone and the command's result."""
+    clone, first, _ = readme_clone
+    if first.returncode:
+        return clone, first
+    return clone, run_readme(clone, readme_command("tests/test_docs.py::test_the_docs_build_with_warnings_as_errors"))
+
+
+@pytest.fixture(scope="session")
 def default_run(readme_clone):
     """The default target and `check` as README.md runs them (in a scratch clone, under another libm)."""
     clone, _, check = readme_clone

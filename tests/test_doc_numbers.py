@@ -495,56 +495,61 @@ def pages_agree_with_the_check(results) -> None:
 
 def design_prose_holds(results) -> None:
     """energy.md's paragraph on the design sweeps, against the tables the design rule writes into ``results`` and the
-    sweep energies they come from."""
+    sweep energies they come from.  What it says is what holds on any machine: where a fall lies among falls that
+    each touch a chaotic point (statistics, another machine's long runs) is not said, nor is a step that only a
+    statistic decides."""
     import xarray as xr
     import yaml
 
     from vibroimpact.analysis.energy import delivered
-    from vibroimpact.analysis.motions import CHAOTIC
+    from vibroimpact.analysis.motions import no_period
 
     trends = pd.read_csv(results / "tables" / "design_trends.csv")
-    trends[["motion_from", "motion_to"]] = trends[["motion_from", "motion_to"]].fillna("")
     design = pd.read_csv(results / "tables" / "design.csv")
-    s, F = trends[trends.vary == "s"], trends[trends.vary == "F"]
     # both averages rise at most steps, but not at all of them
     assert (trends.rising > trends.steps / 2).all() and (trends.falling > 0).any()
-    # U_T falls where the 2:1 motion ends as the cylinder lengthens
-    u_t = s[s.average == "U_T"]
-    assert (u_t.falling > 0).all() and (u_t.motion_from == "2:1 period-2").all()
-    assert (u_t.motion_to != "2:1 period-2").all()
-    # U_I where the motion becomes 2:1 as the force grows
-    u_i = F[F.average == "U_I"]
-    assert (u_i.falling > 0).all() and (u_i.motion_to == "2:1 period-2").all()
-    assert (u_i.motion_from != "2:1 period-2").all()
-    # U_T rises at every step with the force
-    assert (F[F.average == "U_T"].falling == 0).all()
-    # the largest fall of U_I with the length, in the sweeps where it falls, lies in a chaotic window
-    falls = s[(s.average == "U_I") & (s.falling > 0)]
-    assert ((falls.motion_from == "chaotic") & (falls.motion_to == "chaotic")).all()
-    # past those falls both rise again; the best device at the end of the range or next to it, in 1:1 motion by
-    # length and 2:1 or chaotic by force, but for U_I at pi/6 by force (1:1 period-4 at a smaller force)
     cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
     r = f"{cfg['physics']['r']:.4f}"
+    two = "2:1 period-2"
     for vary, names in cfg["energy"]["design"].items():
         for name in names:
             beta = cfg["sweeps"]["scenes"][name]["beta"]
             e = xr.load_dataset(results / "energy" / f"beta-{beta:.4f}_r-{r}" / f"{name}.nc")
-            x = np.sort(e[vary].values)
+            k = list(e.direction.values).index("down")
+            order = np.argsort(e[vary].values)
+            x, lab = e[vary].values[order], e.label.values[k][order].astype(str)
             for q in ("U_T", "U_I"):
-                t = trends[(trends.vary == vary) & (trends.average == q)
-                           & np.isclose(trends.beta, beta, rtol=0, atol=1e-9)].iloc[0]
+                v = delivered(e, q)[0][k][order]
+                loss = np.where(np.isfinite(v[:-1]) & np.isfinite(v[1:]), -np.diff(v), np.nan)
+                falls = np.flatnonzero(loss > 0)
+                # the fall of the 2:1 motion's edge: U_T out of its last point with the length, U_I into its first
+                # with the force, larger than any other of the sweep
+                edge = None
+                if (vary, q) == ("s", "U_T"):
+                    edge = int(np.flatnonzero(lab == two)[-1])
+                elif (vary, q) == ("F", "U_I"):
+                    edge = int(np.flatnonzero(lab == two)[0]) - 1
+                if edge is not None:
+                    assert edge in falls and all(loss[edge] > loss[i] for i in falls if i != edge), (name, q)
+                # every other fall touches a point with no period
+                for i in falls:
+                    assert i == edge or no_period(lab[i]) or no_period(lab[i + 1]), (name, q, x[i], lab[i], lab[i + 1])
                 row = design[(design.vary == vary) & (design.maximise == q)
                              & np.isclose(design.beta, beta, rtol=0, atol=1e-9)].iloc[0]
-                if t.falling:
-                    v = delivered(e, q)[0][list(e.direction.values).index("down")]
-                    v = v[np.argsort(e[vary].values)]
-                    assert v[np.isfinite(v)][-1] > t.value_to, (name, q)
                 if (vary, q) == ("F", "U_I") and np.isclose(beta, math.pi / 6):
-                    assert row.motion == "1:1 period-4" and row.best < x[-1] - np.max(np.diff(x)), (name, q)
+                    # the exception: the 1:1 period-4 at a smaller force and the chaotic long runs at the largest
+                    # forces deliver the same per impact within three standard errors of a difference of two runs;
+                    # the table names one of the two
+                    mean, se = delivered(e, q)
+                    top = (e.label.values[k] == "chaotic") & (e[vary].values > x[-1] - 10 * np.max(np.diff(x)))
+                    p4 = e.label.values[k] == "1:1 period-4"
+                    gap = abs(np.nanmax(mean[k][p4]) - np.nanmax(mean[k][top]))
+                    assert top.any() and p4.any() and gap < 3 * math.sqrt(2) * np.nanmax(se[k][top]), gap
+                    assert row.motion in ("1:1 period-4", "chaotic"), row.motion
                     continue
+                # the best device at the end of the range or next to it; by length in 1:1 motion, by force in no 1:1
                 assert row.best >= x[-2], (name, q, row.best)
-                assert (row.motion.startswith("1:1") if vary == "s" else
-                        row.motion.startswith("2:1") or row.motion == CHAOTIC), (name, q, row.motion)
+                assert row.motion.startswith("1:1") == (vary == "s"), (name, q, row.motion)
 
 
 def bistable_band_prose_holds(results) -> None:
@@ -583,15 +588,16 @@ def design_maps_prose_holds(results) -> None:
 
 
 #: each page's passage tested against results: the function that holds it, the file it needs, the target that
-#: writes it and which of README's runs (the first command, or the check after it) does in a fresh clone
+#: writes it and which of README's runs writes it in a fresh clone (its first command, or its docs command, which
+#: runs the bifurcation and design_maps targets)
 PASSAGES = {
     "the pages' verdicts against the check": (pages_agree_with_the_check, "checks/paper_values.csv",
                                               "the default target", "first"),
     "the design paragraph": (design_prose_holds, "tables/design_trends.csv", "the default target", "first"),
     "the bistable band paragraph": (bistable_band_prose_holds, "bifurcation/bistable_band.nc",
-                                    "`snakemake --cores 2 bifurcation`", "check"),
+                                    "`snakemake --cores 2 bifurcation`", "docs"),
     "the design maps paragraph": (design_maps_prose_holds, "tables/design_robust.csv",
-                                  "`snakemake --cores 2 design_maps`", "check"),
+                                  "`snakemake --cores 2 design_maps`", "docs"),
 }
 
 
@@ -606,11 +612,12 @@ def test_a_passage_holds_in_this_checkout_s_results(passage):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("passage", PASSAGES)
-def test_a_passage_holds_in_a_fresh_clone(readme_clone, passage):
-    """Against README's commands run in a scratch clone (the first, or the check after it)."""
+def test_a_passage_holds_in_a_fresh_clone(request, passage):
+    """Against README's commands run in a scratch clone (the first, or the docs command after the check)."""
     holds, _, _, run = PASSAGES[passage]
-    clone, first, check = readme_clone
-    assert (first if run == "first" else check).returncode == 0
+    clone, first, _ = request.getfixturevalue("readme_clone")
+    result = first if run == "first" else request.getfixturevalue("docs_build")[1]
+    assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
     holds(clone / "results")
 
 

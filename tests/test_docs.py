@@ -7,7 +7,7 @@ import shutil
 import subprocess
 
 import pytest
-from conftest import ROOT, readme_command, run_readme
+from conftest import ROOT
 
 import vibroimpact
 
@@ -63,14 +63,14 @@ def test_the_main_functions_cite_the_paper_s_equations():
 
 
 @pytest.mark.slow
-def test_the_docs_build_with_warnings_as_errors(readme_clone):
+def test_the_docs_build_with_warnings_as_errors(readme_clone, docs_build):
     """README's docs command in the scratch clone, after the default target and the check: the site
     builds (Sphinx with -W: an unresolved include, a docstring without its sections or a failing tutorial
     fails it), with the user guide, every tutorial run, the paper's figures page generated from the
     results and the API reference."""
-    clone, first, _ = readme_clone
+    _, first, _ = readme_clone
     assert first.returncode == 0
-    res = run_readme(clone, readme_command("tests/test_docs.py::test_the_docs_build_with_warnings_as_errors"))
+    clone, res = docs_build
     warnings = clone / "logs" / "docs" / "docs.warnings.txt"
     assert res.returncode == 0, ((res.stdout + res.stderr)[-3000:] + "\nSphinx's warnings:\n"
                                  + (warnings.read_text() if warnings.exists() else "(none recorded)"))
@@ -94,16 +94,14 @@ def test_the_docs_build_with_warnings_as_errors(readme_clone):
 
 @pytest.mark.slow
 @pytest.mark.skipif(CHROMIUM is None, reason="no headless Chromium: install it with tools/install_chromium.sh (root)")
-def test_a_docs_page_renders_in_a_real_browser(readme_clone, tmp_path):
+def test_a_docs_page_renders_in_a_real_browser(docs_build, tmp_path):
     """The built paper page, opened by headless Chromium as a reader's browser would: a screenshot with
     content (not blank)."""
     import numpy as np
     from PIL import Image
 
-    clone, first, _ = readme_clone
+    clone, _ = docs_build
     page = clone / "results" / "docs" / "html" / "paper.html"
-    if not page.exists():
-        run_readme(clone, readme_command("tests/test_docs.py::test_the_docs_build_with_warnings_as_errors"))
     shot = tmp_path / "paper.png"
     subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                     "--disable-background-networking", "--disable-component-update", "--disable-sync",

@@ -520,31 +520,40 @@ def design_prose_holds(results) -> None:
             x, lab = e[vary].values[order], e.label.values[k][order].astype(str)
             for q in ("U_T", "U_I"):
                 v = delivered(e, q)[0][k][order]
-                loss = np.where(np.isfinite(v[:-1]) & np.isfinite(v[1:]), -np.diff(v), np.nan)
+                # steps between consecutive known points: a point whose average is not known (a transient longer
+                # than the cap, as long as a chaotic stretch makes it on the machine) is passed over
+                at = np.flatnonzero(np.isfinite(v))
+                loss = -np.diff(v[at])
                 falls = np.flatnonzero(loss > 0)
                 # the fall of the 2:1 motion's edge: U_T out of its last point with the length, U_I into its first
                 # with the force, larger than any other of the sweep
                 edge = None
                 if (vary, q) == ("s", "U_T"):
-                    edge = int(np.flatnonzero(lab == two)[-1])
+                    edge = int(np.flatnonzero(lab[at] == two)[-1])
                 elif (vary, q) == ("F", "U_I"):
-                    edge = int(np.flatnonzero(lab == two)[0]) - 1
+                    edge = int(np.flatnonzero(lab[at] == two)[0]) - 1
                 if edge is not None:
                     assert edge in falls and all(loss[edge] > loss[i] for i in falls if i != edge), (name, q)
-                # every other fall touches a point with no period
+                # every other fall touches a point with no period (at its ends or passed over between them)
                 for i in falls:
-                    assert i == edge or no_period(lab[i]) or no_period(lab[i + 1]), (name, q, x[i], lab[i], lab[i + 1])
+                    span = lab[at[i]: at[i + 1] + 1]
+                    assert i == edge or no_period(span).any(), (name, q, x[at[i]], span)
                 row = design[(design.vary == vary) & (design.maximise == q)
                              & np.isclose(design.beta, beta, rtol=0, atol=1e-9)].iloc[0]
                 if (vary, q) == ("F", "U_I") and np.isclose(beta, math.pi / 6):
-                    # the exception: the 1:1 period-4 at a smaller force and the chaotic long runs at the largest
-                    # forces deliver the same per impact within three standard errors of a difference of two runs;
+                    # the exception: the chaotic long runs at the largest forces deliver per impact less than the
+                    # 1:1 period-4 at a smaller force (the best of them within three of its standard errors above it
+                    # at most), by less than 2 % (a standard error about 0.2 %), rising with the force to the end;
                     # the table names one of the two
                     mean, se = delivered(e, q)
                     top = (e.label.values[k] == "chaotic") & (e[vary].values > x[-1] - 10 * np.max(np.diff(x)))
-                    p4 = e.label.values[k] == "1:1 period-4"
-                    gap = abs(np.nanmax(mean[k][p4]) - np.nanmax(mean[k][top]))
-                    assert top.any() and p4.any() and gap < 3 * math.sqrt(2) * np.nanmax(se[k][top]), gap
+                    p4 = np.nanmax(np.where(e.label.values[k] == "1:1 period-4", mean[k], np.nan))
+                    best = int(np.nanargmax(np.where(top, mean[k], np.nan)))
+                    assert top.sum() >= 5 and np.isfinite(p4), (top.sum(), p4)
+                    assert 0.98 * p4 < mean[k][best] < p4 + 3 * se[k][best], (p4, mean[k][best], se[k][best])
+                    assert 0.001 < np.nanmedian(se[k][top] / mean[k][top]) < 0.005
+                    ft = e[vary].values[top]
+                    assert np.polyfit(ft, mean[k][top], 1)[0] > 0 and e[vary].values[best] >= ft.max() - 0.25 * np.ptp(ft)
                     assert row.motion in ("1:1 period-4", "chaotic"), row.motion
                     continue
                 # the best device at the end of the range or next to it; by length in 1:1 motion, by force in no 1:1

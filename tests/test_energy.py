@@ -415,22 +415,23 @@ def _energy(values, labels, x, vary="s", direction="down"):
 
 
 def test_design_trends_count_the_steps_and_find_the_largest_fall():
-    """Steps between known neighbours only (a gap breaks the line, in the swept parameter's order whatever the
-    points' order); the largest fall is the run of falling steps that loses the most, not the steepest step."""
+    """Steps between consecutive known points (an unknown point passed over, in the swept parameter's order whatever
+    the points' order); the largest fall is the run of falling steps that loses the most, not the steepest step."""
     from vibroimpact.outputs.tables import design_trends
 
-    # in F order: 1, 2, 3, then a run losing 0.6 (2.8, 2.6, 2.4), a gap, a step losing 0.5 (2, 1.5), then 1.6
-    v = np.array([1.0, 2.0, 3.0, 2.8, 2.6, 2.4, np.nan, 2.0, 1.5, 1.6])
-    lab = np.array(list("aaabbbcdde"))
-    x = np.arange(10.0)
-    shuffled = [9, 0, 8, 1, 7, 2, 6, 3, 5, 4]  # the points in another order
+    # in F order: 1, 2, 3, then a run losing 0.6 (2.8, 2.6, 2.4), a rise, a gap, a run losing 0.5 (2, 1.5),
+    # then 1.6: the gap's step (2.5 -> 2.0) joins the second run, which then loses 1.0, the most
+    v = np.array([1.0, 2.0, 3.0, 2.8, 2.6, 2.4, 2.5, np.nan, 2.0, 1.5, 1.6])
+    lab = np.array(list("aaabbbcxdde"))
+    x = np.arange(11.0)
+    shuffled = [9, 0, 8, 1, 10, 7, 2, 6, 3, 5, 4]  # the points in another order
     t = design_trends([_energy(v[shuffled], lab[shuffled], x[shuffled], vary="F")])
     u_t = t.set_index("average").loc["U_T"]
-    assert (u_t.steps, u_t.rising, u_t.falling) == (7, 3, 4)
-    assert (u_t.fall_from, u_t.fall_to, u_t.value_from, u_t.value_to) == (2.0, 5.0, 3.0, 2.4)
-    assert (u_t.motion_from, u_t.motion_to) == ("a", "b") and u_t.fall == pytest.approx(0.2)
+    assert (u_t.steps, u_t.rising, u_t.falling) == (9, 4, 5)
+    assert (u_t.fall_from, u_t.fall_to, u_t.value_from, u_t.value_to) == (6.0, 9.0, 2.5, 1.5)
+    assert (u_t.motion_from, u_t.motion_to) == ("c", "d") and u_t.fall == pytest.approx(0.4)
     u_i = t.set_index("average").loc["U_I"]
-    assert u_i.value_from == 6.0 and u_i.value_to == pytest.approx(4.8)  # the same run at twice the values
+    assert u_i.value_from == 5.0 and u_i.value_to == pytest.approx(3.0)  # the same run at twice the values
     rising = design_trends([_energy([1.0, 2.0, 3.0], ["a"] * 3, [0.2, 0.3, 0.4])]).iloc[0]
     assert (rising.falling, rising.fall, rising.motion_from) == (0, 0.0, "")
 

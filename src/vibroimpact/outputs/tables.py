@@ -349,8 +349,9 @@ def design_trends(energies: list[xr.Dataset], direction: str = "down") -> pd.Dat
 
     Along one direction of each sweep (the design figure's, ``"down"``: d decreasing), what the device delivers
     (:func:`vibroimpact.analysis.energy.delivered`) is compared between neighbouring points of the swept
-    parameter (``s`` or ``F``, increasing); a point where it is not known (a transient longer than the cap) breaks
-    the line, and the steps across it are not counted.  A fall is a run of consecutive falling steps.
+    parameter (``s`` or ``F``, increasing); a point where it is not known (a transient longer than the cap, whose
+    length rides on a chaotic stretch and so on the machine's last bits) is passed over: the step across it compares
+    the known points on either side.  A fall is a run of consecutive falling steps.
 
     Parameters
     ----------
@@ -392,10 +393,9 @@ def design_trends(energies: list[xr.Dataset], direction: str = "down") -> pd.Dat
         labels = e["label"].values[k][order]
         for q in ("U_T", "U_I"):
             v = delivered(e, q)[0][k][order]
-            known = np.isfinite(v)
-            step = known[:-1] & known[1:]  # neighbours both known: a step of the line
-            dv = np.diff(v)
-            falls = step & (dv < 0)
+            at = np.flatnonzero(np.isfinite(v))  # the known points, in the swept parameter's order
+            dv = np.diff(v[at])  # a step from each known point to the next
+            falls = dv < 0
             best, i = (0.0, -1, -1), 0
             while i < falls.size:  # runs of consecutive falling steps
                 if not falls[i]:
@@ -404,14 +404,14 @@ def design_trends(energies: list[xr.Dataset], direction: str = "down") -> pd.Dat
                 j = i
                 while j + 1 < falls.size and falls[j + 1]:
                     j += 1
-                if v[i] - v[j + 1] > best[0]:
-                    best = (v[i] - v[j + 1], i, j + 1)
+                if v[at[i]] - v[at[j + 1]] > best[0]:
+                    best = (v[at[i]] - v[at[j + 1]], at[i], at[j + 1])
                 i = j + 1
             _, a, b = best
             rows.append({
                 "beta": float(e.attrs["beta"]), "beta_deg": round(math.degrees(float(e.attrs["beta"])), 6),
-                "vary": vary, "average": q, "direction": direction, "steps": int(step.sum()),
-                "rising": int((step & (dv > 0)).sum()), "falling": int(falls.sum()),
+                "vary": vary, "average": q, "direction": direction, "steps": int(dv.size),
+                "rising": int((dv > 0).sum()), "falling": int(falls.sum()),
                 "fall_from": float(x[order][a]) if a >= 0 else math.nan,
                 "fall_to": float(x[order][b]) if a >= 0 else math.nan,
                 "value_from": float(v[a]) if a >= 0 else math.nan, "value_to": float(v[b]) if a >= 0 else math.nan,

@@ -33,6 +33,7 @@ import numpy as np
 from numba import njit
 from scipy.special import stdtrit
 
+from ..dynamics import impact as law
 from ..dynamics import kernels as K
 from ..dynamics.flight import step_jacobian
 from ..dynamics.params import Params
@@ -88,7 +89,7 @@ def tangent_pass(t, vm, vp, phase, kind, gbar, r, first, batches, slow_speed, lo
         if k >= first and done >= per * batches:
             break
         v1 = vm[k + 1]
-        j11, j12, j21, j22 = step_jacobian(t[k + 1] - t[k], phase[k], v1, gbar + math.cos(phase[k + 1]), r)
+        j11, j12, j21, j22 = step_jacobian(t[k + 1] - t[k], phase[k], vm[k], v1, gbar + math.cos(phase[k + 1]), r)
         m1 = j11 * q1 + j12 * q2
         m2 = j21 * q1 + j22 * q2
         r11 = math.sqrt(m1 * m1 + m2 * m2)

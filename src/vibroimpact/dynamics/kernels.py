@@ -2,6 +2,8 @@
 
 All functions are numba-compiled and work on flat arrays; :mod:`vibroimpact.dynamics.runs` wraps them.
 
+The rebound at each impact is the impact law's (:mod:`vibroimpact.dynamics.impact`).
+
 Chattering rule (documented in README): after an impact at wall ``w`` the relative acceleration
 into the wall is ``a = w Z''``.  If ``a > 0`` and the rebound speed ``|Zdot+| = r |Zdot-|`` is below
 ``v_chatter``, the remaining infinite sequence of bounces is summed as under constant acceleration:
@@ -25,6 +27,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit, prange
 
+from . import impact as law
 from .events import flight_impact
 from .flight import PI, TWO_PI
 
@@ -141,7 +144,9 @@ def _accumulation_time(c, s, u, w, gbar, r, v_chatter):
     ``CHATTER_DRIFT * a`` before the accumulation point (bounded by ``|a'| tau + |a''| tau^2 / 2``
     with ``|a'| = pi |sin theta|``, ``|a''| <= pi^2``).  So ``w Z''`` keeps its sign up to the
     accumulation point, which therefore comes before the release, and the relative error of the sum
-    is of order ``CHATTER_DRIFT``.  Otherwise the next bounce is computed exactly.
+    is of order ``CHATTER_DRIFT``.  Otherwise the next bounce is computed exactly, and so it is whenever
+    the impact law's restitution is not constant (:data:`~vibroimpact.dynamics.impact.CONSTANT_RESTITUTION`):
+    the bounces are then followed until the rebound speed rounds to zero.
     """
     a_in = w * (c + gbar)
     if abs(u) >= v_chatter:
@@ -151,6 +156,10 @@ def _accumulation_time(c, s, u, w, gbar, r, v_chatter):
         # phase where w Z'' changes sign towards the wall): the ball stays; a flight from there would
         # meet the wall again at once, forever at the same time
         return 0.0 if u == 0.0 and a_in == 0.0 and w * s < 0.0 else -1.0
+    if not law.CONSTANT_RESTITUTION:
+        # the geometric sum needs a constant restitution: follow the bounces one by one (a ball at rest
+        # with the acceleration into the wall sticks at once, whatever the law)
+        return 0.0 if u == 0.0 else -1.0
     tau = 2.0 * abs(u) / ((1.0 - r) * a_in)
     drift = PI * abs(s) * tau + 0.5 * PI * PI * tau * tau
     if drift > CHATTER_DRIFT * a_in:
@@ -234,7 +243,7 @@ def advance(d, gbar, r, start, i0, t_end, v_chatter, detect, tol, counts, out):
                 w = 1 if z > 0 else -1
                 if abs(vminus) < V_GRAZING:
                     kind = GRAZING
-                vp = -r * vminus
+                vp = law.rebound(vminus, r)
             elif pending == STICK or pending == RELEASE:
                 w = stuck if pending == STICK else (1 if z > 0 else -1)
                 vminus = 0.0

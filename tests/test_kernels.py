@@ -38,21 +38,21 @@ def test_period_test_separates_motions_that_share_their_phases():
     phase = np.full(n, 1.0)
     vm = np.where(np.arange(n) % 2 == 0, 0.5, 0.7)
     counts = np.zeros(9, np.int64)
-    found = [K.period_update(i, t, wall, vm, phase, kind, counts, tol) for i in range(n)]
+    found = [K.period_update(i, K.Window(t, wall, vm, phase, kind), counts, tol) for i in range(n)]
     assert 1 not in found
     assert found[5] == 2  # events 2..5 each repeat the event two before: two full cycles
     # the same events with one velocity: period one after two repetitions
     counts[:] = 0
-    found = [K.period_update(i, t, wall, np.full(n, 0.5), phase, kind, counts, tol) for i in range(n)]
+    found = [K.period_update(i, K.Window(t, wall, np.full(n, 0.5), phase, kind), counts, tol) for i in range(n)]
     assert found[2] == 1
     # phases either side of 0 = 2 pi are the same phase
     counts[:] = 0
     wrap = np.where(np.arange(n) % 2 == 0, 1e-12, 2 * np.pi - 1e-12)
-    found = [K.period_update(i, t, wall, np.full(n, 0.5), wrap, kind, counts, tol) for i in range(n)]
+    found = [K.period_update(i, K.Window(t, wall, np.full(n, 0.5), wrap, kind), counts, tol) for i in range(n)]
     assert found[2] == 1
     # the longest period looked for is the counters' last lag: period 2 with lags up to 2
     short = np.zeros(3, np.int64)
-    found = [K.period_update(i, t, wall, vm, phase, kind, short, tol) for i in range(n)]
+    found = [K.period_update(i, K.Window(t, wall, vm, phase, kind), short, tol) for i in range(n)]
     assert found[5] == 2
 
 
@@ -66,7 +66,7 @@ def test_chattering_sum_applies_exactly_where_the_acceleration_stays_within_the_
     for u in np.geomspace(1e-7, 1e-4, 60):
         tau = 2 * u / ((1 - r) * a)
         change = (1 - math.cos(math.pi * tau)) / a
-        got = K._accumulation_time(1.0, 0.0, u, 1, gbar, r, 1e-3)
+        got = K._accumulation_time(1.0, 0.0, u, 1, K.Model(1.0, gbar, r), 1e-3)
         if change < K.CHATTER_DRIFT * (1 - 1e-6):
             assert got == pytest.approx(tau, rel=1e-15)
             applied += 1
@@ -75,8 +75,8 @@ def test_chattering_sum_applies_exactly_where_the_acceleration_stays_within_the_
             refused += 1
     assert applied > 5 and refused > 5
     # away from the wall (acceleration pulling off it) and above v_chatter: never summed
-    assert K._accumulation_time(-1.0, 0.0, 1e-8, 1, 0.2, r, 1e-3) < 0
-    assert K._accumulation_time(1.0, 0.0, 2e-3, 1, gbar, r, 1e-3) < 0
+    assert K._accumulation_time(-1.0, 0.0, 1e-8, 1, K.Model(1.0, 0.2, r), 1e-3) < 0
+    assert K._accumulation_time(1.0, 0.0, 2e-3, 1, K.Model(1.0, gbar, r), 1e-3) < 0
 
 
 def test_a_flight_that_never_reaches_a_wall_ends_the_run_with_no_impact():
@@ -90,9 +90,10 @@ def test_a_flight_that_never_reaches_a_wall_ends_the_run_with_no_impact():
 
 
 def _window(d, gbar, r, phi, v0, *, max_events, pmax, cap, window, tol=1e-9):
-    win = [np.full(window, np.nan), np.zeros(window, np.int8), np.full(window, np.nan),
-           np.full(window, np.nan), np.zeros(window, np.int8)]
-    st, lag, total, n = K.run_window(d, gbar, r, phi, v0, max_events, math.inf, 1e-9, tol, pmax, cap, *win)
+    win = K.Window(np.full(window, np.nan), np.zeros(window, np.int8), np.full(window, np.nan),
+                   np.full(window, np.nan), np.zeros(window, np.int8))
+    limits = K.WindowSettings(max_events=max_events, t_end=math.inf, v_chatter=1e-9, tol=tol, pmax=pmax, cap=cap)
+    st, lag, total, n = K.run_window(K.Model(d, gbar, r), phi, v0, limits, win)
     return win, K.STATUS_NAMES[st], lag, total, n
 
 

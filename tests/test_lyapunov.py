@@ -75,7 +75,7 @@ def test_one_step_jacobian_agrees_with_finite_differences_of_the_simulator():
             return np.array([nxt.t.values[1] + dt, nxt.v_minus.values[1]])
 
         fd = np.column_stack([(step(h, 0) - step(-h, 0)) / (2 * h), (step(0, h) - step(0, -h)) / (2 * h)])
-        J = np.array(step_jacobian(t[k + 1] - t[k], ph[k], vm[k + 1], CHAOS.gbar + math.cos(ph[k + 1]),
+        J = np.array(step_jacobian(t[k + 1] - t[k], ph[k], vm[k], vm[k + 1], CHAOS.gbar + math.cos(ph[k + 1]),
                                    CHAOS.r)).reshape(2, 2)
         # central differences: error h^2 x third derivatives, and rounding 1e-16 / h
         np.testing.assert_allclose(J, fd, atol=1e-6 * max(1.0, np.abs(fd).max()))
@@ -380,7 +380,7 @@ def test_newton_s_monodromy_is_the_product_of_the_tangent_map_s_steps_on_the_cyc
     assert np.allclose(vm[:n], o.v_minus, rtol=1e-9, atol=0)  # the simulated cycle is the Newton orbit's
     DP = np.eye(2)
     for k in range(n):
-        j11, j12, j21, j22 = step_jacobian(t[k + 1] - t[k], phase[k], vm[k + 1], p.gbar + math.cos(phase[k + 1]), p.r)
+        j11, j12, j21, j22 = step_jacobian(t[k + 1] - t[k], phase[k], vm[k], vm[k + 1], p.gbar + math.cos(phase[k + 1]), p.r)
         DP = np.array([[j11, j12], [j21, j22]]) @ DP
     assert np.allclose(DP, map_jacobian(o.z, o.walls, p.gbar, p.r), rtol=1e-7, atol=1e-9)
     assert parse_word("BBT").tolist() == o.walls.tolist()

@@ -27,7 +27,8 @@ def kernel_run(p, wall, phase, v_minus, t_end):
     bufs = K.EventBuffers(t=np.zeros(cap), wall=np.zeros(cap, np.int8), v_minus=np.zeros(cap), v_plus=np.zeros(cap),
                           phase=np.zeros(cap), kind=np.zeros(cap, np.int8), z=np.zeros(cap))
     start = K.Start(0.0, phase, wall * p.d / 2, v_minus, K.IMPACT, wall)
-    n, status, _ = K.advance(p.d, p.gbar, p.r, start, 0, t_end, 1e-9, False, 1e-9, np.zeros(65, np.int64), bufs)
+    settings = K.Settings(t_end=t_end, v_chatter=1e-9, detect=False, tol=1e-9)
+    n, status, _ = K.advance(K.Model(p.d, p.gbar, p.r), start, 0, settings, np.zeros(65, np.int64), bufs)
     events = [(K.KIND_NAMES[bufs.kind[i]], bufs.t[i], int(bufs.wall[i]), bufs.v_minus[i]) for i in range(1, n)]
     return events, K.STATUS_NAMES[status]
 

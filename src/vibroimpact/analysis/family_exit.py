@@ -28,6 +28,7 @@ import numpy as np
 import xarray as xr
 
 from ..datasets import VARIABLES, annotate
+from ..dynamics import impact as law
 from ..dynamics import kernels as K
 from ..dynamics.params import Params
 from ..dynamics.runs import simulate
@@ -63,7 +64,7 @@ def in_family(walls, kinds, n: int) -> bool:
 def _clearance(run: xr.Dataset, d: float, gbar: float, r: float) -> float:
     """Smallest interior clearance of the run's flights (:func:`~vibroimpact.analysis.grazing.interior_clearance`)."""
     t, w, v, ph = (run[k].values for k in ("t", "wall", "v_minus", "phase"))
-    return min((interior_clearance(ph[j], w[j] * 0.5 * d, -r * v[j], d, gbar, t[j + 1] - t[j])
+    return min((interior_clearance(ph[j], w[j] * 0.5 * d, law.rebound(v[j], r), d, gbar, t[j + 1] - t[j])
                 for j in range(t.size - 1)), default=math.inf)
 
 

@@ -14,6 +14,7 @@ import math
 
 from numba import njit
 
+from ..dynamics import impact as law
 from ..dynamics.events import next_accel_zero, next_impact, rtsafe
 from ..dynamics.flight import PI, TWO_PI, displacement, velocity
 
@@ -68,7 +69,7 @@ def admissibility(z, walls, d, gbar, r):
         if speed <= 0 and not reason:
             reason = f"impact {j} ({'B' if walls[j] == 1 else 'T'}): pre-impact velocity {v[j]:.3g} does not point into its wall"
         z0 = walls[j] * 0.5 * d
-        u = -r * v[j]
+        u = law.rebound(v[j], r)
         clearance = min(clearance, interior_clearance(theta, z0, u, d, gbar, tau[j]))
         if not reason and speed > 0:
             t_hit, w_hit = next_impact(theta, z0, u, d, gbar, tau[j] * (1 + 1e-9) + 1e-12)

@@ -27,12 +27,14 @@ than ``slow_speed`` the estimate passed through.
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 from scipy.special import stdtrit
 
+from ..dynamics import impact as law
 from ..dynamics import kernels as K
 from ..dynamics.flight import step_jacobian
 from ..dynamics.params import Params
@@ -49,10 +51,16 @@ MIN_PER_BATCH = 10
 _FOLD = 1e150
 
 
+#: how :func:`tangent_pass` accumulates: from the flight leaving event ``first`` on, in ``batches`` batches,
+#: counting the impacts slower than ``slow_speed``
+TangentSettings = namedtuple("TangentSettings", ("first", "batches", "slow_speed"))
+
+
 @njit(cache=True, error_model="numpy")
-def tangent_pass(t, vm, vp, phase, kind, gbar, r, first, batches, slow_speed, logs, counts):
-    """Multiply the Jacobians of a run's flights, re-orthonormalising (QR) at every impact; accumulate
-    from the flight leaving event ``first`` on.
+def tangent_pass(events, model, settings, logs, counts):
+    """Multiply the Jacobians of a run's flights (``events``, :data:`~vibroimpact.dynamics.kernels.Window`; the
+    constants ``model``, :data:`~vibroimpact.dynamics.kernels.Model`), re-orthonormalising (QR) at every
+    impact; accumulate from the flight leaving event ``settings.first`` on (:data:`TangentSettings`).
 
     In the plane the QR step needs only the first direction ``q``: ``R11 = |J q|``, ``q <- J q / R11``,
     and ``R22 = |det J| / R11`` (the second direction is ``q``'s normal).  The direction is carried from
@@ -62,6 +70,9 @@ def tangent_pass(t, vm, vp, phase, kind, gbar, r, first, batches, slow_speed, lo
     impact (or grazing contact) to the next; a stick restarts the direction (the map across it is
     constant).
     """
+    t, vm, phase, kind = events.t, events.v_minus, events.phase, events.kind
+    _, gbar, r = model
+    first, batches, slow_speed = settings
     n = t.shape[0]
     steps = 0
     for k in range(first, n - 1):
@@ -88,7 +99,7 @@ def tangent_pass(t, vm, vp, phase, kind, gbar, r, first, batches, slow_speed, lo
         if k >= first and done >= per * batches:
             break
         v1 = vm[k + 1]
-        j11, j12, j21, j22 = step_jacobian(t[k + 1] - t[k], phase[k], v1, gbar + math.cos(phase[k + 1]), r)
+        j11, j12, j21, j22 = step_jacobian(t[k + 1] - t[k], phase[k], vm[k], v1, gbar + math.cos(phase[k + 1]), r)
         m1 = j11 * q1 + j12 * q2
         m2 = j21 * q1 + j22 * q2
         r11 = math.sqrt(m1 * m1 + m2 * m2)
@@ -213,12 +224,11 @@ def exponents_of_run(run, *, transient: int, batches: int = 20, slow_speed: floa
     Lyapunov
         The exponents with their intervals and what the run passed through.
     """
-    ev = {v: run[v].values for v in ("t", "v_minus", "v_plus", "phase", "kind")}
+    events = K.Window(*(run[v].values for v in ("t", "wall", "v_minus", "phase")), run["kind"].values.astype(np.int8))
     logs = np.zeros((batches, 2))
     counts = np.zeros(5)
-    gbar, r = float(run.attrs["gbar"]), float(run.attrs["r"])
-    tangent_pass(ev["t"], ev["v_minus"], ev["v_plus"], ev["phase"], ev["kind"].astype(np.int8), gbar, r,
-                 int(transient), batches, float(slow_speed), logs, counts)
+    model = K.Model(float(run.attrs.get("d", math.nan)), float(run.attrs["gbar"]), float(run.attrs["r"]))
+    tangent_pass(events, model, TangentSettings(int(transient), int(batches), float(slow_speed)), logs, counts)
     done, sticks, slow, per, span = int(counts[0]), int(counts[1]), int(counts[2]), int(counts[3]), float(counts[4])
     nan2 = (math.nan, math.nan)
     if per < MIN_PER_BATCH:

@@ -228,10 +228,13 @@ def transition_kind(before: Motion, after: Motion) -> str:
 
 
 @njit(cache=True)
-def _detect(t, wall, vm, phase, kind, tol, pmax):
+def _detect(events, tol, pmax):
+    """The first event where the period test (:func:`~vibroimpact.dynamics.kernels.period_update`) finds a
+    period of at most ``pmax`` events in ``events`` (:data:`~vibroimpact.dynamics.kernels.Window`), and the
+    period; ``(-1, 0)`` if none."""
     counts = np.zeros(pmax + 1, dtype=np.int64)
-    for i in range(t.shape[0]):
-        lag = K.period_update(i, t, wall, vm, phase, kind, counts, tol)
+    for i in range(events.t.shape[0]):
+        lag = K.period_update(i, events, counts, tol)
         if lag > 0:
             return i, lag
     return -1, 0
@@ -321,8 +324,8 @@ def identify_attractor(ds: xr.Dataset, tol: float = 1e-9, max_period_events: int
     """
     if "run" in ds.dims:
         raise ValueError("identify_attractor takes one run; select one with ds.isel(run=k)")
-    i, p = _detect(ds["t"].values, ds["wall"].values, ds["v_minus"].values, ds["phase"].values,
-                   ds["kind"].values, float(tol), int(max_period_events))
+    i, p = _detect(K.Window(*(ds[v].values for v in ("t", "wall", "v_minus", "phase", "kind"))), float(tol),
+                   int(max_period_events))
     if p == 0:
         return Attractor(periodic=False)
     # settled from the first event of the matched stretch; the cycle is the last full period seen

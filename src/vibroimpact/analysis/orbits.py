@@ -4,9 +4,9 @@
 A word such as ``"BBT"`` lists the walls of the impacts over ``k`` forcing periods (``k`` given, or
 1).  Impact ``j`` happens at wall ``w_j`` with pre-impact velocity ``v_j``; the flight from impact
 ``j`` to ``j + 1`` (cyclically) lasts ``tau_j`` and starts at phase ``theta_j = theta_0 + pi sum_{i<j}
-tau_i`` with velocity ``-r v_j``.  Each flight gives a position condition (eq. ``zj_p1``: it ends on
-wall ``w_{j+1}``) and a velocity relation (eq. ``zdotj_p1``); periodicity adds ``sum tau_j = 2k``.
-The ``2N + 1`` equations in ``(theta_0, tau, v)`` are solved by Newton's method with an analytic
+tau_i`` with the impact law's rebound velocity (``-r v_j``, :mod:`~vibroimpact.dynamics.impact`).
+Each flight gives a position condition (eq. ``zj_p1``: it ends on wall ``w_{j+1}``) and a velocity
+relation (eq. ``zdotj_p1``); periodicity adds ``sum tau_j = 2k``.  The ``2N + 1`` equations in ``(theta_0, tau, v)`` are solved by Newton's method with an analytic
 Jacobian.
 
 The equations know nothing of the walls between impacts: :func:`admissibility` checks every flight
@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..dynamics import impact as law
 from ..dynamics import kernels as K
 from ..dynamics.flight import (
     PI,
@@ -83,7 +84,8 @@ def residual_and_jacobian(z, walls, d, gbar, r, k):
     theta = theta0
     for j in range(n):
         jn = (j + 1) % n
-        u = -r * v[j]
+        u = law.rebound(v[j], r)
+        du = law.rebound_slope(v[j], r)
         disp, vel, acc, disp_th, vel_th = flight_partials(tau[j], theta, u, gbar)
         # position: w_j d/2 + disp = w_{j+1} d/2   (eq. zj_p1)
         F[2 * j] = disp - (walls[jn] - walls[j]) * 0.5 * d
@@ -95,7 +97,7 @@ def residual_and_jacobian(z, walls, d, gbar, r, k):
             for i in range(j):  # theta_j depends on the earlier flight times
                 J[row, 1 + i] += PI * f_th
             J[row, 1 + j] += f_tau
-            J[row, n + 1 + j] += -r * f_u
+            J[row, n + 1 + j] += du * f_u
         J[2 * j + 1, n + 1 + jn] -= 1.0
         theta += PI * tau[j]
     F[2 * n] = tau.sum() - 2.0 * k
@@ -150,7 +152,7 @@ def map_jacobian(z, walls, gbar, r):
     """2x2 Jacobian of the map (t_k, Zdot_k) -> (t_{k+N}, Zdot_{k+N}) over one period (eq. Lin2).
 
     Each flight's map is defined implicitly by its position condition ``disp(tau; theta_j, u_j) =
-    const`` with ``theta_j = pi t_j + phi`` and ``u_j = -r Zdot_j``.  Differentiating it (the
+    const`` with ``theta_j = pi t_j + phi`` and ``u_j = -r Zdot_j`` (the impact law's rebound).  Differentiating it (the
     appendix's eqs. EntrP1-EntrP3, for any pair of walls), with ``v'`` and ``a'`` the velocity and
     acceleration at the next impact:
 
@@ -173,10 +175,10 @@ def step_jacobians(z, walls, gbar, r):
     v = z[n + 1:]
     out = []
     for j in range(n):
-        u = -r * v[j]
+        u = law.rebound(v[j], r)
         _, vel, acc, _, _ = flight_partials(tau[j], theta, u, gbar)
-        # implicit flight time: disp(tau; theta_j, u_j) = const, theta_j = pi t_j + phi, u_j = -r v_j
-        j11, j12, j21, j22 = step_jacobian(tau[j], theta, vel, acc, r)
+        # implicit flight time: disp(tau; theta_j, u_j) = const, theta_j = pi t_j + phi, u_j = rebound(v_j)
+        j11, j12, j21, j22 = step_jacobian(tau[j], theta, v[j], vel, acc, r)
         out.append(np.array([[j11, j12], [j21, j22]]))
         theta += PI * tau[j]
     return out
@@ -365,7 +367,7 @@ def orbit_run(orbit: Orbit, periods: int = 1):
     t = np.concatenate([orbit.t + 2.0 * orbit.k * p for p in range(int(periods))] + [[2.0 * orbit.k * int(periods)]])
     walls = orbit.walls[idx]
     vm = orbit.v_minus[idx]
-    bufs = K.EventBuffers(t=t, wall=walls.astype(np.int8), v_minus=vm, v_plus=-orbit.params.r * vm,
+    bufs = K.EventBuffers(t=t, wall=walls.astype(np.int8), v_minus=vm, v_plus=law.rebound(vm, orbit.params.r),
                           phase=orbit.phase[idx], kind=np.full(m, K.IMPACT, np.int8), z=0.5 * orbit.params.d * walls)
     ds = events_dataset(bufs, m)
     ds.attrs.update(d=orbit.params.d, gbar=orbit.params.gbar, r=orbit.params.r, phi=orbit.phi,

@@ -33,11 +33,19 @@ def check_window(window, pmax):
 
 
 def empty_windows(shape, window):
-    """The five window buffers (:data:`EVENT_VARS`) of ``window`` events for runs of ``shape``: NaN times,
-    velocities and phases, zero walls and kinds."""
+    """The five window buffers (:data:`EVENT_VARS`, a :data:`~vibroimpact.dynamics.kernels.Window`) of ``window``
+    events for runs of ``shape``: NaN times, velocities and phases, zero walls and kinds."""
     shape = (*np.broadcast_shapes(shape), int(window))
-    return [np.full(shape, np.nan), np.zeros(shape, np.int8), np.full(shape, np.nan), np.full(shape, np.nan),
-            np.zeros(shape, np.int8)]
+    return K.Window(np.full(shape, np.nan), np.zeros(shape, np.int8), np.full(shape, np.nan), np.full(shape, np.nan),
+                    np.zeros(shape, np.int8))
+
+
+def window_limits(max_periods, max_events, tol, pmax):
+    """The kernels' :data:`~vibroimpact.dynamics.kernels.WindowSettings` of a run of at most ``max_events``
+    events and ``max_periods`` forcing periods, its period test's tolerance ``tol`` and longest period
+    ``pmax`` (events), with the simulator's default chattering speed :data:`~vibroimpact.dynamics.kernels.V_CHATTER`."""
+    return K.WindowSettings(max_events=int(max_events), t_end=2.0 * float(max_periods), v_chatter=K.V_CHATTER,
+                            tol=float(tol), pmax=int(pmax), cap=history(pmax))
 
 
 def history(pmax):
@@ -49,8 +57,8 @@ def run_window(d, gbar, r, phi, v0, max_periods, max_events, tol, window, pmax):
     """One run from a bottom impact ``(phi, v0)``: its window, status, period in events, events simulated and
     events in the window."""
     win = empty_windows((), window)
-    st, lag, tot, n = K.run_window(d, gbar, r, phi % (2 * np.pi), v0, int(max_events), 2.0 * float(max_periods),
-                                   1e-9, float(tol), int(pmax), history(pmax), *win)
+    st, lag, tot, n = K.run_window(K.Model(d=float(d), gbar=float(gbar), r=float(r)), phi % (2 * np.pi), v0,
+                                   window_limits(max_periods, max_events, tol, pmax), win)
     return win, st, lag, tot, n
 
 
@@ -142,21 +150,19 @@ def attractor_batch(d, gbar, r, phi, v0, *, max_periods: float = 200, max_events
     d, gbar, r, phi, v0 = (np.ascontiguousarray(a.ravel()) for a in arrs)
     m = d.shape[0]
     win = empty_windows(m, window)
-    st = np.zeros(m, np.int8)
-    lag = np.zeros(m, np.int64)
-    tot = np.zeros(m, np.int64)
-    nw = np.zeros(m, np.int64)
-    phi = phi % (2 * np.pi)
+    ends = K.WindowEnds(status=np.zeros(m, np.int8), lag=np.zeros(m, np.int64), total=np.zeros(m, np.int64),
+                        n=np.zeros(m, np.int64))
+    batch = K.Batch(d=d, gbar=gbar, r=r, theta0=phi % (2 * np.pi), v0=v0)
+    limits = window_limits(max_periods, max_events, tol, pmax)
     shown = interactive() if progress is None else bool(progress)
     # in one parallel call unless a bar is shown: then in tenths (each run is independent of the others)
     cuts = np.linspace(0, m, 11 if shown and m >= 20 else 2).astype(int)
     with Progress(m, desc, shown, unit="run") as bar:
         for a, b in zip(cuts[:-1], cuts[1:], strict=True):
-            K.window_batch(d[a:b], gbar[a:b], r[a:b], phi[a:b], v0[a:b], int(max_events), 2.0 * float(max_periods),
-                           1e-9, float(tol), int(pmax), history(pmax), *(w[a:b] for w in win),
-                           st[a:b], lag[a:b], tot[a:b], nw[a:b])
+            K.window_batch(K.Batch(*(x[a:b] for x in batch)), limits, K.Window(*(w[a:b] for w in win)),
+                           K.WindowEnds(*(e[a:b] for e in ends)))
             bar.update(int(b - a))
-    return window_dataset(win, st, lag, tot, nw, dims=("run",))
+    return window_dataset(win, *ends, dims=("run",))
 
 
 def window_dataset(win, st, lag, tot, nw, dims):

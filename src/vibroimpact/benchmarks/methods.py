@@ -26,6 +26,7 @@ import numpy as np
 from numba import njit
 from scipy.integrate import solve_ivp
 
+from ..dynamics import impact as law
 from ..dynamics import kernels as K
 from ..dynamics.params import Params
 from ..dynamics.runs import simulate
@@ -125,7 +126,7 @@ def flight_loop(flight, p: Params, phi, v0, n, *, t_end=math.inf, max_seconds=60
     ``flight(theta, z0, u, k)`` (``k`` flights done) gives ``(tau, wall, Zdot-)``, then Zdot+ = -r Zdot-.
     An exception of ``errors`` ends the run as crashed; ``max_seconds``, or ``exhausted()`` turning
     true (a budget of work, which unlike a time budget gives the same run on any machine), as stalled."""
-    theta, z, u, t = phi, p.d / 2, -p.r * v0, 0.0
+    theta, z, u, t = phi, p.d / 2, law.rebound(v0, p.r), 0.0
     ts, ws, vs = [], [], []
     status = OK
     start = time.perf_counter()
@@ -144,7 +145,7 @@ def flight_loop(flight, p: Params, phi, v0, n, *, t_end=math.inf, max_seconds=60
         t += tau
         theta = (theta + math.pi * tau) % (2 * math.pi)
         z = w * p.d / 2
-        u = -p.r * vm
+        u = law.rebound(vm, p.r)
         ts.append(t)
         ws.append(w)
         vs.append(vm)
@@ -216,7 +217,7 @@ def rk4_flight(theta, z0, u, d, gbar, h, tau_max, max_steps):
 def _rk4_loop(d, gbar, r, phi, v0, n, h, t_end, max_steps, out_t, out_w, out_v):
     """Chain RK4 flights from a bottom impact; returns (impacts, 1 if the step budget ran out)."""
     half = 0.5 * d
-    z, v, t = half, -r * v0, 0.0
+    z, v, t = half, law.rebound(v0, r), 0.0
     k = 0
     steps = 0
     while k < n and t < t_end:
@@ -230,7 +231,7 @@ def _rk4_loop(d, gbar, r, phi, v0, n, h, t_end, max_steps, out_t, out_w, out_v):
         out_w[k] = w
         out_v[k] = v_hit
         k += 1
-        z, v = w * half, -r * v_hit
+        z, v = w * half, law.rebound(v_hit, r)
     return k, 0
 
 

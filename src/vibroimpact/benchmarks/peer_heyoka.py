@@ -49,6 +49,7 @@ import time
 
 import numpy as np
 
+from ..dynamics import impact as law
 from ..dynamics.params import Params
 from .methods import flight_loop
 
@@ -192,14 +193,15 @@ def stepping_timer(p: Params, phi, v0, n, *, tol):
     steps = STEPS[0]
     span = float(run.t[-1])
     z, v = hy.make_vars("Z", "V")
-    ta = hy.taylor_adaptive([(z, v), (v, hy.cos(hy.par[0] + math.pi * hy.time) + hy.par[1])], [0.5 * p.d, -p.r * v0],
+    ta = hy.taylor_adaptive([(z, v), (v, hy.cos(hy.par[0] + math.pi * hy.time) + hy.par[1])],
+                            [0.5 * p.d, law.rebound(v0, p.r)],
                             tol=float(tol), pars=[phi, p.gbar])
     ta.propagate_until(1.0)  # touch the compiled code outside the clock
     last = {}
 
     def timed():
         ta.time = 0.0
-        ta.state[:] = [0.5 * p.d, -p.r * v0]
+        ta.state[:] = [0.5 * p.d, law.rebound(v0, p.r)]
         start = time.perf_counter()
         last["free"] = ta.propagate_until(span)
         return time.perf_counter() - start
@@ -218,7 +220,7 @@ def stepping_cost(p: Params, phi, v0, n, *, tol, repeats: int = 1) -> dict:
     """heyoka's cost per impact without any Python in the loop: the seconds per Taylor step of one
     ``propagate_until`` over the time ``n`` impacts of :func:`run_heyoka` span (same equations and
     tolerance, no events), times the steps per impact that event loop took.  ``free_end``: the timed
-    propagation's final (Z, Zdot) at ``span``, from a bottom impact at phase ``phi`` (Zdot+ = -r v0).
+    propagation's final (Z, Zdot) at ``span``, from a bottom impact at phase ``phi`` (Zdot+ the impact law's rebound of v0).
 
     This is the floor a user driving heyoka from C++ would approach; the propagation is timed
     ``repeats`` times from the same state and the fastest counts.  Returns ``us_per_impact``,

@@ -37,6 +37,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..dynamics import impact as law
 from ..dynamics.params import Params
 from .methods import CRASHED, STALLED, Run
 
@@ -150,7 +151,12 @@ def plugin_path() -> tuple[str | None, str]:
 
 
 def _call(job: dict, timeout: float) -> dict:
-    """Run the peer script on ``job``; the parsed result, or SiconosPeerError / TimeoutExpired."""
+    """Run the peer script on ``job``; the parsed result, or SiconosPeerError / TimeoutExpired.  Refuses
+    (ValueError) when the package's impact law is not the constant restitution Siconos' ``NewtonImpactNSL``
+    applies (:data:`~vibroimpact.dynamics.impact.CONSTANT_RESTITUTION`): the peer would compare another law."""
+    if not law.CONSTANT_RESTITUTION:
+        raise ValueError("the Siconos peer applies a constant restitution (NewtonImpactNSL), and the impact "
+                         "law's restitution is not constant (vibroimpact.dynamics.impact.CONSTANT_RESTITUTION)")
     _require()
     env = dict(os.environ)
     for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):

@@ -19,6 +19,8 @@ import math
 
 from numba import njit
 
+from . import impact as law
+
 PI = math.pi
 INV_PI = 1.0 / math.pi
 INV_PI2 = 1.0 / (math.pi * math.pi)
@@ -70,18 +72,24 @@ def flight_partials(tau, theta, u, gbar):
 
 
 @njit(cache=True, error_model="numpy")
-def step_jacobian(tau, theta, v_next, acc_next, r):
+def step_jacobian(tau, theta, v, v_next, acc_next, r):
     """The 2x2 Jacobian ``(j11, j12, j21, j22)`` of one flight's map ``(t, Zdot-) -> (t', Zdot'-)`` (the
-    paper's eqs. EntrP1-EntrP3): a flight of time ``tau`` from phase ``theta``, arriving with velocity
-    ``v_next`` and acceleration ``acc_next``, after a rebound of restitution ``r``.  The one implementation
-    of the impact map's derivative: the periodic orbits' monodromy matrix is the product of these steps, and
-    the Lyapunov exponents' tangent map applies them along a run."""
+    paper's eqs. EntrP1-EntrP3): a flight of time ``tau`` from phase ``theta`` after the rebound of an impact
+    at velocity ``v`` (restitution ``r``, the impact law's :func:`~vibroimpact.dynamics.impact.rebound`),
+    arriving with velocity ``v_next`` and acceleration ``acc_next``.  The one implementation of the impact
+    map's derivative: the periodic orbits' monodromy matrix is the product of these steps, and the Lyapunov
+    exponents' tangent map applies them along a run.
+
+    With ``u = rebound(v)`` and ``k = du/dv`` (:func:`~vibroimpact.dynamics.impact.rebound_slope`), the
+    flight time from ``disp(tau; theta, u) = const`` moves by ``dtau = (-pi dZ/dtheta dt - k tau dv) / v'``
+    and the arrival velocity by ``a' dtau + pi dZdot/dtheta dt + k dv``."""
     x = PI * tau
     c, s = math.cos(theta), math.sin(theta)
     disp_th, vel_th = _theta_partials(c, s, one_minus_cos(x), sin_minus_x(x), math.sin(x))
+    k = law.rebound_slope(v, r)
     dtau_dt = -PI * disp_th / v_next
-    dtau_dv = r * tau / v_next
-    return 1.0 + dtau_dt, dtau_dv, acc_next * dtau_dt + PI * vel_th, acc_next * dtau_dv - r
+    dtau_dv = -k * tau / v_next
+    return 1.0 + dtau_dt, dtau_dv, acc_next * dtau_dt + PI * vel_th, acc_next * dtau_dv + k
 
 
 @njit(cache=True, error_model="numpy", inline="always")

@@ -1,6 +1,11 @@
 """The event loop: impacts, chattering, sticking and release, with in-loop period detection.
 
-All functions are numba-compiled and work on flat arrays; :mod:`vibroimpact.dynamics.runs` wraps them.
+All functions are numba-compiled and work on arrays, which the entry points take in records (numba
+namedtuples: :data:`Model`, :data:`Settings`, :data:`Start`, :data:`EventBuffers`, :data:`Batch`, :data:`Ends`,
+:data:`WindowSettings`, :data:`Window`, :data:`WindowEnds`), at most six parameters each;
+:mod:`vibroimpact.dynamics.runs` and :mod:`vibroimpact.analysis.windows` wrap them.
+
+The rebound at each impact is the impact law's (:mod:`vibroimpact.dynamics.impact`).
 
 Chattering rule (documented in README): after an impact at wall ``w`` the relative acceleration
 into the wall is ``a = w Z''``.  If ``a > 0`` and the rebound speed ``|Zdot+| = r |Zdot-|`` is below
@@ -25,6 +30,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit, prange
 
+from . import impact as law
 from .events import flight_impact
 from .flight import PI, TWO_PI
 
@@ -48,6 +54,9 @@ STATUS_NAMES = ("n_events", "t_end", "periodic", "stuck_forever", "no_impact")
 
 #: |Zdot-| below which an impact is labelled grazing.
 V_GRAZING = 1e-9
+#: The chattering rule's speed ``v_chatter`` by default: a rebound slower than this may be summed to its
+#: accumulation point (see ``_accumulation_time``).
+V_CHATTER = 1e-9
 #: Largest relative change of the acceleration over a chattering sequence that is summed to its
 #: accumulation point (see ``_accumulation_time``); beyond it the bounces are followed exactly.
 CHATTER_DRIFT = 1e-9
@@ -73,13 +82,15 @@ def _phase_distance(a, b):
 
 
 @njit(cache=True, error_model="numpy")
-def period_update(i, t, wall, vm, phase, kind, counts, tol):
-    """Update the per-lag match counters with event ``i``; return the smallest lag p whose last
+def period_update(i, events, counts, tol):
+    """Update the per-lag match counters with event ``i`` of ``events`` (:data:`Window`: the event
+    buffers' ``t``, ``wall``, ``v_minus``, ``phase``, ``kind``); return the smallest lag p whose last
     ``2p`` events all repeated the event ``p`` earlier (two full cycles), else 0.
 
     A match needs the same wall and kind, ``|Zdot-|`` and phase within ``tol``, and a time lag
     within ``tol`` of a positive even integer (a whole number of forcing periods).
     """
+    t, wall, vm, phase, kind = events
     pmax = counts.shape[0] - 1
     found = 0
     for p in range(1, pmax + 1):
@@ -132,17 +143,20 @@ def _no_shorter_period(i, p, vm, phase, tol):
 
 
 @njit(cache=True, error_model="numpy")
-def _accumulation_time(c, s, u, w, gbar, r, v_chatter):
+def _accumulation_time(c, s, u, w, model, v_chatter):
     """Time to the accumulation point of a chattering sequence after an impact on wall ``w`` with
-    rebound velocity ``u`` at the phase with cosine ``c`` and sine ``s``, or -1 when the rule does
-    not apply (see the module docstring).
+    rebound velocity ``u`` at the phase with cosine ``c`` and sine ``s`` (constants ``model``,
+    :data:`Model`), or -1 when the rule does not apply (see the module docstring).
 
     The sum assumes a constant acceleration ``a``; it is used only where ``a`` changes by at most
     ``CHATTER_DRIFT * a`` before the accumulation point (bounded by ``|a'| tau + |a''| tau^2 / 2``
     with ``|a'| = pi |sin theta|``, ``|a''| <= pi^2``).  So ``w Z''`` keeps its sign up to the
     accumulation point, which therefore comes before the release, and the relative error of the sum
-    is of order ``CHATTER_DRIFT``.  Otherwise the next bounce is computed exactly.
+    is of order ``CHATTER_DRIFT``.  Otherwise the next bounce is computed exactly, and so it is whenever
+    the impact law's restitution is not constant (:data:`~vibroimpact.dynamics.impact.CONSTANT_RESTITUTION`):
+    the bounces are then followed until the rebound speed rounds to zero.
     """
+    _, gbar, r = model
     a_in = w * (c + gbar)
     if abs(u) >= v_chatter:
         return -1.0
@@ -151,6 +165,10 @@ def _accumulation_time(c, s, u, w, gbar, r, v_chatter):
         # phase where w Z'' changes sign towards the wall): the ball stays; a flight from there would
         # meet the wall again at once, forever at the same time
         return 0.0 if u == 0.0 and a_in == 0.0 and w * s < 0.0 else -1.0
+    if not law.CONSTANT_RESTITUTION:
+        # the geometric sum needs a constant restitution: follow the bounces one by one (a ball at rest
+        # with the acceleration into the wall sticks at once, whatever the law)
+        return 0.0 if u == 0.0 else -1.0
     tau = 2.0 * abs(u) / ((1.0 - r) * a_in)
     drift = PI * abs(s) * tau + 0.5 * PI * PI * tau * tau
     if drift > CHATTER_DRIFT * a_in:
@@ -162,12 +180,29 @@ def _accumulation_time(c, s, u, w, gbar, r, v_chatter):
 EventBuffers = namedtuple("EventBuffers", ("t", "wall", "v_minus", "v_plus", "phase", "kind", "z"))
 #: where a run starts: time, forcing phase, position, velocity, kind and wall of its first event
 Start = namedtuple("Start", ("t", "theta", "z", "v", "kind", "wall"))
+#: the model's constants: wall distance, gravity term, restitution (floats)
+Model = namedtuple("Model", ("d", "gbar", "r"))
+#: how a run goes: until ``t_end``, the chattering rule's speed ``v_chatter``, whether to stop at a detected
+#: period (``detect``) and the period test's tolerance ``tol``
+Settings = namedtuple("Settings", ("t_end", "v_chatter", "detect", "tol"))
+#: many runs from bottom impacts, one entry per run: the model's constants, the phase and pre-impact velocity
+Batch = namedtuple("Batch", ("d", "gbar", "r", "theta0", "v0"))
+#: how each run of a batch ended: events recorded, status, detected period in events
+Ends = namedtuple("Ends", ("n", "status", "lag"))
+#: a run that keeps only its last events: at most ``max_events`` events, until ``t_end``, the chattering
+#: speed, the period test's tolerance, the longest period looked for (events) and the events kept in between
+WindowSettings = namedtuple("WindowSettings", ("max_events", "t_end", "v_chatter", "tol", "pmax", "cap"))
+#: the events a window keeps (and the period test reads), one array each
+Window = namedtuple("Window", ("t", "wall", "v_minus", "phase", "kind"))
+#: how each window run of a batch ended: status, detected period in events, events simulated, events kept
+WindowEnds = namedtuple("WindowEnds", ("status", "lag", "total", "n"))
 
 
 @njit(cache=True, error_model="numpy")
-def advance(d, gbar, r, start, i0, t_end, v_chatter, detect, tol, counts, out):
+def advance(model, start, i0, settings, counts, out):
     """Advance from an initial event ``start`` (:data:`Start`) and record events into ``out[i0:]``
-    (:data:`EventBuffers`).
+    (:data:`EventBuffers`), for the constants ``model`` (:data:`Model`) and the run's ``settings``
+    (:data:`Settings`); ``counts``: the period test's counters (one per lag, zeroed at the run's start).
 
     ``start.kind``: IMPACT (a wall impact with pre-impact velocity ``start.v``, recorded),
     START (in flight at ``start.z`` with velocity ``start.v``, recorded), or one of RESUME,
@@ -177,8 +212,11 @@ def advance(d, gbar, r, start, i0, t_end, v_chatter, detect, tol, counts, out):
     Returns ``(n, status, lag)``: events recorded up to index ``n``, the run status and, when
     ``detect``, the detected period in events (0 if none).
     """
+    d, gbar, r = model
+    t_end, v_chatter, detect, tol = settings
     t_start, theta_start, z_start, v_start, kind_start, wall_start = start
     out_t, out_wall, out_vm, out_vp, out_phase, out_kind, out_z = out
+    marks = Window(out_t, out_wall, out_vm, out_phase, out_kind)
     cap = out_t.shape[0]
     half = 0.5 * d
     has_release = gbar < 1.0
@@ -213,7 +251,7 @@ def advance(d, gbar, r, start, i0, t_end, v_chatter, detect, tol, counts, out):
             s = math.sin(theta)
             cs_theta = theta
         if chatter_wall != 0:
-            tau_inf = _accumulation_time(c, s, u, chatter_wall, gbar, r, v_chatter)
+            tau_inf = _accumulation_time(c, s, u, chatter_wall, model, v_chatter)
             if tau_inf >= 0.0:
                 # chattering: jump to the accumulation point and stick
                 if t + tau_inf > t_end:
@@ -234,7 +272,7 @@ def advance(d, gbar, r, start, i0, t_end, v_chatter, detect, tol, counts, out):
                 w = 1 if z > 0 else -1
                 if abs(vminus) < V_GRAZING:
                     kind = GRAZING
-                vp = -r * vminus
+                vp = law.rebound(vminus, r)
             elif pending == STICK or pending == RELEASE:
                 w = stuck if pending == STICK else (1 if z > 0 else -1)
                 vminus = 0.0
@@ -249,7 +287,7 @@ def advance(d, gbar, r, start, i0, t_end, v_chatter, detect, tol, counts, out):
             out_kind[i] = kind
             out_z[i] = z
             if detect:
-                lag = period_update(i, out_t, out_wall, out_vm, out_phase, out_kind, counts, tol)
+                lag = period_update(i, marks, counts, tol)
             i += 1
             if detect and lag > 0:
                 return i, PERIODIC, lag
@@ -290,22 +328,30 @@ def advance(d, gbar, r, start, i0, t_end, v_chatter, detect, tol, counts, out):
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def run_batch(d, gbar, r, theta0, v0, n_events, t_end, v_chatter, detect, tol, pmax,
-              out_t, out_wall, out_vm, out_vp, out_phase, out_kind, out_z, out_n, out_status, out_lag):
+def run_batch(batch, settings, pmax, out, ends):
     """Run many independent simulations in parallel, each from a bottom impact (paper convention).
 
-    All inputs of length ``m`` (one per run); outputs of shape ``(m, n_events)``.
+    ``batch`` (:data:`Batch`): arrays of length ``m``, one entry per run; ``settings`` (:data:`Settings`)
+    shared; ``pmax`` the longest period looked for (events); ``out`` (:data:`EventBuffers`) arrays of shape
+    ``(m, n_events)``; ``ends`` (:data:`Ends`) arrays of length ``m``.
     """
-    m = d.shape[0]
-    for k in prange(m):
-        counts = np.zeros(pmax + 1, dtype=np.int64)
-        n, status, lag = advance(d[k], gbar[k], r[k], Start(0.0, theta0[k], 0.5 * d[k], v0[k], IMPACT, 1),
-                                 0, t_end, v_chatter, detect, tol, counts,
-                                 EventBuffers(out_t[k], out_wall[k], out_vm[k], out_vp[k], out_phase[k], out_kind[k],
-                                              out_z[k]))
-        out_n[k] = n
-        out_status[k] = status
-        out_lag[k] = lag
+    for k in prange(batch.d.shape[0]):
+        _batch_run(k, batch, settings, pmax, out, ends)
+
+
+@njit(cache=True, error_model="numpy")
+def _batch_run(k, batch, settings, pmax, out, ends):
+    """Run ``k`` of :func:`run_batch`.  A call of its own: numba's parallel loop loses the writes its body makes
+    to the arrays of a record argument (the writes inside a call are kept)."""
+    counts = np.zeros(pmax + 1, dtype=np.int64)
+    d = batch.d[k]
+    n, status, lag = advance(Model(d, batch.gbar[k], batch.r[k]),
+                             Start(0.0, batch.theta0[k], 0.5 * d, batch.v0[k], IMPACT, 1), 0, settings, counts,
+                             EventBuffers(out.t[k], out.wall[k], out.v_minus[k], out.v_plus[k], out.phase[k],
+                                          out.kind[k], out.z[k]))
+    ends.n[k] = n
+    ends.status[k] = status
+    ends.lag[k] = lag
 
 
 @njit(cache=True, error_model="numpy")
@@ -333,13 +379,16 @@ def resume_code(kind):
 
 
 @njit(cache=True, error_model="numpy")
-def run_window(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, cap,
-               win_t, win_wall, win_vm, win_phase, win_kind):
-    """Run from a bottom impact at t = 0 until the motion is periodic, ``t_end`` or ``max_events``,
-    keeping only a sliding buffer of ``cap`` events; copy the last ``len(win_t)`` events out.
+def run_window(model, theta0, v0, limits, win):
+    """Run from a bottom impact at t = 0 (phase ``theta0``, pre-impact velocity ``v0``; constants ``model``,
+    :data:`Model`) until the motion is periodic, ``limits.t_end`` or ``limits.max_events`` (:data:`WindowSettings`),
+    keeping only a sliding buffer of ``limits.cap`` events; copy the last ``len(win.t)`` events out into ``win``
+    (:data:`Window`).
 
     Returns ``(status, lag, n_total, n_window)``.
     """
+    max_events, t_end, v_chatter, tol, pmax, cap = limits
+    win_t, win_wall, win_vm, win_phase, win_kind = win
     bt = np.zeros(cap)
     bw = np.zeros(cap, dtype=np.int8)
     bvm = np.zeros(cap)
@@ -351,9 +400,9 @@ def run_window(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, 
     keep = 3 * pmax + 1
     # a run-time flag, not the literal True: `advance` is then the very specialisation `simulate` calls,
     # compiled once, so the two give the same events to the last bit
-    detect = tol == tol
-    n, status, lag = advance(d, gbar, r, Start(0.0, theta0, 0.5 * d, v0, IMPACT, 1), 0, t_end, v_chatter, detect,
-                             tol, counts, EventBuffers(bt, bw, bvm, bvp, bph, bk, bz))
+    settings = Settings(t_end, v_chatter, tol == tol, tol)
+    n, status, lag = advance(model, Start(0.0, theta0, 0.5 * model.d, v0, IMPACT, 1), 0, settings, counts,
+                             EventBuffers(bt, bw, bvm, bvp, bph, bk, bz))
     total = n
     while status == FULL and total < max_events:
         # slide: keep the last `keep` events (enough for the period test), continue after them
@@ -368,8 +417,8 @@ def run_window(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, 
             bz[j] = bz[j + shift]
         last = keep - 1
         room = min(cap, keep + max_events - total)
-        n, status, lag = advance(d, gbar, r, Start(bt[last], bph[last], bz[last], bvp[last], resume_code(bk[last]),
-                                                   bw[last]), keep, t_end, v_chatter, detect, tol, counts,
+        start = Start(bt[last], bph[last], bz[last], bvp[last], resume_code(bk[last]), bw[last])
+        n, status, lag = advance(model, start, keep, settings, counts,
                                  EventBuffers(bt[:room], bw[:room], bvm[:room], bvp[:room], bph[:room], bk[:room],
                                               bz[:room]))
         total += n - keep
@@ -385,13 +434,20 @@ def run_window(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, 
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def window_batch(d, gbar, r, theta0, v0, max_events, t_end, v_chatter, tol, pmax, cap,
-                 win_t, win_wall, win_vm, win_phase, win_kind, out_status, out_lag, out_total, out_n):
-    """:func:`run_window` for many runs in parallel (numba prange); outputs of shape (m, window)."""
-    for k in prange(d.shape[0]):
-        st, lag, tot, nw = run_window(d[k], gbar[k], r[k], theta0[k], v0[k], max_events, t_end, v_chatter, tol,
-                                      pmax, cap, win_t[k], win_wall[k], win_vm[k], win_phase[k], win_kind[k])
-        out_status[k] = st
-        out_lag[k] = lag
-        out_total[k] = tot
-        out_n[k] = nw
+def window_batch(batch, limits, win, ends):
+    """:func:`run_window` for many runs in parallel (numba prange): ``batch`` (:data:`Batch`) one entry per run,
+    ``limits`` (:data:`WindowSettings`) shared, ``win`` (:data:`Window`) arrays of shape (m, window), ``ends``
+    (:data:`WindowEnds`) arrays of length m."""
+    for k in prange(batch.d.shape[0]):
+        _window_run(k, batch, limits, win, ends)
+
+
+@njit(cache=True, error_model="numpy")
+def _window_run(k, batch, limits, win, ends):
+    """Run ``k`` of :func:`window_batch`, in a call of its own as :func:`_batch_run`."""
+    st, lag, tot, nw = run_window(Model(batch.d[k], batch.gbar[k], batch.r[k]), batch.theta0[k], batch.v0[k], limits,
+                                  Window(win.t[k], win.wall[k], win.v_minus[k], win.phase[k], win.kind[k]))
+    ends.status[k] = st
+    ends.lag[k] = lag
+    ends.total[k] = tot
+    ends.n[k] = nw

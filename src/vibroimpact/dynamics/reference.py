@@ -2,7 +2,8 @@
 
 Uses the paper's form of the flight (eq. ``z_t``: F1, F2 of the phase), not the package's
 rewritten form, and locates roots by dense sampling plus bracketed refinement, not by the
-package's monotone-segment algorithm.
+package's monotone-segment algorithm.  The one thing it shares with the package is the impact law
+(:mod:`~vibroimpact.dynamics.impact`), in its Python form.
 """
 
 import math
@@ -10,8 +11,20 @@ import math
 import mpmath as mp
 import numpy as np
 
+from . import impact as law
+
 mp.mp.dps = 40
 PI = mp.pi
+
+
+def rebound(v, r):
+    """The impact law's :func:`~vibroimpact.dynamics.impact.rebound` on mpmath's numbers."""
+    return law.rebound.py_func(v, r)
+
+
+def rebound_slope(v, r):
+    """The impact law's :func:`~vibroimpact.dynamics.impact.rebound_slope` on mpmath's numbers."""
+    return law.rebound_slope.py_func(v, r)
 
 
 def gap(theta, z0, u, gbar, wall_z):
@@ -81,7 +94,7 @@ def trajectory(d, gbar, r, phi, v0, n, horizon=12.0, step=2e-4):
     d, gbar, r = mp.mpf(d), mp.mpf(gbar), mp.mpf(r)
     theta = mp.mpf(phi)
     z0 = d / 2
-    u = -r * mp.mpf(v0)
+    u = rebound(mp.mpf(v0), r)
     t = mp.mpf(0)
     out = []
     for _ in range(n):
@@ -92,7 +105,7 @@ def trajectory(d, gbar, r, phi, v0, n, horizon=12.0, step=2e-4):
         t += tau
         theta = theta + PI * tau
         z0 = wall * d / 2
-        u = -r * v
+        u = rebound(v, r)
         out.append((t, wall, v))
     return out
 
@@ -153,13 +166,20 @@ def _displacement_float(theta, u, gbar):
     return lambda tau: uf * tau + gf / 2 * tau**2 - (np.cos(th + np.pi * tau) - np.cos(th)) / np.pi**2 - np.sin(th) / np.pi * tau
 
 
+def _slow_restitution(u, r):
+    """The impact law's restitution in the limit of slow impacts, ``-rebound_slope(0)`` (``r`` itself for a
+    constant restitution), on ``u``'s number type: the ratio of the geometric sum of the last bounces of a
+    chattering sequence, exact for a constant restitution and to first order in ``|u|`` otherwise."""
+    return -rebound_slope(0 * u, r)
+
+
 def bounce_by_bounce(theta0, z0, u0, d, gbar, r, *, t_end, v_rest=1e-25, dps=60, max_events=2000, horizon=12.0):
     """Events of the motion from ``(theta0, z0, u0)`` until ``t_end``, every bounce of every chattering
     sequence chained as an exact flight in ``dps``-digit arithmetic: no accumulation rule.
 
     A chattering sequence is ended only when the rebound speed is below ``v_rest`` (1e-25): the
-    remaining bounces then last less than ``2 v_rest / ((1 - r) a)``, far below any tolerance.  The
-    ball then rests on the wall until the relative acceleration stops pushing it in (a root of
+    remaining bounces then last less than ``2 v_rest / ((1 - r) a)`` (``r`` the restitution of slow impacts,
+    :func:`_slow_restitution`), far below any tolerance.  The ball then rests on the wall until the relative acceleration stops pushing it in (a root of
     ``w (cos(theta) + gbar)`` found by sampling, not by a formula) and leaves with zero velocity.
 
     Returns a list of ``(kind, t, wall, Zdot-)`` with ``kind`` in ``"impact", "stick", "release"``
@@ -175,8 +195,9 @@ def bounce_by_bounce(theta0, z0, u0, d, gbar, r, *, t_end, v_rest=1e-25, dps=60,
             wall = 1 if z == half else (-1 if z == -half else 0)
             push = wall * (mp.cos(theta) + gbar)
             if wall and push > 0 and abs(u) < v_rest and not released:
-                t += 2 * abs(u) / ((1 - r) * push)
-                theta += PI * 2 * abs(u) / ((1 - r) * push)
+                rho = _slow_restitution(u, r)
+                t += 2 * abs(u) / ((1 - rho) * push)
+                theta += PI * 2 * abs(u) / ((1 - rho) * push)
                 out.append(("stick", t, wall, mp.mpf(0)))
                 th = theta
                 tau, _ = _first_crossing([lambda x: wall * (mp.cos(th + PI * x) + gbar)],
@@ -210,6 +231,6 @@ def bounce_by_bounce(theta0, z0, u0, d, gbar, r, *, t_end, v_rest=1e-25, dps=60,
             t += tau
             theta += PI * tau
             z = w * half
-            u = -r * v
+            u = rebound(v, r)
             out.append(("impact", t, w, v))
         return out

@@ -139,8 +139,10 @@ def simulate(
     counts = np.zeros(int(max_period_events) + 1, dtype=np.int64)
     cap = min(cap_total, 4096) if n_impacts is None else cap_total
     bufs = _alloc(cap)
-    n, status, lag = K.advance(params.d, params.gbar, params.r, K.Start(t0, theta0, z0, v0, kind0, wall0),
-                               0, t_end, v_chatter, stop_when_periodic, tol, counts, bufs)
+    model = K.Model(d=float(params.d), gbar=float(params.gbar), r=float(params.r))
+    settings = K.Settings(t_end=float(t_end), v_chatter=float(v_chatter), detect=bool(stop_when_periodic),
+                          tol=float(tol))
+    n, status, lag = K.advance(model, K.Start(t0, theta0, z0, v0, kind0, wall0), 0, settings, counts, bufs)
     while status == K.FULL and n < cap_total:
         # grow the buffers and resume from the last recorded event
         new_cap = min(2 * cap, cap_total)
@@ -149,8 +151,7 @@ def simulate(
         j = n - 1
         start = K.Start(bufs.t[j], bufs.phase[j], bufs.z[j], bufs.v_plus[j], K.resume_code(int(bufs.kind[j])),
                         bufs.wall[j])
-        n, status, lag = K.advance(params.d, params.gbar, params.r, start, n, t_end, v_chatter, stop_when_periodic,
-                                   tol, counts, bufs)
+        n, status, lag = K.advance(model, start, n, settings, counts, bufs)
     if status == K.STUCK_FOREVER:
         warnings.warn(
             f"gbar = {params.gbar:.6g} >= 1: the ball rests on the bottom wall and the forcing can never "
@@ -266,11 +267,12 @@ def simulate_batch(d, gbar, r, phi, v0, *, n_impacts, t_end=None, stop_when_peri
     cap, t_end = _limits(n_impacts, t_end, stop_when_periodic, 0)
     m = d.shape[0]
     bufs = _alloc(cap, runs=m)
-    out_n = np.zeros(m, np.int64)
-    out_status = np.zeros(m, np.int8)
-    out_lag = np.zeros(m, np.int64)
-    K.run_batch(d, gbar, r, phi % TWO_PI, v0, cap, t_end, v_chatter, stop_when_periodic, tol,
-                int(max_period_events), *bufs, out_n, out_status, out_lag)
+    ends = K.Ends(n=np.zeros(m, np.int64), status=np.zeros(m, np.int8), lag=np.zeros(m, np.int64))
+    settings = K.Settings(t_end=float(t_end), v_chatter=float(v_chatter), detect=bool(stop_when_periodic),
+                          tol=float(tol))
+    K.run_batch(K.Batch(d=d, gbar=gbar, r=r, theta0=phi % TWO_PI, v0=v0), settings, int(max_period_events), bufs,
+                ends)
+    out_n, out_status, out_lag = ends
     mask = np.arange(cap)[None, :] >= out_n[:, None]
     for b in bufs:  # the padding: NaN, and 0 for wall and kind
         b[mask] = np.nan if b.dtype.kind == "f" else 0
@@ -298,7 +300,10 @@ SNAP = 1e-12
 
 
 @njit(cache=True)
-def _dense(times, t, phase, z, vp, kind, gbar, out_z, out_v):
+def _dense(times, events, gbar, out_z, out_v):
+    """The state ``(Z, Zdot)`` at the sorted ``times`` into ``out_z``, ``out_v``, from a run's ``events``
+    (:data:`~vibroimpact.dynamics.kernels.EventBuffers`) and its ``gbar``."""
+    t, phase, z, vp, kind = events.t, events.phase, events.z, events.v_plus, events.kind
     j = 0
     n = t.shape[0]
     for i in range(times.shape[0]):
@@ -365,8 +370,9 @@ def trajectory(ds: xr.Dataset, times) -> xr.Dataset:
     Z = np.empty_like(times)
     V = np.empty_like(times)
     zs, vs = np.empty(times.size), np.empty(times.size)
-    _dense(times[order], t, ds["phase"].values, ds["z"].values, ds["v_plus"].values,
-           ds["kind"].values.astype(np.int64), float(ds.attrs["gbar"]), zs, vs)
+    events = K.EventBuffers(t=t, wall=ds["wall"].values, v_minus=ds["v_minus"].values, v_plus=ds["v_plus"].values,
+                            phase=ds["phase"].values, kind=ds["kind"].values.astype(np.int64), z=ds["z"].values)
+    _dense(times[order], events, float(ds.attrs["gbar"]), zs, vs)
     Z[order] = zs
     V[order] = vs
     phi = float(ds.attrs["phi"])

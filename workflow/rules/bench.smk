@@ -2,9 +2,11 @@
 
 #: the speed-and-accuracy figures of the default target: measured on the paper's device whatever the config
 #: (the analytics' accuracy against the paper's G1 and G2), so another device's default target leaves them out
-BENCH_FIGURES = (
-    ["work_precision", "failure_map", "analytics_accuracy"] if CFG.paper_device else []
-)
+BENCH_FIGURES = [
+    f.stem
+    for f in registry.figures(config, target="all", paper_device=CFG.paper_device)
+    if f.rule == "bench_figure"
+]
 
 
 rule bench:
@@ -131,8 +133,8 @@ rule bench_figure:
         **figure_formats("results/figures/{bench}"),
         png=report(
             "results/figures/{bench}.png",
-            caption="../report/bench.rst",
-            category="Speed and accuracy",
+            caption=figure_caption("bench_figure"),
+            category=figure_category("bench_figure"),
         ),
         data="results/figures/data/{bench}.nc",
     log:

@@ -77,7 +77,8 @@ class Figure:
     category : str
         The report's category (the generic rule files its figures under "Registered figures").
     paper_device_only : bool
-        Drawn by the default target only for the paper's device (measured on it whatever the config).
+        Drawn by the default target only for the paper's device: the speed-and-accuracy figures are measured on
+        it whatever the config (the analytics' accuracy against the paper's G1 and G2).
     inputs : tuple of str
         For :attr:`rule` ``registry_figure``: the files (relative to the results' root) whose datasets the plot
         function is called with, in order.

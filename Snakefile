@@ -95,16 +95,8 @@ rule all:
     input:
         "results/orbits/captions.nc",
         "results/tables/captions.md",
-        expand(
-            "results/figures/{scene}.{ext}",
-            scene=SCENES,
-            ext=RESOLUTION["figure_formats"],
-        ),
-        expand(
-            "results/figures/{scene}.{ext}",
-            scene=BRANCH_SCENES,
-            ext=RESOLUTION["figure_formats"],
-        ),
+        # every figure of the registry (vibroimpact.outputs.registry) the default target draws
+        figure_targets("all"),
         "results/tables/table1.csv",
         "results/tables/d_graz.md",
         [branch_path("orbit", math.pi / 3, "BT")] if "BT" in WORDS else [],  # 1:1 branch of Figure 2
@@ -113,21 +105,9 @@ rule all:
         "results/tables/transitions.md",
         [basin_path(n) for n in config["basins"]],
         [map_path(n) for n in config["maps"]],
-        expand(
-            "results/figures/{fig}.{ext}",
-            fig=["figBiS", "basins", "regime_map"],
-            ext=RESOLUTION["figure_formats"],
-        ),
-        expand(
-            "results/figures/{fig}.{ext}",
-            fig=list(config["energy"]["figures"]) + ["design"],
-            ext=RESOLUTION["figure_formats"],
-        ),
         "results/tables/design.md",
-        expand("results/figures/lyapunov.{ext}", ext=RESOLUTION["figure_formats"]),
         "results/tables/chaos.md",
         "results/checks/paper_values.csv",
-        expand("results/figures/{fig}.png", fig=BENCH_FIGURES),
         "results/tables/workflow_cost.md",
         [study_figure(st) for st in STUDIES],
         "results/tables/table1.md",

@@ -1,6 +1,7 @@
 """The paper's figures by the numbers the published paper prints (Figure 2 ... Figure 9), from one
-definition (vibroimpact.outputs.paper.FIGURE_NUMBERS): every figure of the default config is numbered, and
-no page, caption or table names one by its LaTeX label alone."""
+definition (the registry of figures, vibroimpact.outputs.registry, from which
+vibroimpact.outputs.paper.FIGURE_NUMBERS is derived): every figure of the default config is numbered, and
+no page, caption, table or plot docstring names one by its LaTeX label alone."""
 
 import re
 import sys
@@ -82,7 +83,7 @@ def rendered_captions():
     import jinja2
 
     env = jinja2.Environment(loader=jinja2.FileSystemLoader(ROOT / "workflow" / "report"))
-    config = {"_check_results": {}, "_figure_numbers": FIGURE_NUMBERS}
+    config = {"_check_results": {}, "_figure_numbers": FIGURE_NUMBERS, "_registry_captions": {}}
     for path in sorted((ROOT / "workflow" / "report").glob("*.rst")):
         values = re.findall(r'snakemake\.wildcards\.\w+ == "(\w+)"', path.read_text())
         for value in [*values, "other"]:
@@ -110,6 +111,23 @@ def test_no_page_or_caption_names_a_paper_figure_by_its_label_alone():
     assert not bad, bad
 
 
+def docstrings(path):
+    """Every docstring of a Python file (module, classes, functions)."""
+    import ast
+
+    tree = ast.parse(path.read_text())
+    return [d for n in ast.walk(tree) if isinstance(n, (ast.Module, ast.ClassDef, ast.FunctionDef))
+            and (d := ast.get_docstring(n))]
+
+
+def test_no_plot_or_workflow_script_docstring_names_a_paper_figure_by_its_label_alone():
+    """The plot functions keep the LaTeX labels as names (``fig2`` draws Figure 5, the registry of figures says
+    which draws which); their docstrings and the workflow scripts' name the printed figures."""
+    files = [*ROOT.glob("src/vibroimpact/outputs/plots/*.py"), *ROOT.glob("workflow/scripts/*.py")]
+    bad = {f.name: found for f in files for d in docstrings(f) if (found := bare_labels(d))}
+    assert not bad, bad
+
+
 def test_the_check_table_and_the_figures_page_name_figures_by_their_printed_numbers():
     """The check's items (the keys of checks.known), the reasons the config gives, and the figures page's titles."""
     cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
@@ -120,8 +138,11 @@ def test_the_check_table_and_the_figures_page_name_figures_by_their_printed_numb
     sys.path.insert(0, str(ROOT / "docs" / "_ext"))
     import vibroimpact_pages
 
-    assert not [t for t in vibroimpact_pages.TITLES.values() if bare_labels(t)]
-    assert all(vibroimpact_pages.TITLES[f].startswith(figure_name(f)) for f in FIGURE_NUMBERS)
+    from vibroimpact.outputs.registry import figures
+
+    titles = [vibroimpact_pages.title(f.stem) for f in figures(cfg)]
+    assert not [t for t in titles if bare_labels(t)] and len(titles) >= 20
+    assert all(vibroimpact_pages.title(f).startswith(figure_name(f) + ": ") for f in FIGURE_NUMBERS)
     assert vibroimpact_pages.page_order(["basins", "fig5", "fig0b", "fig0"]) == ["fig0", "fig0b", "fig5", "basins"]
 
 

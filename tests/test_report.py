@@ -5,10 +5,13 @@ import subprocess
 
 import numpy as np
 import pytest
-from conftest import readme_command, run_readme
+import yaml
+from conftest import ROOT, readme_command, run_readme
 
-FIGURES = ["fig0b", "fig4", "figFN2", "fig2", "fig3", "figBiS", "basins", "regime_map", "fig0", "fig5", "lyapunov", "design",
-           "work_precision", "failure_map", "analytics_accuracy", "design_map_s_beta", "design_map_s_F"]
+from vibroimpact.outputs.workflow_config import figure_names
+
+#: every figure `check` compares, from the registry of figures (vibroimpact.outputs.registry): `check` draws them
+FIGURES = figure_names(yaml.safe_load((ROOT / "config" / "config.yaml").read_text()))
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 
 

@@ -1,8 +1,9 @@
 """Pages of the documentation generated from the workflow's results when the site is built.
 
 * ``paper.md``: every figure the workflow regenerates, the paper's first, by the numbers it prints
-  (Figure 2 ... Figure 9: :data:`vibroimpact.outputs.paper.FIGURE_NUMBERS`), then the project's own; each
-  with its caption (the same templates the Snakemake report renders, ``workflow/report/*.rst``), its check
+  (Figure 2 ... Figure 9), then the project's own; each with its heading and its caption from its row of the
+  registry of figures (:mod:`vibroimpact.outputs.registry`: the same templates the Snakemake report renders,
+  ``workflow/report/*.rst``), its check
   result (arrays and image against the committed reference) and the published values it shows, each with
   the value computed now and its status; then the whole table of the paper's values.
 * ``_generated/variables.md``: every variable the datasets carry, with its units and meaning
@@ -21,57 +22,28 @@ from __future__ import annotations
 import importlib.util
 from pathlib import Path
 
-import jinja2
 import pandas as pd
 from sphinx.errors import ExtensionError
 
-from vibroimpact.outputs.paper import FIGURE_NUMBERS, figure_name
-
-#: figure -> (caption template, its wildcards), as the workflow's rules declare them
-CAPTIONS = {
-    "fig0b": ("scene.rst", {"scene": "fig0b"}), "fig4": ("scene.rst", {"scene": "fig4"}),
-    "figFN2": ("scene.rst", {"scene": "figFN2"}), "fig2": ("fig2.rst", {}), "fig3": ("fig3.rst", {}),
-    "figBiS": ("figBiS.rst", {}), "basins": ("basins.rst", {}), "regime_map": ("regime_map.rst", {}),
-    "fig0": ("energy.rst", {"efig": "fig0"}), "fig5": ("energy.rst", {"efig": "fig5"}),
-    "design": ("design.rst", {}), "lyapunov": ("lyapunov.rst", {}),
-    "work_precision": ("bench.rst", {"bench": "work_precision"}),
-    "failure_map": ("bench.rst", {"bench": "failure_map"}),
-    "analytics_accuracy": ("bench.rst", {"bench": "analytics_accuracy"}),
-}
-#: what each of the paper's figures shows, for its title beside its printed number
-SUBJECTS = {"fig0": "impact speeds and output voltages, β = π/3",
-            "figFN2": "phase portraits from 1:1 through grazing to 2:1, β = π/2 and π/6",
-            "fig0b": "time series of the 1:1, 2:1 and 3:1 motions", "fig2": "the 2:1 branches",
-            "fig3": "stability of the 2:1 branches", "fig4": "phase portraits near grazing, β = π/6",
-            "figBiS": "bistable 2:1 and 3:1 motions near grazing, β = π/6",
-            "fig5": "output voltages for four inclines"}
-TITLES = {**{fig: f"{figure_name(fig)}: {what}" for fig, what in SUBJECTS.items()},
-          "bifurcation_set_s_beta": "Bifurcation set over (s, β)", "bifurcation_set_s_F": "Bifurcation set over (s, ‖F̂‖)",
-          "bifurcation_set_d_gbar": "Bifurcation set over (d, ḡ)", "bifurcation_set_d_r": "Bifurcation set over (d, r)",
-          "design_map_s_beta": "Design map over (s, β)", "design_map_s_F": "Design map over (s, ‖F̂‖)",
-          "basins": "Basins of attraction", "regime_map": "Regime maps", "lyapunov": "Largest Lyapunov exponent",
-          "design": "Design guidance", "work_precision": "Work-precision", "failure_map": "Failure map",
-          "analytics_accuracy": "Accuracy of the analytics"}
+from vibroimpact.outputs.paper import FIGURE_NUMBERS
+from vibroimpact.outputs.registry import RegistryError, figure, render_caption
 
 
-class _Namespace:
-    def __init__(self, **kw):
-        self.__dict__.update(kw)
+def title(fig: str) -> str:
+    """A figure's heading: its row of the registry of figures (:func:`vibroimpact.outputs.registry.figure`)."""
+    try:
+        return figure(fig).heading()
+    except RegistryError:
+        return fig.replace("_", " ")
 
 
 def _caption(report: Path, fig: str, checks: dict) -> str:
-    if fig in CAPTIONS:
-        template, wildcards = CAPTIONS[fig]
-    elif fig.startswith("bifurcation_set_"):
-        template, wildcards = "bifurcation_set.rst", {"map": fig.removeprefix("bifurcation_set_")}
-    elif fig.startswith("design_map_"):
-        template, wildcards = "design_map.rst", {"dmap": fig.removeprefix("design_map_")}
-    else:
-        raise ExtensionError(f"no caption template for figure {fig!r}")
-    env = jinja2.Environment(loader=jinja2.FileSystemLoader(report), undefined=jinja2.StrictUndefined)
-    snakemake = _Namespace(wildcards=_Namespace(**wildcards),
-                           config={"_check_results": checks, "_figure_numbers": FIGURE_NUMBERS})
-    return env.get_template(template).render(snakemake=snakemake).strip()
+    """A figure's caption, its registry row's template rendered as the Snakemake report renders it."""
+    try:
+        row = figure(fig)
+    except RegistryError as err:
+        raise ExtensionError(f"no caption template for figure {fig!r}: {err}") from None
+    return render_caption(report, row, checks)
 
 
 def _number(x):
@@ -125,7 +97,7 @@ def paper_page(root: Path) -> str:
         png = results / "figures" / f"{fig}.png"
         if not png.exists():
             raise ExtensionError(f"{png.relative_to(root)} is missing: run `snakemake --cores 2 docs`")
-        out += [f"## {TITLES.get(fig, fig.replace('_', ' '))}", "", f"![{fig}](../results/figures/{fig}.png)", "",
+        out += [f"## {title(fig)}", "", f"![{fig}](../results/figures/{fig}.png)", "",
                 "```{eval-rst}", _caption(root / "workflow" / "report", fig, checks), "```", ""]
         image = figures[(figures.figure == fig) & (figures.variable == IMAGE_ROW)]
         arrays = figures[(figures.figure == fig) & (figures.variable != IMAGE_ROW)]

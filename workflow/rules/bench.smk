@@ -1,11 +1,5 @@
 # Speed and accuracy of the exact simulator against solve_ivp (DOP853) with terminal events.
 
-#: the speed-and-accuracy figures of the default target: measured on the paper's device whatever the config
-#: (the analytics' accuracy against the paper's G1 and G2), so another device's default target leaves them out
-BENCH_FIGURES = (
-    ["work_precision", "failure_map", "analytics_accuracy"] if CFG.paper_device else []
-)
-
 
 rule bench:
     input:
@@ -99,16 +93,10 @@ rule workflow_cost:
     input:
         # everything else of the default target first, so that its benchmark files exist
         "results/checks/paper_values.csv",
-        expand("results/figures/{fig}.png", fig=BENCH_FIGURES),
-        "results/figures/basins.png",
-        "results/figures/regime_map.png",
-        "results/figures/figBiS.png",
+        # every figure of the registry the default target draws
+        figure_targets("all", formats=["png"]),
         "results/tables/design.md",
         "results/tables/transitions.md",
-        expand(
-            "results/figures/{fig}.png",
-            fig=list(config["energy"]["figures"]) + list(SCENES) + list(BRANCH_SCENES),
-        ),
     output:
         csv="results/tables/workflow_cost.csv",
         md="results/tables/workflow_cost.md",
@@ -131,8 +119,8 @@ rule bench_figure:
         **figure_formats("results/figures/{bench}"),
         png=report(
             "results/figures/{bench}.png",
-            caption="../report/bench.rst",
-            category="Speed and accuracy",
+            caption=figure_caption("bench_figure"),
+            category=figure_category("bench_figure"),
         ),
         data="results/figures/data/{bench}.nc",
     log:

@@ -5,7 +5,7 @@
 
 rule bifurcation:
     input:
-        expand("results/figures/bifurcation_set_{map}.png", map=ALL_MAPS),
+        figure_targets("bifurcation", formats=["png"]),
         ["results/tables/bistable_band.md"] if "s_beta" in config["maps"] else [],
 
 
@@ -86,8 +86,8 @@ rule fig_bifurcation_set:
         **figure_formats("results/figures/bifurcation_set_{map}"),
         png=report(
             "results/figures/bifurcation_set_{map}.png",
-            caption="../report/bifurcation_set.rst",
-            category="Beyond the paper",
+            caption=figure_caption("fig_bifurcation_set"),
+            category=figure_category("fig_bifurcation_set"),
         ),
         data="results/figures/data/bifurcation_set_{map}.nc",
         # the map's simulated boundaries, each on a curve or not and why (vibroimpact.analysis.bifurcation.map_boundaries)

@@ -1,4 +1,4 @@
-# Figures of the analytic branches with simulated points (paper Figs 2 and 3).
+# Figures of the analytic branches with simulated points (Figures 5 and 6; vibroimpact.outputs.registry).
 
 
 rule fig2:
@@ -9,8 +9,8 @@ rule fig2:
         **figure_formats("results/figures/fig2"),
         png=report(
             "results/figures/fig2.png",
-            caption="../report/fig2.rst",
-            category="Paper figures",
+            caption=figure_caption("fig2"),
+            category=figure_category("fig2"),
         ),
         data="results/figures/data/fig2.nc",
     log:
@@ -37,8 +37,8 @@ rule fig3:
         **figure_formats("results/figures/fig3"),
         png=report(
             "results/figures/fig3.png",
-            caption="../report/fig3.rst",
-            category="Paper figures",
+            caption=figure_caption("fig3"),
+            category=figure_category("fig3"),
         ),
         data="results/figures/data/fig3.nc",
     log:

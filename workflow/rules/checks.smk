@@ -33,7 +33,7 @@ rule check_paper_values:
         motion_sweeps=[
             sweep_path(p) for v in ("s", "F") for p in config["energy"]["design"][v]
         ],
-        # the 2:1 branches whose curve order the captions of Figs 0, 2 and 5 state
+        # the 2:1 branches whose curve order the captions of Figures 2, 5 and 9 state
         order_orbits=[
             branch_path("orbit", b, "BBT") for b in BRANCH_SCENES["fig2"]["betas"]
         ],

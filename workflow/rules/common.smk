@@ -85,7 +85,7 @@ def beta_value(key):
         c["beta"] for c in CAPTIONS.values()
     ]
     betas += [st["beta"] for st in config.get("studies", [])]
-    betas.append(math.pi / 3)  # Fig 0's 1:1 branch
+    betas.append(math.pi / 3)  # Figure 2's 1:1 branch
     for b in betas:
         if fmt(b) == key:
             return b
@@ -213,6 +213,41 @@ ALL_FIGURES = CFG.all_figures
 FIGURES = CFG.figures
 
 
+# ---- the registry of figures (vibroimpact.outputs.registry): targets, captions, the generic rule ------------
+from vibroimpact.outputs import registry
+
+
+def figure_targets(target, formats=None):
+    """The files of the registry's figures a target draws (``all``, ``bifurcation``, ``design_maps``): each
+    figure in the quality preset's ``figure_formats`` (or ``formats``)."""
+    return [
+        f"results/figures/{f.stem}.{ext}"
+        for f in registry.figures(config, target=target, paper_device=CFG.paper_device)
+        for ext in (formats or RESOLUTION["figure_formats"])
+    ]
+
+
+def figure_caption(rule_name):
+    """The report caption (relative to the rule files) of the figures a rule draws, from the registry."""
+    captions = {f.caption for f in registry.REGISTRY if f.rule == rule_name}
+    if len(captions) != 1:
+        raise ValueError(
+            f"the registry gives the figures of {rule_name} the captions {sorted(captions)}, not one"
+        )
+    return f"../report/{captions.pop()}"
+
+
+def figure_category(rule_name):
+    """The report category of the figures a rule draws, from the registry."""
+    return next(f.category for f in registry.REGISTRY if f.rule == rule_name)
+
+
+#: the figures the generic rule `registry_figure` draws (the rows whose rule it is)
+REGISTRY_FIGURES = {
+    f.stem: f for f in registry.figures(config) if f.rule == "registry_figure"
+}
+
+
 def figure_reference(fig):
     """The committed reference of a figure's data."""
     return f"{config['figure_checks']['reference_dir']}/{fig}.nc"
@@ -233,10 +268,25 @@ def _check_summaries():
 # read by workflow/report/*.rst when `snakemake --report` renders the captions; not a setting
 config["_check_results"] = _check_summaries()
 
-# read by workflow/report/*.rst too: the number the published paper prints for each of its figures
+# read by workflow/report/*.rst too: the number the published paper prints for each of its figures (from the
+# registry of figures)
 from vibroimpact.outputs.paper import FIGURE_NUMBERS
 
 config["_figure_numbers"] = FIGURE_NUMBERS
+
+
+def _registry_captions():
+    """The captions of the figures the generic rule draws, rendered from their templates as the documentation
+    renders them (the report's `registry_figure.rst` shows them)."""
+    report_dir = os.path.join(workflow.basedir, "workflow", "report")
+    return {
+        stem: registry.render_caption(report_dir, f, config["_check_results"])
+        for stem, f in REGISTRY_FIGURES.items()
+    }
+
+
+# read by workflow/report/registry_figure.rst: not a setting
+config["_registry_captions"] = _registry_captions()
 
 
 def figure_formats(stem):

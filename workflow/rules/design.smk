@@ -9,11 +9,7 @@ wildcard_constraints:
 
 rule design_maps:
     input:
-        expand(
-            "results/figures/design_map_{dmap}.{ext}",
-            dmap=DESIGN["maps"],
-            ext=RESOLUTION["figure_formats"],
-        ),
+        figure_targets("design_maps"),
         "results/tables/design_robust.md",
 
 
@@ -68,8 +64,8 @@ rule fig_design_map:
         **figure_formats("results/figures/design_map_{dmap}"),
         png=report(
             "results/figures/design_map_{dmap}.png",
-            caption="../report/design_map.rst",
-            category="Beyond the paper",
+            caption=figure_caption("fig_design_map"),
+            category=figure_category("fig_design_map"),
         ),
         data="results/figures/data/design_map_{dmap}.nc",
     log:

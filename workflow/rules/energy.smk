@@ -1,5 +1,5 @@
 # Figures and tables of the output voltage (computed beside each branch and sweep, rules branch and
-# sweep): Figs 0, 5 and the design guidance.
+# sweep): Figures 2 and 9 and the design guidance.
 
 
 rule energy_figure:
@@ -28,8 +28,8 @@ rule energy_figure:
         **figure_formats("results/figures/{efig}"),
         png=report(
             "results/figures/{efig}.png",
-            caption="../report/energy.rst",
-            category="Paper figures",
+            caption=figure_caption("energy_figure"),
+            category=figure_category("energy_figure"),
         ),
         data="results/figures/data/{efig}.nc",
     log:
@@ -69,8 +69,8 @@ rule design:
         md="results/tables/design.md",
         png=report(
             "results/figures/design.png",
-            caption="../report/design.rst",
-            category="Beyond the paper",
+            caption=figure_caption("design"),
+            category=figure_category("design"),
         ),
         data="results/figures/data/design.nc",
     log:

@@ -110,8 +110,8 @@ rule figBiS:
         **figure_formats("results/figures/figBiS"),
         png=report(
             "results/figures/figBiS.png",
-            caption="../report/figBiS.rst",
-            category="Paper figures",
+            caption=figure_caption("figBiS"),
+            category=figure_category("figBiS"),
         ),
         data="results/figures/data/figBiS.nc",
     log:
@@ -133,8 +133,8 @@ rule fig_basins:
         **figure_formats("results/figures/basins"),
         png=report(
             "results/figures/basins.png",
-            caption="../report/basins.rst",
-            category="Beyond the paper",
+            caption=figure_caption("fig_basins"),
+            category=figure_category("fig_basins"),
         ),
         data="results/figures/data/basins.nc",
     log:
@@ -156,8 +156,8 @@ rule fig_regime_map:
         **figure_formats("results/figures/regime_map"),
         png=report(
             "results/figures/regime_map.png",
-            caption="../report/regime_map.rst",
-            category="Beyond the paper",
+            caption=figure_caption("fig_regime_map"),
+            category=figure_category("fig_regime_map"),
         ),
         data="results/figures/data/regime_map.nc",
     log:
@@ -213,8 +213,8 @@ rule lyapunov_figure:
         **figure_formats("results/figures/lyapunov"),
         png=report(
             "results/figures/lyapunov.png",
-            caption="../report/lyapunov.rst",
-            category="Beyond the paper",
+            caption=figure_caption("lyapunov_figure"),
+            category=figure_category("lyapunov_figure"),
         ),
         data="results/figures/data/lyapunov.nc",
         md="results/tables/chaos.md",

@@ -1,5 +1,6 @@
-"""The lambda_1 figure (under the velocity bifurcation diagrams of Figures 2 and 9) and the table of chaotic
-windows and chaotic outputs, from the saved sweeps, their energies and the continued branches."""
+"""The lambda_1 figure (the registry's row ``lyapunov``: under the velocity bifurcation diagrams of Figures 2
+and 9) and the table of chaotic windows and chaotic outputs, from the saved sweeps, their energies and the
+continued branches."""
 import logging
 
 import xarray as xr

@@ -2,28 +2,15 @@
 
 import math
 
+from .registry import figure_numbers, latex_label
+
 __all__ = ["FIGURE_NUMBERS", "figure_name", "latex_label", "caption_figure", "STABLE_2TO1", "PI6_D_B", "PI6_G1",
            "PI6_G2", "PI6_D_GRAZ", "CURVE_ORDER", "paper_stable", "printed_unit", "agreement_tolerance"]
 
 #: the number the published paper prints for each of its figures, by the project's file stem (the
-#: LaTeX label: ``fig0`` is ``\label{Fig0}``), in the paper's order; Figure 1, the device, is not regenerated
-FIGURE_NUMBERS = {"fig0": 2, "figFN2": 3, "fig0b": 4, "fig2": 5, "fig3": 6, "fig4": 7, "figBiS": 8, "fig5": 9}
-
-
-def latex_label(stem: str) -> str:
-    """The LaTeX label of a paper figure as the text writes it.
-
-    Parameters
-    ----------
-    stem : str
-        The figure's file stem, a key of :data:`FIGURE_NUMBERS`.
-
-    Returns
-    -------
-    str
-        ``"Fig 0"`` for ``"fig0"``, ``"Fig FN2"`` for ``"figFN2"``.
-    """
-    return "Fig " + stem.removeprefix("fig")
+#: LaTeX label: ``fig0`` is ``\label{Fig0}``), in the paper's order; Figure 1, the device, is not regenerated.
+#: Derived from the registry of figures (:mod:`vibroimpact.outputs.registry`, where the numbers are written).
+FIGURE_NUMBERS = figure_numbers()
 
 
 def figure_name(stem: str, panel: str = "", *, label: bool = True) -> str:

@@ -21,6 +21,7 @@ from jsonschema.exceptions import best_match, by_relevance
 from ..analysis.design import DESIGN_AXES, DISTRIBUTIONS, MIN_STARTS, RELATIVE, start_states
 from ..dynamics.device import Device
 from .checks import item_names
+from .registry import REGISTRY, figures
 
 __all__ = ["ConfigError", "WorkflowConfig", "check", "check_design", "figure_names", "schema_error",
            "validate_schema"]
@@ -315,7 +316,8 @@ def check(config: dict) -> WorkflowConfig:
     if paper:  # the known discrepancies are the paper's device's: another device's check does not read them
         _known(config)
     all_maps = dict(config["maps"]) | dict(config["bifurcation"].get("maps", {}))
-    figures = figure_names(config, all_maps)
+    _registered(config)
+    figures = figure_names(config)
     chosen = config["figure_checks"].get("figures", "all")
     if chosen != "all":
         for f in chosen:
@@ -517,12 +519,23 @@ def _known(config):
             raise ConfigError("checks.known", item, f"an item of the paper-value check: {items}")
 
 
-def figure_names(config: dict, all_maps: dict) -> list[str]:
-    """Every figure whose plotted data the ``check`` target compares with its committed reference."""
-    return (list(config["scenes"]) + list(config["branch_scenes"]) + ["figBiS", "basins", "regime_map"]
-            + list(config["energy"]["figures"]) + ["lyapunov"]
-            + ["design", "work_precision", "failure_map", "analytics_accuracy"]
-            + [f"bifurcation_set_{m}" for m in all_maps] + [f"design_map_{m}" for m in config["design"]["maps"]])
+def figure_names(config: dict) -> list[str]:
+    """Every figure whose plotted data the ``check`` target compares with its committed reference: the figures
+    of the registry (:mod:`vibroimpact.outputs.registry`) the config draws and a check rule compares."""
+    return [f.stem for f in figures(config) if f.check]
+
+
+def _registered(config):
+    """Each figure a config section names (a scene, a branch scene, an energy figure) is a row of the registry."""
+    for section in ("scenes", "branch_scenes", "energy.figures"):
+        rows = [r.stem for r in REGISTRY if r.configured == section]
+        node = config
+        for key in section.split("."):
+            node = node[key]
+        for name in node:
+            if name not in rows:
+                raise ConfigError(f"{section}.{name}", name, f"a figure of the registry drawn this way: {rows} "
+                                  "(add a row to vibroimpact.outputs.registry)")
 
 
 def check_design(design: dict, presets: dict, maps: dict) -> None:

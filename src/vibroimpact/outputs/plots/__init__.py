@@ -1,10 +1,12 @@
-"""Figures drawn from saved datasets, one module per family of figures:
+"""Figures drawn from saved datasets, one module per family of figures.  The paper's figures are named by the
+numbers the published paper prints (the function names keep the paper's LaTeX labels: ``fig2`` draws Figure 5);
+the registry of figures (:mod:`vibroimpact.outputs.registry`, ``figure(5)``) says which function draws which:
 
-- :mod:`.orbits`: single trajectories (paper Figs 0b, 4, FN2);
-- :mod:`.branches`: analytic branches and their stability (paper Figs 2, 3);
-- :mod:`.sweeps`: sweeps and bistability (paper Fig BiS), basins, regime maps;
-- :mod:`.energy`: voltages (paper Figs 0, 5) and design guidance;
-- :mod:`.chaos`: the largest Lyapunov exponent under the bifurcation diagrams of Figs 0 and 5;
+- :mod:`.orbits`: single trajectories (Figures 3, 4 and 7);
+- :mod:`.branches`: analytic branches and their stability (Figures 5 and 6);
+- :mod:`.sweeps`: sweeps and bistability (Figure 8), basins, regime maps, bifurcation sets;
+- :mod:`.energy`: voltages (Figures 2 and 9) and design guidance;
+- :mod:`.chaos`: the largest Lyapunov exponent under the bifurcation diagrams of Figures 2 and 9;
 - :mod:`.design`: design maps under multistability;
 - :mod:`.bench`: speed against accuracy.
 

@@ -1,4 +1,5 @@
-"""Analytic branches: paper Figs 2 and 3."""
+"""Analytic branches: Figures 5 and 6 (:func:`fig2`, :func:`fig3`, named by the paper's LaTeX labels; rows of
+:mod:`vibroimpact.outputs.registry`)."""
 
 from __future__ import annotations
 
@@ -86,7 +87,7 @@ def critical_markers(br, d_lo, d_hi, admissible_only=True):
     return [tuple(m) for m in out]
 
 
-#: the names of the critical points, as the figures define them (paper Table 1 and Fig 2's caption)
+#: the names of the critical points, as the figures define them (paper Table 1 and Figure 5's caption)
 CRITICAL_NAMES = {"A": r"A1, A2, ...: node $\leftrightarrow$ focus ($\Delta=0$)", "B": r"B: period doubling ($\lambda=-1$)",
                   "F": "F: fold", "G": "G: grazing (a flight touches a wall)"}
 

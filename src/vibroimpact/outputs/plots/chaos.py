@@ -1,5 +1,6 @@
 """Where the motion is chaotic: the largest Lyapunov exponent lambda_1 of every sweep point aligned under
-the velocity bifurcation diagram (paper Fig 0 (a), (c) and Fig 5's inclines)."""
+the velocity bifurcation diagram (Figure 2 (a), (c) and Figure 9's inclines; rows ``lyapunov``, ``fig0`` and
+``fig5`` of :mod:`vibroimpact.outputs.registry`)."""
 
 from __future__ import annotations
 
@@ -115,7 +116,7 @@ def _lyapunov_points(ax, sw, direction, marker):
 
 def fig_lyapunov(sweeps, orbit_sets, transitions=None, *, ncols=3):
     """For each sweep: the impact velocities |Zdot_k| of the last period of every point (the bifurcation
-    diagram of paper Figs 0 (a), (c) and 5; o: d decreasing, +: d increasing), and under it, on the same d
+    diagram of Figure 2 (a), (c) and Figure 9; o: d decreasing, +: d increasing), and under it, on the same d
     axis, the largest Lyapunov exponent lambda_1 per impact (:func:`vibroimpact.lyapunov`): exact on a
     Newton-solved cycle (black), the long run's estimate with its 95 % interval where no period was found
     (red chaotic, orange quasi-periodic, grey unsettled), -inf (sticking, at rest) as triangles at the foot.

@@ -1,4 +1,5 @@
-"""Voltages (paper Figs 0 and 5) and design guidance."""
+"""Voltages (Figures 2 and 9, drawn by :func:`fig_energy`: rows ``fig0`` and ``fig5`` of
+:mod:`vibroimpact.outputs.registry`) and design guidance."""
 
 from __future__ import annotations
 
@@ -47,7 +48,7 @@ def _analytic(ax, branches, var, *, averages=False, scale=1.0):
 
 
 def located_marks(orbit_branches, transitions=None):
-    """The points Figs 0 and 5 mark on the d axis, by their names in :data:`~vibroimpact.outputs.plots._common.MARKS`:
+    """The points Figures 2 and 9 mark on the d axis, by their names in :data:`~vibroimpact.outputs.plots._common.MARKS`:
     d_graz, the largest d of 2:1 period-2 (the continued 2:1 branch's fold, :func:`vibroimpact.branch_d_graz`);
     the 1:1 exit, where the 1:1 motion followed with d decreasing leaves the 1:1 family (the sweep's located
     ``transitions``, :func:`vibroimpact.sweep_family_exit`: ``"1:1 exit: grazing"`` or ``"1:1 exit: jump"``); and
@@ -356,7 +357,7 @@ def fig_energy(panels, sweeps, energies, branch_sets, *, velocities=False, orbit
     """Output voltage U_k - U_in in kV (analytic 1:1 and 2:1 lines over the simulated points; stable
     solid, unstable dashed), the averages U_I (red stars) and U_T (cyan diamonds) of the down sweep with
     the analytic orbits' averages as lines, against d (the swept s or force on the top axis); with
-    ``velocities`` also |Zdot_k| (paper Fig 0 (a), (c)).  The motion found along each sweep is written
+    ``velocities`` also |Zdot_k| (Figure 2 (a), (c)).  The motion found along each sweep is written
     over each panel (:func:`motion_runs`, what its names mean in the note under the legend: :data:`RUNS_NOTE`);
     d_graz and G1 of the continued 2:1 branch (``orbit_sets``) and the 1:1 exit of each sweep's located
     ``transitions`` are marked (:func:`located_marks`).  An analytic branch that failed (another device may not have it) is not drawn,

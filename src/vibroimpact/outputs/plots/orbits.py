@@ -1,4 +1,5 @@
-"""Trajectories of single orbits: paper Figs 0b, 4 and FN2."""
+"""Trajectories of single orbits: Figures 4, 7 and 3 (:func:`fig0b`, :func:`fig4`, :func:`figFN2`, named by the
+paper's LaTeX labels; rows of :mod:`vibroimpact.outputs.registry`)."""
 
 from __future__ import annotations
 
@@ -49,7 +50,7 @@ def _figure_legend(fig, axes, title=MARGIN_NOTE, ncol=4):
 
 
 def time_series(ax, ds):
-    """Cylinder ends X*(t) +- d/2 and ball x*(t) (paper Fig 0b)."""
+    """Cylinder ends X*(t) +- d/2 and ball x*(t) (Figure 4)."""
     d = ds.attrs["d"]
     t = ds["time"].values
     ax.plot(t, ds["X"] + d / 2, color=BOTTOM, label=r"$X^*\pm d/2$")
@@ -69,7 +70,7 @@ def time_series(ax, ds):
 
 
 def phase_portrait(ax, ds):
-    """Zdot against Z, walls dashed, impacts marked (paper Figs 4, FN2, BiS)."""
+    """Zdot against Z, walls dashed, impacts marked (Figures 7, 3 and 8)."""
     d = ds.attrs["d"]
     ax.plot(ds["Z"], ds["Zdot"], color="k", lw=0.7)
     for w, col, name in ((1, BOTTOM, "bottom wall"), (-1, TOP, "top wall")):
@@ -101,9 +102,9 @@ def fig0b(datasets):
 
 
 def figFN2(datasets):
-    """Phase portraits along 1:1 -> period doubling -> grazing -> 2:1 (paper Fig FN2): the part of
+    """Phase portraits along 1:1 -> period doubling -> grazing -> 2:1 (Figure 3): the part of
     each run after its first forcing period, so that the attractor is drawn.  A panel whose caption states
-    its own force (Fig FN2 (a)-(c): 61 N) is titled with the caption's device; its d is the caption's and
+    its own force (Figure 3 (a)-(c): 61 N) is titled with the caption's device; its d is the caption's and
     gbar follows from that force (config ``captions``), which the figure says."""
     use_style()
     n = len(datasets)

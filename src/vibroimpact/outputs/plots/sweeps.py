@@ -1,4 +1,4 @@
-"""Sweeps, bistability (paper Fig BiS), basins and regime maps."""
+"""Sweeps, bistability (Figure 8, :func:`fig_bis`), basins and regime maps."""
 
 from __future__ import annotations
 
@@ -166,7 +166,7 @@ def _bis_points(ax, sw, var, stride, y_of=None):
 
 
 def fig_bis(sw, transitions, portraits, branches):
-    """Bistable 2:1 and 3:1 near grazing (paper Fig BiS).
+    """Bistable 2:1 and 3:1 near grazing (Figure 8).
 
     (a)-(c): the last period of sweep points of both directions (thinned to :data:`BIS_POINTS` per
     direction), the marker and colour by the motion identified there (2:1 open circles, 3:1 crosses, in the
@@ -255,7 +255,7 @@ def fig_bis(sw, transitions, portraits, branches):
 
 
 def _bis_portrait(ax, p, letter, status, gbar, r, fold):
-    """Panel (d)-(g) of Fig BiS: the closed orbit of ``p`` (a portrait) over one period, its impacts marked as in
+    """Panel (d)-(g) of Figure 8: the closed orbit of ``p`` (a portrait) over one period, its impacts marked as in
     (a)-(c), the walls shaded; at G2 the evidence that it is a fold (``fold``, :func:`fold_evidence`)."""
     d = float(p.d)
     ratio = word_ratio(str(p.word.values))

@@ -24,7 +24,18 @@ from matplotlib.lines import Line2D
 from matplotlib.transforms import blended_transform_factory
 
 from ...analysis.d_graz import branch_d_graz
-from ...analysis.motions import APERIODIC, CHAOTIC, QUASI_PERIODIC, UNSETTLED, Motion, motion_without_period, no_period
+from ...analysis.motions import (
+    APERIODIC,
+    CHAOTIC,
+    QUASI_PERIODIC,
+    THREE_ONE,
+    TWO_ONE,
+    UNSETTLED,
+    Motion,
+    motion_without_period,
+    no_period,
+    periodic_motion,
+)
 from ...analysis.windows import window_motions
 from ...datasets import write_netcdf
 from .. import layout
@@ -185,21 +196,16 @@ def branch_line(ax, d, y, stable, color, lw=1.2, zorder=2):
 
 # ---- one colour and one name per motion, the same in every figure (regime maps, bifurcation sets, basins, Fig BiS,
 # the lambda_1 figure) --------------------------------------------------------------------------------------------------
-def _periodic(n: int, m: int, period: int = 1) -> Motion:
-    """The motion with ``n`` bottom and ``m`` top impacts per forcing period, over ``period`` forcing periods."""
-    return Motion(period=period, bottom=n * period, top=m * period)
-
-
 #: the motions the paper names and the most frequent others, each a :class:`~vibroimpact.analysis.motions.Motion`
 #: (its name is its label): colour-blind-safe colours (Okabe-Ito, Tol), a period doubling lighter or of a
 #: neighbouring hue; 3:1 blue as in the paper's Fig BiS, close to the bottom wall's (BOTTOM): where both appear
 #: (Fig BiS) the walls are shaded, not lines; the bottom stick-release cycle brown, as every motion with sticking.
 #: The motions with no period are greys (darker the surer the chaos).
 MOTION_COLORS: dict[Motion, str] = {
-    _periodic(1, 1): "#009E73", _periodic(1, 1, 2): "#56B4E9", _periodic(1, 1, 4): "#CC79A7",
-    _periodic(2, 1): "#D55E00", _periodic(2, 1, 2): "#E69F00", _periodic(2, 1, 4): "#F0E442",
-    _periodic(3, 1): "#0072B2", _periodic(3, 1, 2): "#332288", _periodic(4, 1): "#882255",
-    _periodic(2, 2): "#999933", _periodic(2, 2, 2): "#117733", _periodic(3, 2): "#AA4499",
+    periodic_motion(1, 1): "#009E73", periodic_motion(1, 1, 2): "#56B4E9", periodic_motion(1, 1, 4): "#CC79A7",
+    periodic_motion(2, 1): "#D55E00", periodic_motion(2, 1, 2): "#E69F00", periodic_motion(2, 1, 4): "#F0E442",
+    periodic_motion(3, 1): "#0072B2", periodic_motion(3, 1, 2): "#332288", periodic_motion(4, 1): "#882255",
+    periodic_motion(2, 2): "#999933", periodic_motion(2, 2, 2): "#117733", periodic_motion(3, 2): "#AA4499",
     Motion(period=2, bottom=1, top=0, sticking=True): "#8C510A",
     motion_without_period(APERIODIC): "#EBEBEB", motion_without_period(CHAOTIC): "#262626",
     motion_without_period(QUASI_PERIODIC): "#737373", motion_without_period(UNSETTLED): "#BFBFBF",
@@ -208,9 +214,6 @@ MOTION_COLORS: dict[Motion, str] = {
 OTHER, OTHER_COLOR = "other", "#DDCCA8"
 #: the colour of each motion of :data:`MOTION_COLORS` by its name, and of :data:`OTHER`
 COLOR_BY_LABEL = {m.label: c for m, c in MOTION_COLORS.items()} | {OTHER: OTHER_COLOR}
-#: the 2:1 and 3:1 motions of period 2 (one forcing period), which the bifurcation sets and marks colour their
-#: orbits' curves by
-TWO_ONE, THREE_ONE = _periodic(2, 1), _periodic(3, 1)
 #: d_graz, the largest d of 2:1 period-2 (the 2:1 branch's fold), in every figure that marks it: the 2:1 period-2
 #: motion's colour, as the 2:1 fold's curve in the bifurcation sets (the same point followed in two parameters)
 D_GRAZ_COLOR = MOTION_COLORS[TWO_ONE]
@@ -218,7 +221,7 @@ D_GRAZ_COLOR = MOTION_COLORS[TWO_ONE]
 #: the points figures mark on a d axis (:func:`located_marks`), each in one colour and
 #: line style and under one name in every figure: name -> (colour, line style, legend entry)
 MARKS = {
-    "d_graz": (D_GRAZ_COLOR, ":", r"$d_{\rm graz}$: the largest d of 2:1 period-2 (the 2:1 branch's fold)"),
+    "d_graz": (D_GRAZ_COLOR, ":", rf"$d_{{\rm graz}}$: the largest d of {TWO_ONE.label} (the 2:1 branch's fold)"),
     "1:1 exit: grazing": (EXIT_COLOR, "-.", "1:1 exit: grazing (the 1:1 motion, d decreasing, grazes the bottom wall "
                                            "and leaves its family)"),
     "1:1 exit: jump": (EXIT_COLOR, "--", "1:1 exit: jump (the 1:1 motion, d decreasing, leaves its family clear of "
@@ -705,4 +708,4 @@ def curve_pieces(curves, xname, yname):
 D_GRAZ_CURVE = ("BBT", "fold")
 
 
-D_GRAZ_NAME = r"$d_{\rm graz}$ (largest d of 2:1 period-2)"
+D_GRAZ_NAME = rf"$d_{{\rm graz}}$ (largest d of {TWO_ONE.label})"

@@ -11,7 +11,7 @@ from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from ...analysis.motions import NO_PERIOD_LABELS, orbit_motion
+from ...analysis.motions import NO_PERIOD_LABELS, THREE_ONE, TWO_ONE, orbit_motion
 from ...dynamics import kernels as K
 from ...dynamics.params import Params
 from ...dynamics.runs import simulate
@@ -38,7 +38,7 @@ from ._common import (
 
 
 #: the marker of each motion in Fig BiS (the paper's caption: 2:1 open circles, 3:1 crosses); any other "x"
-BIS_MARKERS = {"2:1 period-2": "o", "3:1 period-2": "+"}
+BIS_MARKERS = {TWO_ONE.label: "o", THREE_ONE.label: "+"}
 #: simulated points drawn per sweep direction and panel: more merge into bands at the panel's width
 BIS_POINTS = 20
 

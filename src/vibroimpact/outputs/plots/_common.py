@@ -288,8 +288,6 @@ def word_ratio(word: str) -> str:
 
 def pi_ticks(ax, lo, hi):
     """Ticks of an angle axis at the fractions of pi inside [lo, hi]."""
-
-
     ticks = [f * math.pi for f in (1 / 12, 1 / 6, 1 / 4, 1 / 3, 5 / 12, 1 / 2) if lo <= f * math.pi <= hi]
     ax.set_yticks(ticks, [pi_label(t) for t in ticks])
 

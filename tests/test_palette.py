@@ -220,7 +220,8 @@ def test_the_table_gives_each_motion_one_colour_by_the_motion_or_by_its_name():
     assert len(set(MOTION_COLORS.values()) | {OTHER_COLOR}) == len(MOTION_COLORS) + 1
     assert len({m.label for m in MOTION_COLORS} | {OTHER}) == len(MOTION_COLORS) + 1
     assert {m.label for m in MOTION_COLORS if not m.periodic} == set(NO_PERIOD_LABELS)
-    assert motion_color(orbit_motion("BBT")) == motion_color("2:1 period-2") == MOTION_COLORS[Motion(period=1, bottom=2, top=1)]
+    two_one = Motion(period=1, bottom=2, top=1)
+    assert motion_color(orbit_motion("BBT")) == motion_color("2:1 period-2") == MOTION_COLORS[two_one]
 
 
 def test_motions_the_table_does_not_list_get_one_colour_everywhere():

@@ -76,8 +76,8 @@ def code_strings(source: str):
     """``(line, text)`` of every string constant of ``source`` that is code, not prose: docstrings (a string
     standing alone as a statement) are left out; the literal parts of an f-string are kept."""
     tree = ast.parse(source)
-    prose = {id(node.value) for node in ast.walk(tree)
-             if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant) and isinstance(node.value.value, str)}
+    prose = {id(node.value) for node in ast.walk(tree) if isinstance(node, ast.Expr)
+             and isinstance(node.value, ast.Constant) and isinstance(node.value.value, str)}
     return [(node.lineno, node.value) for node in ast.walk(tree)
             if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in prose]
 

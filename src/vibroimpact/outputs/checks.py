@@ -237,10 +237,11 @@ def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], swee
             for m in [(e.label == ONE_ONE.label).values & np.isfinite(e.U_T.values)]]
     n11 = int(sum(d.size for d in devs))
     dev = max((float(d.max()) for d in devs if d.size), default=math.nan)
+    none = f"{NOTHING_COMPARED}: no {ONE_ONE.label} attractor in the sweeps; "
     rows.append(_row(ENERGY_ITEMS[0], "section 5", "equal",
-                     f"max relative difference {dev:.1e} over {n11} simulated {ONE_ONE.label} attractors", ORBIT_AGREEMENT,
-                     n11 > 0 and dev <= ORBIT_AGREEMENT, ("" if n11 else f"{NOTHING_COMPARED}: no {ONE_ONE.label} attractor "
-                                                          "in the sweeps; ") + "tolerance: the attractors' identification tolerance"))
+                     f"max relative difference {dev:.1e} over {n11} simulated {ONE_ONE.label} attractors",
+                     ORBIT_AGREEMENT, n11 > 0 and dev <= ORBIT_AGREEMENT,
+                     ("" if n11 else none) + "tolerance: the attractors' identification tolerance"))
     # 1:1 -> 2:1 and 2:1 -> 3:1 jumps along every sweep's down direction
     n11, ok11_i, ok11_t, n23, ok23_i, ok23_t = 0, 0, 0, 0, 0, 0
     for e, motions in zip(sweeps, down_motions, strict=True):

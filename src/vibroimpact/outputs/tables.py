@@ -228,8 +228,8 @@ def d_graz_markdown(df: pd.DataFrame) -> str:
     exit, the band between and whether the paper's identity holds; then :func:`d_graz_summary`."""
     lines = ["d_graz is \"the maximum value for 2:1 period-2 solutions\": the fold of the 2:1 branch (analytic), "
              f"which the up sweep's {TWO_ONE.label} reaches before it is lost (located). The down sweep enters the "
-             f"{TWO_ONE.label} at a sweep point (the entry lies within one step above it). The 1:1 exit is where the 1:1 "
-             "motion, followed with d decreasing, leaves its family, by grazing a wall or by a jump while clear of "
+             f"{TWO_ONE.label} at a sweep point (the entry lies within one step above it). The 1:1 exit is where the "
+             "1:1 motion, followed with d decreasing, leaves its family, by grazing a wall or by a jump while clear of "
              "them. The paper's identity, \"at d = d_graz the 1:1 motion grazes and 2:1 follows for d < d_graz\", "
              "holds along a sweep where the exit is a grazing within the sweep step of both the entry and d_graz; "
              "the band is what the down sweep finds between its entry into 2:1 and the exit.", "",

@@ -194,8 +194,8 @@ def branch_line(ax, d, y, stable, color, lw=1.2, zorder=2):
     ax.plot(d, yu, "--", color=color, lw=lw * 0.8, zorder=zorder)
 
 
-# ---- one colour and one name per motion, the same in every figure (regime maps, bifurcation sets, basins, Fig BiS,
-# the lambda_1 figure) --------------------------------------------------------------------------------------------------
+# ---- one colour and one name per motion, the same in every figure (regime maps, bifurcation sets, basins,
+# Fig BiS, the lambda_1 figure) ----------------------------------------------------------------------------------
 #: the motions the paper names and the most frequent others, each a :class:`~vibroimpact.analysis.motions.Motion`
 #: (its name is its label): colour-blind-safe colours (Okabe-Ito, Tol), a period doubling lighter or of a
 #: neighbouring hue; 3:1 blue as in the paper's Fig BiS, close to the bottom wall's (BOTTOM): where both appear

@@ -119,7 +119,8 @@ def fig_lyapunov(sweeps, orbit_sets, transitions=None, *, ncols=3):
     diagram of paper Figs 0 (a), (c) and 5; o: d decreasing, +: d increasing), and under it, on the same d
     axis, the largest Lyapunov exponent lambda_1 per impact (:func:`vibroimpact.lyapunov`): exact on a
     Newton-solved cycle (black), the long run's estimate with its 95 % interval where no period was found
-    (in the motions' colours: near black chaotic, dark grey quasi-periodic, light grey unsettled), -inf (sticking, at rest) as triangles at the foot.
+    (in the motions' colours: near black chaotic, dark grey quasi-periodic, light grey unsettled), -inf
+    (sticking, at rest) as triangles at the foot.
     The period doublings B, d_graz (the 2:1 fold) and G1 of the continued 1:1 and 2:1 branches (``orbit_sets``) and
     the 1:1 exit of each sweep's located ``transitions`` are marked (:func:`critical_marks`), named in the lambda_1
     panels where they cover no data; the legend lists only the kinds of point drawn (:func:`lyapunov_handles`)."""

@@ -12,7 +12,12 @@ import tempfile
 import yaml
 from snakemake.utils import min_version
 
-from vibroimpact.outputs.workflow_config import ConfigError, check, coerce_studies, validate_schema
+from vibroimpact.outputs.workflow_config import (
+    ConfigError,
+    check,
+    coerce_studies,
+    validate_schema,
+)
 
 # the jobs draw into files, never onto a screen: matplotlib's file backend (the package leaves the choice
 # of backend to whoever imports it)

@@ -5,7 +5,6 @@
 import atexit
 import math
 import os
-import re
 import shutil
 import sys
 import tempfile
@@ -13,7 +12,12 @@ import tempfile
 import yaml
 from snakemake.utils import min_version
 
-from vibroimpact.outputs.workflow_config import ConfigError, check, validate_schema
+from vibroimpact.outputs.workflow_config import (
+    ConfigError,
+    check,
+    coerce_studies,
+    validate_schema,
+)
 
 # the jobs draw into files, never onto a screen: matplotlib's file backend (the package leaves the choice
 # of backend to whoever imports it)
@@ -25,32 +29,11 @@ min_version("8.0")
 configfile: "config/config.yaml"
 
 
-# `--config 'studies=[{beta: 0.4, r: 0.6}]'` reaches us as strings (Snakemake parses nested values
-# with YAML's BaseLoader): turn numeric strings into numbers; anything else is left for the schema.
-_NUMERIC = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
-config["studies"] = [
-    (
-        {
-            k: (
-                [
-                    float(x) if isinstance(x, str) and _NUMERIC.fullmatch(x) else x
-                    for x in v
-                ]
-                if isinstance(v, list)
-                else (float(v) if isinstance(v, str) and _NUMERIC.fullmatch(v) else v)
-            )
-            for k, v in st.items()
-        }
-        if isinstance(st, dict)
-        else st
-    )
-    for st in config.get("studies") or []
-]
-
-
-# the schema (each value, and no key it does not name), then the conditions across keys (the checked, typed
-# config the rule files read): a refusal is one line naming the key, the value and what is allowed, before any job
+# a command line's `--config 'studies=[{beta: 0.4, r: 0.6}]'` reaches us as strings: its numbers made numbers; then
+# the schema (each value, and no key it does not name), then the conditions across keys (the checked, typed config
+# the rule files read): a refusal is one line naming the key, the value and what is allowed, before any job
 try:
+    config["studies"] = coerce_studies(config.get("studies"))
     with open(os.path.join(workflow.basedir, "config", "schema.yaml")) as f:
         validate_schema(config, yaml.safe_load(f))
     CFG = check(config)

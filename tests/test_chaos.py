@@ -129,6 +129,34 @@ def test_minus_infinity_is_a_triangle_at_the_foot_and_every_other_point_a_circle
     plt.close(fig)
 
 
+def test_a_point_with_no_period_is_drawn_in_its_motions_colour_in_every_figure():
+    """One colour per motion: lambda_1 of a chaotic, quasi-periodic or unsettled point is drawn (marker, interval bar,
+    legend entry) in the colour the regime maps and the bifurcation sets give that motion; a point with a period in
+    black (its exact value)."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import to_hex
+
+    from vibroimpact.analysis.motions import CHAOTIC, QUASI_PERIODIC, UNSETTLED
+    from vibroimpact.outputs.plots._common import motion_color
+    from vibroimpact.outputs.plots.chaos import PERIODIC_COLOR, _lyapunov_points, lyapunov_handles
+
+    labels = [CHAOTIC, QUASI_PERIODIC, UNSETTLED, "1:1 period-2"]
+    sw = synthetic_sweep(labels, [0.2, 0.0, -0.05, -0.3], np.array([0.30, 0.28, 0.26, 0.24]))
+    sw["lyap1_low"] = sw.lyap1_low.where(sw.label != "1:1 period-2", sw.lyap1)  # exact: no interval
+    sw["lyap1_high"] = sw.lyap1_high.where(sw.label != "1:1 period-2", sw.lyap1)
+    for v in ("lyap1_sensitivity", "settled", "long_status", "abs_v_mean", "abs_v_se"):
+        sw[v] = sw.lyap1 * 0
+    fig, ax = plt.subplots()
+    kinds = _lyapunov_points(ax, sw, "down", "o")
+    bars, points = ax.collections
+    expected = [motion_color(x) for x in labels[:3]] + [PERIODIC_COLOR]
+    assert [to_hex(c) for c in points.get_edgecolors()] == [to_hex(c) for c in expected]
+    assert [to_hex(c) for c in bars.get_colors()] == [to_hex(c) for c in expected[:3]]
+    legend = {h.get_label().split(":")[0]: to_hex(h.get_color()) for h in lyapunov_handles(kinds)}
+    assert {x: legend[x] for x in labels[:3]} == {x: to_hex(motion_color(x)) for x in labels[:3]}
+    plt.close(fig)
+
+
 @pytest.mark.parametrize("labels, expected", [
     # each run of at least min_points is named by its motion, one name per motion: chaotic and unsettled apart
     (["1:1 period-2"] * 10 + ["chaotic"] * 6 + ["unsettled"] * 5 + ["2:1 period-2"] * 12,
@@ -156,7 +184,7 @@ def test_motion_blocks_name_every_run_long_enough_and_short_runs_together(labels
     short runs are merged and named by what they hold.  Fig 9 (d): a 12-point window hidden under a name of
     what surrounds it; "aperiodic" and "chaotic" for one thing.  The names are the motions' names and nothing
     else, and what is left unnamed is shorter than min_points."""
-    from vibroimpact.outputs.plots.energy import motion_blocks
+    from vibroimpact.outputs.plots._common import motion_blocks
 
     names = {m.label: m.short_label for m in (Motion(period=1, bottom=1, top=1), Motion(period=1, bottom=2, top=1),
                                               Motion(period=2, bottom=2, top=2), Motion(period=4, bottom=4, top=4))}

@@ -133,7 +133,7 @@ def test_energy_figures_mark_d_graz_at_the_2to1_fold_the_1to1_exit_by_its_kind_a
     """d_graz, the largest d of 2:1 period-2, is the 2:1 branch's admissible fold; the 1:1 exit is where the 1:1
     motion followed down leaves its family (the sweep's located transitions), named by how it leaves, never the
     grazing of the unstable 1:1 period-2 orbit; G1 where a grazing ends the stable 2:1."""
-    from vibroimpact.outputs.plots.energy import located_marks
+    from vibroimpact.outputs.plots._common import located_marks
 
     d = np.round(np.arange(0.130, 0.221, 0.001), 6)
     bt = _branch("BT", d, d > 0.16, [("grazing", 0.1579, True), ("grazing", 0.1201, True), ("grazing", 0.19, False)])

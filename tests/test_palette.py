@@ -10,12 +10,14 @@ import xarray as xr
 from conftest import ROOT
 from matplotlib.colors import to_hex
 
-from vibroimpact.analysis.motions import NO_PERIOD_LABELS
+from vibroimpact.analysis.motions import NO_PERIOD_LABELS, Motion, orbit_motion
 from vibroimpact.outputs.plots import fig_basins, fig_bis, fig_regime_map
 from vibroimpact.outputs.plots._common import (
     BOTTOM,
     EXTRA_COLORS,
     MOTION_COLORS,
+    OTHER,
+    OTHER_COLOR,
     STICKING_COLORS,
     TOP,
     motion_color,
@@ -199,7 +201,7 @@ def test_a_map_names_the_more_frequent_of_two_motions_with_one_colour():
     assert len(shown) == len(set(shown))
 
 
-@pytest.mark.parametrize("label", sorted(MOTION_COLORS))
+@pytest.mark.parametrize("label", sorted([m.label for m in MOTION_COLORS] + [OTHER]))
 def test_the_palette_is_fixed_and_keeps_greys_for_no_period_and_beige_for_other(label):
     from matplotlib.colors import to_rgb
 
@@ -207,6 +209,19 @@ def test_the_palette_is_fixed_and_keeps_greys_for_no_period_and_beige_for_other(
     grey = max(r, g, b) - min(r, g, b) < 1e-9
     assert grey == (label in NO_PERIOD_LABELS)
     assert motion_color(label) not in (to_hex(BOTTOM), to_hex(TOP))
+
+
+def test_the_table_gives_each_motion_one_colour_by_the_motion_or_by_its_name():
+    """The table is keyed by motions; a figure asks by the motion or by its label (as the datasets hold it) and
+    gets the same colour; no two motions of the table share one, nor share a name."""
+    assert all(isinstance(m, Motion) for m in MOTION_COLORS)
+    assert {m.label: motion_color(m) for m in MOTION_COLORS} == {m.label: motion_color(m.label) for m in MOTION_COLORS}
+    assert {m.label: motion_color(m) for m in MOTION_COLORS} == {m.label: c for m, c in MOTION_COLORS.items()}
+    assert len(set(MOTION_COLORS.values()) | {OTHER_COLOR}) == len(MOTION_COLORS) + 1
+    assert len({m.label for m in MOTION_COLORS} | {OTHER}) == len(MOTION_COLORS) + 1
+    assert {m.label for m in MOTION_COLORS if not m.periodic} == set(NO_PERIOD_LABELS)
+    two_one = Motion(period=1, bottom=2, top=1)
+    assert motion_color(orbit_motion("BBT")) == motion_color("2:1 period-2") == MOTION_COLORS[two_one]
 
 
 def test_motions_the_table_does_not_list_get_one_colour_everywhere():
@@ -267,7 +282,7 @@ def test_captions_and_pages_name_the_colours_and_styles_things_are_drawn_in():
 def test_the_captions_say_how_few_points_go_unnamed():
     """The names over the sweep panels leave gaps where fewer than MIN_POINTS points hold one motion; the captions
     and the figures' own notes say how many."""
-    from vibroimpact.outputs.plots.energy import MIN_POINTS, RUNS_NOTE
+    from vibroimpact.outputs.plots._common import MIN_POINTS, RUNS_NOTE
 
     words = {3: "three", 4: "four", 5: "five", 6: "six", 8: "eight", 10: "ten"}
     for path in ("workflow/report/energy.rst", "workflow/report/lyapunov.rst"):

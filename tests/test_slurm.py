@@ -102,9 +102,11 @@ def test_a_job_cancelled_with_scancel_fails_the_run_and_a_rerun_completes(tmp_pa
     job = None
     deadline = time.monotonic() + 120
     while job is None and time.monotonic() < deadline and proc.poll() is None:
-        q = subprocess.run(["squeue", "-h", "-o", "%i %T"], capture_output=True, text=True, timeout=30).stdout.split()
-        if len(q) >= 2 and q[1] in ("RUNNING", "PENDING", "CONFIGURING"):
-            job = q[0]
+        # this run's job only (its working directory is this test's): another run on the same cluster is left alone
+        q = subprocess.run(["squeue", "-h", "-o", "%i|%T|%Z"], capture_output=True, text=True, timeout=30).stdout
+        mine = [line.split("|") for line in q.splitlines()
+                if line.count("|") == 2 and line.split("|")[2].startswith(str(tmp_path))]
+        job = next((i for i, state, _ in mine if state in ("RUNNING", "PENDING", "CONFIGURING")), None)
         time.sleep(0.2)
     assert job is not None, "no job appeared in squeue"
     subprocess.run(["scancel", job], check=True, timeout=30)

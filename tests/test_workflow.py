@@ -215,6 +215,8 @@ def test_check_target_passes_on_the_default_config(default_run):
     # a study repeating another (the same paths to 4 decimals)
     ("[{beta: 0.4, r: 0.6}, {beta: 0.40001, r: 0.6}]", None,
      ["studies[1]", "repeats studies[0]", "results/studies/beta-0.4000_r-0.6000"]),
+    # a value of the command line that is no number
+    ("[{beta: 0.4, r: 0.6x}]", None, ["config: studies[0].r = '0.6x' is not allowed; allowed: a number"]),
     # an impact that gains energy (r = 0, a plastic impact, is allowed)
     ("[{beta: 0.4, r: 1}]", None, ["config: studies[0].r = 1.0 is not allowed; allowed: a number >= 0 and < 1"]),
     # a device too weak to lift the ball off the bottom membrane at this incline

@@ -349,3 +349,47 @@ def test_another_device_s_branches_span_the_d_of_every_sweep_and_row_drawn_with_
     assert cfg.branch_d_range(0.4, ph["r"]) == CONFIG["branches"]["d_range"]  # no figure draws branches there
     assert cfg.branch_force(math.pi / 2)["F_range"] == [3.0, 25.0]
     assert cfg.branch_force(math.pi / 3) == CONFIG["branches"]["force"]
+
+
+# ---- the command line's values (--config), made numbers before the schema sees them ------------------------------
+def test_the_command_line_s_studies_become_numbers_and_typed_values_stay():
+    from vibroimpact.outputs.workflow_config import coerce_studies
+
+    given = [{"beta": "0.4", "r": ".6", "s_range": ["0.2", "7e-1"], "phi": "-1.5", "v0": "+2"},
+             {"beta": 0.5, "r": 0.25, "s_range": [0.3, 0.6]}]
+    got = coerce_studies(given)
+    assert got == [{"beta": 0.4, "r": 0.6, "s_range": [0.2, 0.7], "phi": -1.5, "v0": 2.0},
+                   {"beta": 0.5, "r": 0.25, "s_range": [0.3, 0.6]}]
+    assert all(type(v) is float for v in (got[0]["beta"], *got[0]["s_range"]))
+    assert given[0]["beta"] == "0.4"  # the config it was given is left as it was
+    assert coerce_studies(None) == [] and coerce_studies([]) == []
+    # a key no study has is left for the schema, which names the closest one
+    assert coerce_studies([{"beta": "0.4", "rr": "0.6"}]) == [{"beta": 0.4, "rr": "0.6"}]
+
+
+@pytest.mark.parametrize("studies, key, value, allowed", [
+    ([{"beta": "0.4", "r": "abc"}], "studies[0].r", "abc", "a number, such as 0.4"),
+    ([{"beta": "0.4", "r": "0.6"}, {"beta": "pi/4", "r": "0.6"}], "studies[1].beta", "pi/4", "a number"),
+    ([{"beta": "0.4", "r": "0.6", "s_range": ["0.2", "0.7m"]}], "studies[0].s_range[1]", "0.7m", "a number"),
+    ([{"beta": "0.4", "r": "0.6"}, "beta=0.5"], "studies[1]", "beta=0.5", "a mapping of a study's keys"),
+    ("[{beta: 0.4}", "studies", "[{beta: 0.4}", "a list of studies"),
+])
+def test_a_command_line_study_that_is_not_a_number_is_refused_naming_key_value_and_what_is_allowed(studies, key, value,
+                                                                                                    allowed):
+    from vibroimpact.outputs.workflow_config import coerce_studies
+
+    with pytest.raises(ConfigError) as err:
+        coerce_studies(studies)
+    assert (err.value.key, err.value.value) == (key, value)
+    text = str(err.value)
+    assert text.startswith(f"config: {key} = {value!r} is not allowed; allowed: {allowed}"), text
+    assert "studies=[{beta: 0.4, r: 0.6}]" in text or "{beta: 0.4, r: 0.6}" in text
+
+
+def test_the_numbers_coerced_are_the_numbers_the_schema_asks_of_a_study():
+    from vibroimpact.outputs.workflow_config import STUDY_NUMBERS
+
+    schema = yaml.safe_load((ROOT / "config" / "schema.yaml").read_text())
+    study = schema["properties"]["studies"]["items"]["properties"]
+    numeric = {k for k, v in study.items() if v.get("type") == "number" or v.get("items", {}).get("type") == "number"}
+    assert set(STUDY_NUMBERS) == numeric == set(study)

@@ -5,6 +5,7 @@ import logging
 import numpy as np
 import xarray as xr
 
+from vibroimpact.analysis.motions import THREE_ONE, TWO_ONE
 from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.outputs.portraits import bistability_dataset
 
@@ -13,7 +14,7 @@ b21 = xr.load_dataset(snakemake.input.branch21, engine="netcdf4")
 b31 = xr.load_dataset(snakemake.input.branch31, engine="netcdf4")
 tr = xr.load_dataset(snakemake.input.transitions, engine="netcdf4")
 # [G1, G2]: the bistable interval where the down sweep follows 2:1 and the up sweep 3:1, where the sweep finds one
-both = np.flatnonzero((tr.label_down.values == "2:1 period-2") & (tr.label_up.values == "3:1 period-2"))
+both = np.flatnonzero((tr.label_down.values == TWO_ONE.label) & (tr.label_up.values == THREE_ONE.label))
 g1, g2 = (float(tr.d_lo[both[0]]), float(tr.d_hi[both[0]])) if both.size else (np.nan, np.nan)
 d = xr.load_dataset(snakemake.input.sweep, engine="netcdf4").d.values
 missing = "" if both.size else (f"the sweep over d in [{d.min():.4g}, {d.max():.4g}] finds no interval where "

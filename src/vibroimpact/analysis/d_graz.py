@@ -19,10 +19,10 @@ from collections import Counter
 import numpy as np
 import xarray as xr
 
-from .motions import CHAOTIC
+from .motions import CHAOTIC, TWO_ONE
 
 #: the motion whose largest d the paper calls d_graz
-TWO_TO_ONE = "2:1 period-2"
+TWO_TO_ONE = TWO_ONE.label
 
 __all__ = ["TWO_TO_ONE", "branch_d_graz", "down_entry", "sweep_d_graz"]
 

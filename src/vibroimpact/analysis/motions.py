@@ -10,6 +10,7 @@ colour and one name each by :mod:`vibroimpact.outputs.plots`.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,6 +20,7 @@ from numba import njit
 from ..dynamics import kernels as K
 
 __all__ = ["Motion", "PERIODIC", "APERIODIC", "CHAOTIC", "QUASI_PERIODIC", "UNSETTLED", "NO_PERIOD_LABELS",
+           "ONE_ONE", "TWO_ONE", "THREE_ONE", "is_motion_label", "periodic_motion", "periodic_names_in",
            "no_period", "no_period_label", "motion_without_period", "orbit_motion", "chatter_bounces", "cycle_class", "resolved_impacts", "transition_kind",
            "Attractor", "identify_attractor"]
 
@@ -142,6 +144,41 @@ def orbit_motion(word: str, k: int = 1) -> Motion:
     ('2:1 period-2', '1:1 over 2 forcing periods')
     """
     return Motion(period=int(k), bottom=word.count("B"), top=word.count("T"))
+
+
+def periodic_motion(n: int, m: int, period: int = 1) -> Motion:
+    """The :class:`Motion` with ``n`` bottom and ``m`` top impacts per forcing period, repeating over ``period``
+    forcing periods.
+
+    >>> periodic_motion(2, 1).label, periodic_motion(1, 1, period=2).label
+    ('2:1 period-2', '1:1 period-4')
+    """
+    return Motion(period=int(period), bottom=int(n) * int(period), top=int(m) * int(period))
+
+
+#: the paper's motions of one forcing period: one bottom and one top impact (1:1), two bottom impacts and one top
+#: (2:1), three and one (3:1); their names are their labels (``ONE_ONE.label == "1:1 period-2"``)
+ONE_ONE, TWO_ONE, THREE_ONE = periodic_motion(1, 1), periodic_motion(2, 1), periodic_motion(3, 1)
+
+#: how a periodic motion's label reads (:attr:`Motion.label`, :attr:`Motion.short_label`)
+_PERIODIC_LABEL = re.compile(r"\d+:\d+ (?:period-\d+|T=\d+|over \d+ forcing periods)(?: with sticking)?")
+
+
+def is_motion_label(text: str) -> bool:
+    """Whether ``text`` is a motion's name: one of :data:`NO_PERIOD_LABELS`, or a periodic motion's label or short
+    label as :class:`Motion` writes them.
+
+    >>> is_motion_label("2:1 period-2"), is_motion_label("3:2 over 2 forcing periods with sticking")
+    (True, True)
+    >>> is_motion_label(CHAOTIC), is_motion_label("2:1"), is_motion_label("a chaotic run")
+    (True, False, False)
+    """
+    return text in NO_PERIOD_LABELS or _PERIODIC_LABEL.fullmatch(text) is not None
+
+
+def periodic_names_in(text: str) -> list[str]:
+    """The periodic motions' labels written inside ``text`` (prose that names a motion)."""
+    return [m.group(0) for m in _PERIODIC_LABEL.finditer(text)]
 
 
 def motion_without_period(label: str) -> Motion:

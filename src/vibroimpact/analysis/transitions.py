@@ -310,7 +310,7 @@ def _identified(tr: xr.Dataset, sw: xr.Dataset) -> dict:
         at.append((d - sign * half, str(tr.before.values[k])))
         if str(tr.after.values[k]) not in NO_PERIOD_LABELS:
             at.append((d + sign * half, str(tr.after.values[k])))
-    return {"at": at, "chaotic": {k: np.array(v) for k, v in chaotic.items()}, "motions": by_label}
+    return {"at": at, CHAOTIC: {k: np.array(v) for k, v in chaotic.items()}, "motions": by_label}
 
 
 def _next_identified(x, sign, seen):
@@ -322,7 +322,7 @@ def _next_identified(x, sign, seen):
 def _chaotic_between(a, b, seen, direction):
     """Whether the sweep's ``direction`` found chaos strictly between ``a`` and ``b``."""
     lo, hi = min(a, b), max(a, b)
-    c = seen["chaotic"][direction]
+    c = seen[CHAOTIC][direction]
     return bool(np.any((c > lo) & (c < hi)))
 
 

@@ -14,6 +14,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from ..analysis.motions import ONE_ONE, THREE_ONE, TWO_ONE
 from .figcheck import PROVENANCE
 from .paper import (
     CURVE_ORDER,
@@ -148,7 +149,7 @@ def grazing_rows(bis: xr.Dataset) -> list[dict]:
 
 #: the rows of :func:`d_graz_rows` that every configuration has
 D_GRAZ_ITEMS = [f"d_graz, beta=pi/6 ({figure_name('figFN2', 'f', label=False)}: the 1:1 motion grazes at d_graz)",
-                "d_graz rises with beta: the largest d of 2:1 period-2 (its fold)",
+                f"d_graz rises with beta: the largest d of {TWO_ONE.label} (its fold)",
                 "1:1 exit rises with beta (d_graz read as where the 1:1 motion leaves its family)",
                 "1:1 period doubling rises with beta"]
 
@@ -187,7 +188,7 @@ def d_graz_rows(readings: pd.DataFrame, bt_branches: list[xr.Dataset],
         tol = agreement_tolerance(PI6_D_GRAZ)
         rows.append(_row(D_GRAZ_ITEMS[0], _printed("figFN2"), PI6_D_GRAZ, float(r.d_graz), tol,
                          abs(float(r.d_graz) - PI6_D_GRAZ) <= tol,
-                         f"d_graz, the 2:1 fold: {r.d_graz:.6f} ({r.sweep}: the up sweep's 2:1 period-2 ends at "
+                         f"d_graz, the 2:1 fold: {r.d_graz:.6f} ({r.sweep}: the up sweep's {TWO_ONE.label} ends at "
                          f"{r.up_end_d:.6f}, the down sweep enters it at {r.entry_d:.4f}); 1:1 exit: {r.exit_kind} at "
                          f"{r.exit_d:.6f}"))
     text, ok = _rises({b: float(r.d_graz) for b, r in by_beta.items()})
@@ -233,13 +234,14 @@ def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], swee
     # U_I = U_T for 1:1 period-2 (two impacts per two time units), on the simulated sweeps: U_T divides
     # by the period the simulated events measure, U_I by their number of impacts
     devs = [np.abs(e.U_I - e.U_T).values[m] / e.U_T.values[m] for e in sweeps
-            for m in [(e.label == "1:1 period-2").values & np.isfinite(e.U_T.values)]]
+            for m in [(e.label == ONE_ONE.label).values & np.isfinite(e.U_T.values)]]
     n11 = int(sum(d.size for d in devs))
     dev = max((float(d.max()) for d in devs if d.size), default=math.nan)
-    rows.append(_row("U_I = U_T for 1:1 period-2 motion", "section 5", "equal",
-                     f"max relative difference {dev:.1e} over {n11} simulated 1:1 period-2 attractors", ORBIT_AGREEMENT,
-                     n11 > 0 and dev <= ORBIT_AGREEMENT, ("" if n11 else f"{NOTHING_COMPARED}: no 1:1 period-2 attractor "
-                                                          "in the sweeps; ") + "tolerance: the attractors' identification tolerance"))
+    none = f"{NOTHING_COMPARED}: no {ONE_ONE.label} attractor in the sweeps; "
+    rows.append(_row(ENERGY_ITEMS[0], "section 5", "equal",
+                     f"max relative difference {dev:.1e} over {n11} simulated {ONE_ONE.label} attractors",
+                     ORBIT_AGREEMENT, n11 > 0 and dev <= ORBIT_AGREEMENT,
+                     ("" if n11 else none) + "tolerance: the attractors' identification tolerance"))
     # 1:1 -> 2:1 and 2:1 -> 3:1 jumps along every sweep's down direction
     n11, ok11_i, ok11_t, n23, ok23_i, ok23_t = 0, 0, 0, 0, 0, 0
     for e, motions in zip(sweeps, down_motions, strict=True):
@@ -247,7 +249,7 @@ def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], swee
         lab, d = dn.label.values, dn.d.values
         if [m.label for m in motions] != [str(x) for x in lab]:
             raise ValueError("down_motions: not the motions of the sweep's points (their labels differ)")
-        i21 = [i for i in range(len(d)) if lab[i] == "2:1 period-2"]
+        i21 = [i for i in range(len(d)) if lab[i] == TWO_ONE.label]
         if not i21:
             continue
         top = max(i21, key=lambda i: d[i])
@@ -258,8 +260,8 @@ def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], swee
             ok11_i += bool(dn.U_I.values[top] < dn.U_I.values[j])
             ok11_t += bool(dn.U_T.values[top] > dn.U_T.values[j])
         for i in range(len(d) - 1):
-            if {str(lab[i]), str(lab[i + 1])} == {"2:1 period-2", "3:1 period-2"}:
-                three, two = (i, i + 1) if str(lab[i]) == "3:1 period-2" else (i + 1, i)
+            if {str(lab[i]), str(lab[i + 1])} == {TWO_ONE.label, THREE_ONE.label}:
+                three, two = (i, i + 1) if str(lab[i]) == THREE_ONE.label else (i + 1, i)
                 n23 += 1
                 ok23_i += bool(dn.U_I.values[three] < dn.U_I.values[two])
                 ok23_t += bool(dn.U_T.values[three] > dn.U_T.values[two])
@@ -269,9 +271,9 @@ def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], swee
         lab = e.label.values
         for i in range(lab.shape[1]):
             pair = {str(lab[0, i]): 0, str(lab[1, i]): 1}
-            if set(pair) == {"2:1 period-2", "3:1 period-2"}:
+            if set(pair) == {TWO_ONE.label, THREE_ONE.label}:
                 u = e.U_T.values[:, i]
-                pairs.append(u[pair["3:1 period-2"]] / u[pair["2:1 period-2"]])
+                pairs.append(u[pair[THREE_ONE.label]] / u[pair[TWO_ONE.label]])
     pairs = np.array(pairs)
     rows.append(_row("2:1 -> 3:1 at the same d: U_T rises", "section 5", "rises",
                      f"3:1 above 2:1 at {int((pairs > 1).sum())} of {pairs.size} bistable sweep points "
@@ -301,7 +303,7 @@ def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], swee
     return rows
 
 
-ENERGY_ITEMS = ["U_I = U_T for 1:1 period-2 motion", "1:1 -> 2:1: U_I drops", "1:1 -> 2:1: U_T rises",
+ENERGY_ITEMS = [f"U_I = U_T for {ONE_ONE.label} motion", "1:1 -> 2:1: U_I drops", "1:1 -> 2:1: U_T rises",
                 "2:1 -> 3:1: U_I drops", "2:1 -> 3:1: U_T rises", "2:1 -> 3:1 at the same d: U_T rises", "1:1 output grows with s at fixed force",
                 "1:1 output grows with F at fixed length", "max 1:1 output changes < 1 % with beta"]
 
@@ -409,7 +411,7 @@ def apply_known(df: pd.DataFrame, known: dict[str, str]) -> pd.DataFrame:
 
 
 #: rows that hold for any device: identities and the simulator against the Newton-solved orbits
-ANY_DEVICE = ("U_I = U_T for 1:1 period-2 motion", "simulated points on the")
+ANY_DEVICE = (f"U_I = U_T for {ONE_ONE.label} motion", "simulated points on the")
 #: how the note of a row that found nothing to compare begins (no branch, no simulated point, no such motion): a
 #: failure for the paper's device, which has them; another device may have none, and its row is not compared
 NOTHING_COMPARED = "nothing compared"
@@ -450,7 +452,7 @@ def markdown(df: pd.DataFrame, device: str | None = None) -> str:
     if device is not None:
         ran = int((df["status"] != NOT_COMPARED).sum())
         lines += [f"Device {device}, not the paper's: the {ran} rows that hold for any device were compared (the "
-                  "simulated points against the Newton-solved orbits, U_I = U_T for 1:1 period-2 motion); the other "
+                  f"simulated points against the Newton-solved orbits, {ENERGY_ITEMS[0]}); the other "
                   f"{len(df) - ran} compare numbers the paper published for its own device and were not compared.", ""]
     lines += ["| item | paper | computed | tolerance | status | note |", "|---|---|---|---|---|---|"]
     for _, r in df.iterrows():

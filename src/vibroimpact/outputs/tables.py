@@ -12,7 +12,7 @@ import xarray as xr
 
 from ..analysis.energy import delivered
 from ..analysis.lyapunov import t_quantile
-from ..analysis.motions import CHAOTIC
+from ..analysis.motions import CHAOTIC, ONE_ONE, TWO_ONE
 from ..analysis.settled import LONG_BATCHES
 from ..analysis.transitions import PERIOD_DOUBLING
 from ..benchmarks.workprecision import OUTCOMES
@@ -227,9 +227,9 @@ def d_graz_markdown(df: pd.DataFrame) -> str:
     """:func:`d_graz_table` as Markdown: per sweep, d_graz read from the 2:1 branch and from the sweeps, the 1:1
     exit, the band between and whether the paper's identity holds; then :func:`d_graz_summary`."""
     lines = ["d_graz is \"the maximum value for 2:1 period-2 solutions\": the fold of the 2:1 branch (analytic), "
-             "which the up sweep's 2:1 period-2 reaches before it is lost (located). The down sweep enters the 2:1 "
-             "period-2 at a sweep point (the entry lies within one step above it). The 1:1 exit is where the 1:1 "
-             "motion, followed with d decreasing, leaves its family, by grazing a wall or by a jump while clear of "
+             f"which the up sweep's {TWO_ONE.label} reaches before it is lost (located). The down sweep enters the "
+             f"{TWO_ONE.label} at a sweep point (the entry lies within one step above it). The 1:1 exit is where the "
+             "1:1 motion, followed with d decreasing, leaves its family, by grazing a wall or by a jump while clear of "
              "them. The paper's identity, \"at d = d_graz the 1:1 motion grazes and 2:1 follows for d < d_graz\", "
              "holds along a sweep where the exit is a grazing within the sweep step of both the entry and d_graz; "
              "the band is what the down sweep finds between its entry into 2:1 and the exit.", "",
@@ -691,8 +691,8 @@ def between_2to1_and_1to1(sw: xr.Dataset, transitions: xr.Dataset | None = None)
     dn = sw.sel(direction="down")
     order = np.argsort(dn.d.values)
     d, lab, lam = dn.d.values[order], dn.label.values.astype(str)[order], dn.lyap1.values[order]
-    two = np.flatnonzero(lab == "2:1 period-2")
-    one = np.flatnonzero(lab == "1:1 period-2")
+    two = np.flatnonzero(lab == TWO_ONE.label)
+    one = np.flatnonzero(lab == ONE_ONE.label)
     if not two.size or not one.size or one.max() <= two.min():
         return pd.DataFrame(columns=["d_lo", "d_hi", "motion", "points", "lyap1_min", "lyap1_max", "d_at_max"])
     hi = int(one[one > two.min()].min())

@@ -1,5 +1,6 @@
 """The workflow's configuration, checked as a whole and typed.
 
+:func:`coerce_studies` turns the strings a command line's ``--config`` gives into numbers;
 ``config/schema.yaml`` checks each value on its own (types, ranges, enums, and no key it does not name);
 :func:`validate_schema` applies it and turns its first error into one line (:func:`schema_error`).
 :func:`check` checks what a schema cannot express, across keys (a scene's caption must exist, a range must
@@ -12,6 +13,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 import reprlib
 from dataclasses import dataclass, field
 
@@ -23,8 +25,8 @@ from ..dynamics.device import Device
 from .checks import item_names
 from .registry import REGISTRY, figures
 
-__all__ = ["ConfigError", "WorkflowConfig", "check", "check_design", "figure_names", "schema_error",
-           "validate_schema"]
+__all__ = ["STUDY_NUMBERS", "ConfigError", "WorkflowConfig", "check", "check_design", "coerce_studies", "figure_names",
+           "schema_error", "validate_schema"]
 
 #: how a value is shown in a refusal: on one line, a long value cut short (``...``) at about 120 characters
 _SHORT = reprlib.Repr()
@@ -47,6 +49,77 @@ class ConfigError(ValueError):
         hint = f"; did you mean {suggestion}?" if suggestion else ""
         text = f"config: {key} = {_shown(value)} is not allowed; allowed: {allowed}{hint}"
         super().__init__(" ".join(text.split()))
+
+
+# ---------------------------------------------------------------------------------------------------------------------
+# The command line's values
+# ---------------------------------------------------------------------------------------------------------------------
+#: the keys of a study (``studies``) whose values are numbers, or lists of numbers (``s_range``)
+STUDY_NUMBERS = ("beta", "r", "s_range", "phi", "v0")
+#: how a number reads on the command line
+_NUMERIC = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
+#: a study as ``--config`` writes it
+_STUDY_EXAMPLE = "studies=[{beta: 0.4, r: 0.6}]"
+
+
+def _number(key: str, value):
+    """``value`` as a number where it is a string that reads as one; another string is refused (``key`` names it)."""
+    if not isinstance(value, str):
+        return value
+    if _NUMERIC.fullmatch(value):
+        return float(value)
+    raise ConfigError(key, value, f"a number, such as 0.4 (as in --config '{_STUDY_EXAMPLE}')")
+
+
+def _study(i: int, study) -> dict:
+    if not isinstance(study, dict):
+        raise ConfigError(f"studies[{i}]", study, f"a mapping of a study's keys, such as {{beta: 0.4, r: 0.6}} "
+                          f"(--config '{_STUDY_EXAMPLE}')")
+    out = {}
+    for k, v in study.items():
+        if k not in STUDY_NUMBERS:  # an unknown key: the schema names it and the closest known one
+            out[k] = v
+        elif isinstance(v, list):
+            out[k] = [_number(f"studies[{i}].{k}[{j}]", x) for j, x in enumerate(v)]
+        else:
+            out[k] = _number(f"studies[{i}].{k}", v)
+    return out
+
+
+def coerce_studies(studies) -> list:
+    """The config's ``studies`` with the strings of a command line made numbers.
+
+    ``--config 'studies=[{beta: 0.4, r: 0.6}]'`` reaches the workflow as strings (Snakemake parses nested values
+    with YAML's base loader, which types nothing): each value of :data:`STUDY_NUMBERS` that reads as a number
+    becomes one (a float); values that are already typed (the config file's) are kept.  The schema then checks
+    each value (:func:`validate_schema`).
+
+    Parameters
+    ----------
+    studies : list or None
+        The config's ``studies``.
+
+    Returns
+    -------
+    list
+        The studies, ``[]`` for none.
+
+    Raises
+    ------
+    ConfigError
+        Where ``studies`` is not a list, a study not a mapping, or a value of :data:`STUDY_NUMBERS` a string that is
+        not a number; it names the key (``studies[0].beta``), the value and what is allowed.
+
+    Examples
+    --------
+    >>> coerce_studies([{"beta": "0.4", "r": ".6", "s_range": ["0.2", "7e-1"]}])
+    [{'beta': 0.4, 'r': 0.6, 's_range': [0.2, 0.7]}]
+    """
+    if studies is None:
+        return []
+    if not isinstance(studies, list):
+        raise ConfigError("studies", studies, f"a list of studies, such as --config '{_STUDY_EXAMPLE}'")
+    return [_study(i, st) for i, st in enumerate(studies)]
 
 
 #: a schema type in words

@@ -12,8 +12,7 @@ from matplotlib.lines import Line2D
 from .. import layout
 from ..checks import transition_name
 from ..layout import AROUND, place_labels
-from ._common import BOTTOM, TOP, beta_label, branch_line, use_style, wellposed
-from .sweeps import word_ratio
+from ._common import BOTTOM, TOP, beta_label, branch_line, use_style, wellposed, word_ratio
 
 
 def _scene_mask(br, d_lo, d_hi):

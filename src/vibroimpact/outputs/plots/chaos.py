@@ -12,27 +12,29 @@ from matplotlib.lines import Line2D
 from matplotlib.markers import MarkerStyle
 
 from ...analysis.lyapunov import t_quantile
-from ...analysis.motions import no_period
+from ...dynamics.impact import exponent_sum
+from ...analysis.motions import APERIODIC, CHAOTIC, NO_PERIOD_LABELS, QUASI_PERIODIC, UNSETTLED, no_period
 from ...analysis.settled import LONG_BATCHES
-from ._common import wellposed
-from .energy import (
+from ._common import (
     RUNS_NOTE,
     located_marks,
     mark_handles,
     mark_located,
+    motion_color,
     motion_runs,
     name_marks,
     panel_title,
+    point_info,
     rows_of_names,
     secondary_axis,
     sim_points,
     sweep_step,
     use_style,
+    wellposed,
 )
-from .sweeps import point_info
 
-#: colour of lambda_1 by what the point's motion is (a periodic point: black)
-KIND_COLORS = {"chaotic": "tab:red", "quasi-periodic": "tab:orange", "unsettled": "0.55", "no period found": "0.55"}
+#: colour of lambda_1 of a point with a period (exact, of a Newton-solved cycle); a point with no period is drawn in
+#: its motion's colour (:func:`~vibroimpact.outputs.plots._common.motion_color`, as in every figure)
 PERIODIC_COLOR = "k"
 #: a point whose lambda_1 is -inf (a sticking cycle, a ball at rest) is drawn this far below ln r
 MINUS_INF_BELOW = 0.35
@@ -45,7 +47,7 @@ NOT_ESTIMATED_COLOR = "0.8"
 
 def critical_marks(orbit_branches, transitions=None):
     """The period doublings B of the continued 1:1 and 2:1 branches and the folds of the 1:1 (admissible ones), with
-    d_graz (the 2:1 fold), the 1:1 exit and G1 of :func:`~vibroimpact.outputs.plots.energy.located_marks`:
+    d_graz (the 2:1 fold), the 1:1 exit and G1 of :func:`~vibroimpact.outputs.plots._common.located_marks`:
     ``[(name, d)]``."""
     marks = list(located_marks(orbit_branches, transitions))
     names = {"BT": "1:1", "BBT": "2:1"}
@@ -63,8 +65,9 @@ def critical_marks(orbit_branches, transitions=None):
 
 def minus_inf_level(r: float) -> float:
     """Where lambda_1 = -inf is drawn: below every finite value.  Without sticking the exponents sum to
-    2 ln r per impact (up to the ends of the run) and lambda_1 >= lambda_2, so lambda_1 >= ln r."""
-    return float(np.log(r)) - MINUS_INF_BELOW
+    2 ln r per impact (up to the ends of the run; the impact law's :func:`~vibroimpact.dynamics.impact.exponent_sum`,
+    which refuses a law whose restitution is not constant) and lambda_1 >= lambda_2, so lambda_1 >= ln r."""
+    return (exponent_sum(r) / 2 if r > 0 else -np.inf) - MINUS_INF_BELOW
 
 
 def _lyapunov_points(ax, sw, direction, marker):
@@ -89,7 +92,7 @@ def _lyapunov_points(ax, sw, direction, marker):
         info["se"] = np.where(exact, np.nan, (hi - lo) / (2 * crit))
     # an exact value's sensitivity to its monodromy matrix (the check scales its tolerance by it)
     info["sensitivity"] = s.lyap1_sensitivity.values if "lyap1_sensitivity" in s else np.zeros(idx.size)
-    colors = np.array([KIND_COLORS.get(x, PERIODIC_COLOR) for x in lab], dtype=object)
+    colors = np.array([motion_color(x) if no_period(x) else PERIODIC_COLOR for x in lab], dtype=object)
     colors[np.isneginf(lam)] = MINUS_INF_COLOR
     colors[np.isnan(lam)] = NOT_ESTIMATED_COLOR
     # every point is drawn, so that the check finds the same points whatever their motion: -inf and a
@@ -109,7 +112,7 @@ def _lyapunov_points(ax, sw, direction, marker):
         art.set_facecolors(list(colors))
     wellposed(art, "motions", **info, low=lo, high=hi)
     # what was drawn, for the legend: the kinds of points, and the kinds with an interval bar
-    kinds = {"-inf" if np.isneginf(v) else "not estimated" if np.isnan(v) else x if x in KIND_COLORS else "exact"
+    kinds = {"-inf" if np.isneginf(v) else "not estimated" if np.isnan(v) else x if x in NO_PERIOD_LABELS else "exact"
              for x, v in zip(lab, lam, strict=True)}
     return kinds | {f"{x} interval" for x in set(lab[bars])}
 
@@ -119,7 +122,8 @@ def fig_lyapunov(sweeps, orbit_sets, transitions=None, *, ncols=3):
     diagram of Figure 2 (a), (c) and Figure 9; o: d decreasing, +: d increasing), and under it, on the same d
     axis, the largest Lyapunov exponent lambda_1 per impact (:func:`vibroimpact.lyapunov`): exact on a
     Newton-solved cycle (black), the long run's estimate with its 95 % interval where no period was found
-    (red chaotic, orange quasi-periodic, grey unsettled), -inf (sticking, at rest) as triangles at the foot.
+    (in the motions' colours: near black chaotic, dark grey quasi-periodic, light grey unsettled), -inf
+    (sticking, at rest) as triangles at the foot.
     The period doublings B, d_graz (the 2:1 fold) and G1 of the continued 1:1 and 2:1 branches (``orbit_sets``) and
     the 1:1 exit of each sweep's located ``transitions`` are marked (:func:`critical_marks`), named in the lambda_1
     panels where they cover no data; the legend lists only the kinds of point drawn (:func:`lyapunov_handles`)."""
@@ -177,10 +181,10 @@ def lyapunov_handles(kinds) -> list:
     interval = r"95 % interval of $\lambda_1$"
     entries = [
         ("exact", PERIODIC_COLOR, "o", r"$\lambda_1 = \ln\max|\mu| / N$ of the Newton-solved cycle (exact)"),
-        ("chaotic", KIND_COLORS["chaotic"], "o", f"chaotic: {interval} above 0"),
-        ("quasi-periodic", KIND_COLORS["quasi-periodic"], "o", f"quasi-periodic: {interval} contains 0"),
-        ("unsettled", KIND_COLORS["unsettled"], "o", "unsettled: a transient longer than the cap"),
-        ("no period found", KIND_COLORS["no period found"], "o", "no period found, not split (no long run)"),
+        (CHAOTIC, motion_color(CHAOTIC), "o", f"{CHAOTIC}: {interval} above 0"),
+        (QUASI_PERIODIC, motion_color(QUASI_PERIODIC), "o", f"{QUASI_PERIODIC}: {interval} contains 0"),
+        (UNSETTLED, motion_color(UNSETTLED), "o", f"{UNSETTLED}: a transient longer than the cap"),
+        (APERIODIC, motion_color(APERIODIC), "o", f"{APERIODIC}, not split (no long run)"),
         ("-inf", MINUS_INF_COLOR, MINUS_INF_MARKER,
          rf"$\lambda_1 = -\infty$ (sticking, at rest), drawn at $\ln r - {MINUS_INF_BELOW:g}$ (filled: d increasing)"),
         ("not estimated", NOT_ESTIMATED_COLOR, "o",

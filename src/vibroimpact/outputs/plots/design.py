@@ -9,8 +9,7 @@ from matplotlib.colors import Normalize
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from ._common import pi_label, use_style, wellposed
-from .sweeps import curve_pieces, pi_ticks
+from ._common import curve_pieces, pi_label, pi_ticks, use_style, wellposed
 
 _AXIS = {"s": "cylinder length $s$ (m)", "F": r"forcing amplitude $\|\hat F\|$ (N)", "beta": r"incline $\beta$ (rad)"}
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import math
 import textwrap
 
 import matplotlib.pyplot as plt
@@ -12,7 +11,7 @@ from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from ...analysis.motions import NO_PERIOD_LABELS, no_period, orbit_motion
+from ...analysis.motions import NO_PERIOD_LABELS, THREE_ONE, TWO_ONE, orbit_motion
 from ...dynamics import kernels as K
 from ...dynamics.params import Params
 from ...dynamics.runs import simulate
@@ -21,84 +20,27 @@ from ._common import (
     BOTTOM,
     EXIT_COLOR,
     MARKS,
-    MOTION_COLORS,
+    OTHER,
     TOP,
+    WORD_NAME,
     beta_label,
     branch_line,
+    curve_pieces,
+    last_events,
     motion_color,
     pi_label,
+    pi_ticks,
     sticking_motions,
     use_style,
     wellposed,
+    word_ratio,
 )
 
-#: the statistic of a motion with no period that each drawn quantity is compared by (the long run's)
-_LONG_STAT = {"v_minus": ("abs_v_mean", "abs_v_se"), "gain": ("U_I_long", "U_I_long_se"),
-              "U_T": ("U_T_long", "U_T_long_se"), "U_I": ("U_I_long", "U_I_long_se")}
-_CYCLE = {"v_minus": "cycle_v_minus", "phase": "cycle_phase", "gain": "cycle_gain", "dt": "cycle_t"}
 
-
-def point_info(s, idx, var):
-    """Per element drawn from points ``idx`` of one sweep direction ``s``: the motion, whether the value is
-    exact (``settled``), whether the motion is a transient longer than the cap (``unsettled``: no period
-    found, but its long run settles), and the long-run ``mean`` and ``se`` of ``var`` where no period was
-    found (NaN elsewhere).  What the figure check compares where the values are not well-posed."""
-    idx = np.asarray(idx, dtype=int)
-    lab = s["label"].values.astype(str)[idx]
-    settled = s["settled"].values[idx] if "settled" in s else np.zeros(idx.size, bool)
-    long = s["long_status"].values.astype(str)[idx] if "long_status" in s else np.full(idx.size, "")
-    unsettled = no_period(lab) & (long != "aperiodic")
-    m, e = _LONG_STAT.get(var, (None, None))
-    mean = s[m].values[idx] if m in s else np.full(idx.size, np.nan)
-    se = s[e].values[idx] if e in s else np.full(idx.size, np.nan)
-    return dict(motion=lab, settled=np.asarray(settled, bool), unsettled=unsettled, mean=mean, se=se)
-
-
-def last_events(ds, var, direction="down", labels=False, info=False):
-    """(d, values) of every point's last period of events in one sweep direction: its exact cycle from
-    the canonical first impact where the sweep settled it (:func:`vibroimpact.analysis.settled.settle_attractors`), else the
-    recorded last period (the last 24 events where no period was found); ``var="dt"`` gives the time
-    since the previous event.  With ``labels``, also each value's point's identified motion; with
-    ``info``, a dict per element (:func:`point_info`) instead."""
-
-    s = ds.sel(direction=direction)
-    cyc = _CYCLE.get(var)
-    have = cyc is not None and cyc in s
-    xs, ys, pts = [], [], []
-    for i in range(s.sizes["point"]):
-        c = s[cyc].values[i] if have else None
-        if have and np.isfinite(c).any() and (var != "dt" or "period" in s):
-            if var == "dt":
-                tt = c[np.isfinite(c)]
-                v = np.diff(np.concatenate([[tt[-1] - 2.0 * float(s["period"].values[i])], tt]))
-            else:
-                v = c[np.isfinite(c)]
-        else:
-            t = s["t"].values[i] if "t" in s else s[var].values[i]
-            m = int(np.isfinite(t).sum())
-            n = (int(s["period_events"].values[i]) if "period_events" in s else 0) or min(m, 24)
-            v = np.diff(t[max(m - n - 1, 0):m]) if var == "dt" else s[var].values[i, m - n:m]
-            v = v[np.isfinite(v)]
-        xs.append(np.full(v.size, float(s.d[i])))
-        ys.append(v)
-        pts.append(np.full(v.size, i))
-    x, y, pts = np.concatenate(xs), np.concatenate(ys), np.concatenate(pts)
-    if info:
-        return x, y, point_info(s, pts, var)
-    if labels:
-        return x, y, s["label"].values.astype(str)[pts]
-    return x, y
-
-
-#: the marker of each motion in Fig BiS (the paper's caption: 2:1 open circles, 3:1 crosses); any other "x"
-BIS_MARKERS = {"2:1 period-2": "o", "3:1 period-2": "+"}
+#: the marker of each motion in Figure 8 (the paper's caption: 2:1 open circles, 3:1 crosses); any other "x"
+BIS_MARKERS = {TWO_ONE.label: "o", THREE_ONE.label: "+"}
 #: simulated points drawn per sweep direction and panel: more merge into bands at the panel's width
 BIS_POINTS = 20
-
-
-def word_ratio(word: str) -> str:
-    """The paper's name ``n:m`` of an orbit word (``"BBT"`` -> ``"2:1"``: bottom and top impacts per period)."""
-    return f"{word.count('B')}:{word.count('T')}"
 
 
 def fold_evidence(branch, near: float) -> dict:
@@ -325,7 +267,7 @@ def _shown_classes(legend, sticky=frozenset(), n_show=9):
         taken.add(color)
         periodic.append(i)
     shown = sorted(special + periodic)
-    names = [legend[i] for i in shown] + (["other"] if len(shown) < len(legend) else [])
+    names = [legend[i] for i in shown] + ([OTHER] if len(shown) < len(legend) else [])
     lut = np.full(len(legend), len(shown), dtype=int)
     lut[shown] = np.arange(len(shown))
     return names, lut
@@ -390,14 +332,6 @@ def _scan_lines(m, xdim, ydim, scans):
     return out
 
 
-def pi_ticks(ax, lo, hi):
-    """Ticks of an angle axis at the fractions of pi inside [lo, hi]."""
-
-
-    ticks = [f * math.pi for f in (1 / 12, 1 / 6, 1 / 4, 1 / 3, 5 / 12, 1 / 2) if lo <= f * math.pi <= hi]
-    ax.set_yticks(ticks, [pi_label(t) for t in ticks])
-
-
 def fig_regime_map(maps, scans=None):
     """Regime maps side by side, one colour per motion across all panels, one legend (with what the
     labels mean); the paper's sweeps that lie in a map's plane drawn over it as lines (``scans``: the
@@ -446,37 +380,6 @@ def fig_regime_map(maps, scans=None):
     fig.legend(handles=handles, loc="outside right upper", fontsize=6, title=motion_key((h.get_label() for h in handles), sticky),
                title_fontsize=6)
     return fig
-
-
-#: line style per kind of codimension-one point, and colour per orbit family
-_CURVE_STYLE = {"B": "--", "fold": ":", "grazing": "-", "A": "-."}
-_CURVE_NAME = {"B": "period doubling B", "fold": "fold", "grazing": "grazing", "A": "node-focus A"}
-_WORD_COLOUR = {"BT": "#000000", "BBT": MOTION_COLORS["2:1 period-2"], "BBBT": MOTION_COLORS["3:1 period-2"]}
-_WORD_NAME = {"BT": "1:1", "BBT": "2:1", "BBBT": "3:1"}
-
-
-def curve_pieces(curves, xname, yname):
-    """Each curve of a bifurcation set (:func:`vibroimpact.analysis.bifurcation.curve_set`) as drawn: its points in
-    the plane ``(xname, yname)``, where its orbit is admissible, and its line style (by kind), colour (by
-    orbit family) and legend label."""
-    for c in range(curves.sizes["curve"]):
-        sel = curves.curve_index.values == c
-        if not sel.any():
-            continue
-        kind, word = str(curves.curve_kind.values[c]), str(curves.curve_word.values[c])
-        label = f"{_WORD_NAME.get(word, word)} {_CURVE_NAME.get(kind, kind)}"
-        if kind == "grazing" and "curve_start_stable" in curves and not bool(curves.curve_start_stable.values[c]):
-            label += " (of an unstable orbit)"  # a grazing no attractor meets
-        if (word, kind) == D_GRAZ_CURVE:
-            label += " = " + D_GRAZ_NAME
-        yield (curves[xname].values[sel], curves[yname].values[sel], curves.admissible.values[sel],
-               _CURVE_STYLE.get(kind, "-"), _WORD_COLOUR.get(word, "0.3"), label)
-
-
-#: the curve of the bifurcation sets that is the paper's d_graz followed in two parameters: the 2:1 fold (the largest d
-#: of 2:1 period-2), named so in the legend
-D_GRAZ_CURVE = ("BBT", "fold")
-D_GRAZ_NAME = r"$d_{\rm graz}$ (largest d of 2:1 period-2)"
 
 
 def _exit_curve(ax, c, xname, handles):
@@ -559,13 +462,13 @@ def fig_bifurcation_set(m, curves, boundaries=None, exits=None):
                   f"period (chaos or a long transient: no curve of periodic orbits bounds it) and {n['jump']} between "
                   "two periodic motions (the one start falls into another basin where motions coexist, or an orbit not "
                   "in the set bifurcates).\n")
-    failed = [f"{_WORD_NAME.get(str(w), w)} {k}" for w, k, st in
+    failed = [f"{WORD_NAME.get(str(w), w)} {k}" for w, k, st in
               zip(curves.curve_word.values, curves.curve_kind.values, curves.curve_status.values, strict=True)
               if st != "ok"]
     note = "thin: the orbit on the curve is not admissible (crosses a wall)"
     if curves.attrs.get("coincide"):
         note += "; one set, drawn twice: " + ", ".join(
-            " ".join(_WORD_NAME.get(w, w) for w in part.split(" from ")[0].split())
+            " ".join(WORD_NAME.get(w, w) for w in part.split(" from ")[0].split())
             for part in curves.attrs["coincide"].split("; "))
     if failed:
         note += "; not followed (see the dataset's curve_reason): " + ", ".join(failed)

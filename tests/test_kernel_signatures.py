@@ -6,11 +6,12 @@ import inspect
 from numba.core.dispatcher import Dispatcher
 
 from vibroimpact.analysis import lyapunov, motions
+from vibroimpact.benchmarks import methods
 from vibroimpact.dynamics import kernels, runs
 
 #: the modules whose compiled functions the Python wrappers call: the event loop's kernels, the tangent map,
-#: the period test of a recorded run, the dense output
-KERNEL_MODULES = (kernels, lyapunov, motions, runs)
+#: the period test of a recorded run, the dense output, the compared methods' compiled RK4
+KERNEL_MODULES = (kernels, lyapunov, motions, runs, methods)
 #: the most parameters a compiled function of these modules takes
 MAX_PARAMETERS = 6
 
@@ -26,6 +27,6 @@ def test_every_compiled_entry_point_takes_at_most_six_parameters():
     found = compiled_functions()
     # the scan sees the entry points the Python wrappers call
     assert {"advance", "run_batch", "run_window", "window_batch", "period_update", "tangent_pass", "_detect",
-            "_dense"} <= {name.rsplit(".", 1)[1] for name in found}
+            "_dense", "rk4_flight", "_rk4_loop"} <= {name.rsplit(".", 1)[1] for name in found}
     too_many = {name: n for name, n in found.items() if n > MAX_PARAMETERS}
     assert not too_many, f"compiled functions with more than {MAX_PARAMETERS} parameters (take records): {too_many}"

@@ -20,6 +20,7 @@ import os
 import subprocess
 import sys
 import time
+from collections import namedtuple
 from dataclasses import dataclass
 
 import numpy as np
@@ -182,13 +183,22 @@ def _rk4_step(theta, gbar, t, z, v, h):
     return z + h / 6 * (k1z + 2 * k2z + 2 * k3z + k4z), v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
 
 
+#: what bounds one RK4 flight: its step ``h``, the longest flight ``tau_max`` and the most steps ``max_steps``
+FlightBudget = namedtuple("FlightBudget", ("h", "tau_max", "max_steps"))
+#: an RK4 run: at most ``n`` impacts, steps of ``h``, up to time ``t_end`` and ``max_steps`` steps in all
+RK4Run = namedtuple("RK4Run", ("n", "h", "t_end", "max_steps"))
+
+
 @njit(cache=True)
-def rk4_flight(theta, z0, u, d, gbar, h, tau_max, max_steps):
-    """One flight by fixed-step RK4 from (z0, u) at phase theta: a step ending beyond a wall is an
-    impact, located by bisection on the length of that step (re-taking one RK4 step from its start).
+def rk4_flight(theta, z0, u, model, budget):
+    """One flight by fixed-step RK4 from (z0, u) at phase theta (``model``: :data:`~vibroimpact.dynamics.kernels.Model`;
+    ``budget``: :data:`FlightBudget`): a step ending beyond a wall is an impact, located by bisection on the
+    length of that step (re-taking one RK4 step from its start).
 
     Returns ``(tau, wall, Zdot-, steps)``; ``wall = 0`` when ``tau_max`` or ``max_steps`` came first.
     """
+    d, gbar = model.d, model.gbar
+    h, tau_max, max_steps = budget.h, budget.tau_max, budget.max_steps
     half = 0.5 * d
     z, v, t = z0, u, 0.0
     steps = 0
@@ -214,15 +224,19 @@ def rk4_flight(theta, z0, u, d, gbar, h, tau_max, max_steps):
 
 
 @njit(cache=True)
-def _rk4_loop(d, gbar, r, phi, v0, n, h, t_end, max_steps, out_t, out_w, out_v):
-    """Chain RK4 flights from a bottom impact; returns (impacts, 1 if the step budget ran out)."""
+def _rk4_loop(model, phi, v0, run, out):
+    """Chain RK4 flights from a bottom impact (``run``: :data:`RK4Run`; ``out``: the impact times, walls and
+    pre-impact velocities written); returns (impacts, 1 if the step budget ran out)."""
+    d, r = model.d, model.r
+    n, h, t_end, max_steps = run.n, run.h, run.t_end, run.max_steps
+    out_t, out_w, out_v = out
     half = 0.5 * d
     z, v, t = half, law.rebound(v0, r), 0.0
     k = 0
     steps = 0
     while k < n and t < t_end:
         theta = (phi + math.pi * t) % (2.0 * math.pi)
-        tau, w, v_hit, used = rk4_flight(theta, z, v, d, gbar, h, t_end - t, max_steps - steps)
+        tau, w, v_hit, used = rk4_flight(theta, z, v, model, FlightBudget(h, t_end - t, max_steps - steps))
         steps += used
         if w == 0:
             return k, 1 if steps >= max_steps else 0
@@ -237,9 +251,10 @@ def _rk4_loop(d, gbar, r, phi, v0, n, h, t_end, max_steps, out_t, out_w, out_v):
 
 def run_rk4(p: Params, phi, v0, n, *, h=1e-3, t_end=math.inf, max_steps=50_000_000):
     out_t, out_w, out_v = np.zeros(n), np.zeros(n, np.int64), np.zeros(n)
-    _rk4_loop(p.d, p.gbar, p.r, phi, v0, 2, h, math.inf, 10, out_t[:2], out_w[:2], out_v[:2])  # compile
+    model = K.Model(float(p.d), float(p.gbar), float(p.r))
+    _rk4_loop(model, phi, v0, RK4Run(2, h, math.inf, 10), (out_t[:2], out_w[:2], out_v[:2]))  # compile
     start = time.perf_counter()
-    k, stalled = _rk4_loop(p.d, p.gbar, p.r, phi, v0, n, h, t_end, max_steps, out_t, out_w, out_v)
+    k, stalled = _rk4_loop(model, phi, v0, RK4Run(n, h, float(t_end), max_steps), (out_t, out_w, out_v))
     sec = time.perf_counter() - start
     return Run(out_t[:k], out_w[:k].astype(int), out_v[:k], STALLED if stalled else OK, sec)
 

@@ -22,6 +22,7 @@ from ..analysis.orbits import find_orbit
 from ..analysis.sweeps import sweep
 from ..analysis.transitions import locate_transitions
 from ..datasets import annotate
+from ..dynamics import kernels as K
 from ..dynamics.device import PAPER
 from ..dynamics.events import next_impact
 from ..dynamics.params import Params
@@ -238,7 +239,8 @@ def _flight(family, setting, theta, z0, u, d, gbar):
 
         tau, w, _ = peer_heyoka.heyoka_flight(theta, z0, u, d, gbar, setting)
         return tau, w
-    tau, w, _, _ = M.rk4_flight(theta, z0, u, d, gbar, setting, 50.0, 10_000_000)
+    tau, w, _, _ = M.rk4_flight(theta, z0, u, K.Model(float(d), float(gbar), 0.0),
+                                M.FlightBudget(float(setting), 50.0, 10_000_000))
     return tau, w
 
 

@@ -12,9 +12,9 @@ from matplotlib.lines import Line2D
 from matplotlib.markers import MarkerStyle
 
 from ...analysis.lyapunov import t_quantile
-from ...dynamics.impact import exponent_sum
 from ...analysis.motions import APERIODIC, CHAOTIC, NO_PERIOD_LABELS, QUASI_PERIODIC, UNSETTLED, no_period
 from ...analysis.settled import LONG_BATCHES
+from ...dynamics.impact import exponent_sum
 from ._common import (
     RUNS_NOTE,
     located_marks,

@@ -52,6 +52,7 @@ _WHERE = {
     "sweep_energy": "analysis.energy", "delivered": "analysis.energy",
     "design_map": "analysis.design", "start_states": "analysis.design", "tolerance_analysis": "analysis.design",
     "best_designs": "analysis.design",
+    "critical_shock": "analysis.shocks", "Shock": "analysis.shocks",
 }
 
 __all__ = ["__version__", *_WHERE]

@@ -1,0 +1,161 @@
+"""The critical shock of a motion (vibroimpact.analysis.shocks): against an independent brute force as
+Attractors.jl's MCSBruteForce defines it, the square-root law at a fold, the bracket it states, and its
+errors."""
+
+import math
+
+import numpy as np
+import pytest
+
+import vibroimpact as vi
+from vibroimpact.analysis.shocks import critical_shock
+
+BETA = math.pi / 6
+GBAR = 0.12201  # the paper's incline pi/6 at 5 N
+#: between G1 and G2 at pi/6: the 2:1 and the 3:1 coexist; a bottom impact of each (docs/guide/orbits.md)
+BISTABLE = 0.13975
+STARTS = {"2:1 period-2": (5.855, 0.4185), "3:1 period-2": (1.645, 0.05067)}
+
+
+def brute_force(params, phi, v0, kind, *, n_box, n_sphere, max_velocity, seed=0):
+    """The minimal critical shock by random search, as Attractors.jl's ``MCSBruteForce``: ``n_box`` knocks
+    uniform over the admissible box (knock time over one cycle, jump of ``Zdot`` in ``[-max_velocity,
+    max_velocity]`` or new ``Z`` in ``(-d/2, d/2)``), then ``n_sphere`` knocks at random times of sizes
+    uniform below the best so far (the shrinking sphere).  A knock leaves when the run after it (the public
+    :func:`vibroimpact.simulate` and :func:`vibroimpact.identify_attractor`) settles on another motion.
+    Returns the smallest leaving size and the runs used."""
+    rng = np.random.default_rng(seed)
+    ref = vi.simulate(params, phi, v0, n_impacts=4000)
+    att = vi.identify_attractor(ref)
+    t0, span = float(att.cycle.t[0]), 2.0 * att.period
+    half = params.d / 2
+    runs = 0
+
+    def leaves(t, size):
+        nonlocal runs
+        tr = vi.trajectory(ref, [t])
+        z, v = float(tr.Z[0]), float(tr.Zdot[0])
+        if kind == "position":
+            z += size
+            if abs(z) >= half:
+                return False
+        else:
+            v += size
+        runs += 1
+        after = vi.identify_attractor(vi.simulate(params, phi, v, Z0=z, t0=t, n_impacts=4000))
+        return after.label != att.label
+
+    best = math.inf
+    for _ in range(n_box):
+        t = t0 + span * rng.random()
+        if kind == "position":
+            size = rng.uniform(-half, half) - float(vi.trajectory(ref, [t]).Z[0])
+        else:
+            size = rng.uniform(-max_velocity, max_velocity)
+        if abs(size) < best and leaves(t, size):
+            best = abs(size)
+    for _ in range(n_sphere):
+        t, size = t0 + span * rng.random(), rng.choice((-1, 1)) * best * rng.random()
+        if math.isfinite(best) and leaves(t, size):
+            best = abs(size)
+    return best, runs
+
+
+@pytest.mark.parametrize("kind", ["velocity", "position"])
+@pytest.mark.parametrize("motion", sorted(STARTS))
+def test_never_larger_than_the_brute_force(motion, kind):
+    """In the 2:1/3:1 bistable band, for each motion and each kind of knock, the shock is never larger than
+    the brute force's (a knock the brute force saw leave) by more than the bracket's tolerance.  The runs each
+    used are printed (``-s``): the brute force here is cut to 800 samples, Attractors.jl's default is 20 000."""
+    p = vi.Params(d=BISTABLE, gbar=GBAR)
+    phi, v0 = STARTS[motion]
+    sh = critical_shock(p, phi, v0, kind=kind)
+    assert sh.motion == motion and sh.reached != motion and sh.reached in STARTS
+    bf, runs = brute_force(p, phi, v0, kind, n_box=400, n_sphere=400, max_velocity=2 * 0.4185)
+    print(f"{motion} {kind}: shock {sh.size:.6g} in {sh.simulations} runs; brute force {bf:.6g} in {runs} runs")
+    assert sh.size <= bf * (1 + 1e-3) + sh.tolerance
+
+
+@pytest.mark.parametrize("kind", ["velocity", "position"])
+def test_the_stated_bracket_holds(kind):
+    """The knock returned leaves, and the knock ``tolerance`` smaller at the same time and direction returns
+    to the motion (both checked with the public simulator); the bracket is as narrow as asked."""
+    p = vi.Params(d=BISTABLE, gbar=GBAR)
+    phi, v0 = STARTS["3:1 period-2"]
+    sh = critical_shock(p, phi, v0, kind=kind, phases=8, refine=4, rtol=1e-3)
+    assert 0 < sh.tolerance <= 1e-3 * sh.size
+    t = (sh.phase - phi) % (2 * math.pi) / math.pi  # a time with that phase; the motion repeats each period
+    t += 2.0 * math.ceil((40.0 - t) / 2.0)
+    z, v = sh.state
+
+    def label(size):
+        zz, vv = (z + sh.direction * size, v) if kind == "position" else (z, v + sh.direction * size)
+        return vi.identify_attractor(vi.simulate(p, phi, vv, Z0=zz, t0=t, n_impacts=4000)).label
+
+    state = vi.trajectory(vi.simulate(p, phi, v0, n_impacts=4000), [t])
+    assert (float(state.Z[0]), float(state.Zdot[0])) == pytest.approx(sh.state, abs=1e-7)
+    assert label(sh.size) == sh.reached == "2:1 period-2"
+    assert label(sh.size - 1.01 * sh.tolerance) == sh.motion == "3:1 period-2"
+    assert sh.size_si == pytest.approx(sh.size * (p.scales or vi.Device().scales()).__dict__[
+        "velocity" if kind == "velocity" else "length"])
+
+
+@pytest.fixture(scope="module")
+def fold():
+    """The 3:1 orbit's fold G2 at pi/6, located by continuation."""
+    p = vi.Params.from_physical(s=0.14 / vi.Params.from_physical(s=1.0, beta=BETA).d, beta=BETA)
+    br = vi.continue_orbit(vi.find_orbit(p, "BBBT", 5.88, 0.3967), vary="s", d_range=(0.1395, 0.1425), step=5e-4)
+    (g2,) = br.critical_d.values[br.critical_kind.values == "fold"]
+    return float(g2), p.gbar
+
+
+@pytest.mark.parametrize("kind", ["velocity", "position"])
+def test_shock_shrinks_like_the_square_root_near_the_fold(fold, kind):
+    """Approaching G2 the 3:1 motion's node meets its saddle: the knock that leaves it shrinks like
+    sqrt(G2 - d), a log-log slope of 1/2 within three standard errors of the fit (or the slope error the
+    bisection's relative tolerance allows, if larger)."""
+    g2, gbar = fold
+    offsets = np.array([3.2e-4, 1.6e-4, 8e-5, 4e-5, 2e-5, 1e-5])
+    sizes = []
+    for off in offsets:
+        q = vi.Params(d=g2 - off, gbar=gbar)
+        o = vi.find_orbit(q, "BBBT", 5.88, 0.3967)
+        sh = critical_shock(q, o.phi, float(o.v_minus[0]), kind=kind, max_periods=5000)
+        assert sh.motion == "3:1 period-2" and sh.reached == "2:1 period-2"
+        sizes.append(sh.size)
+    (slope, _), cov = np.polyfit(np.log(offsets), np.log(sizes), 1, cov=True)
+    allowed = max(3 * math.sqrt(cov[0, 0]), 2 * 1e-3 / math.log(offsets.max() / offsets.min()))
+    print(f"{kind}: slope {slope:.5f} +- {math.sqrt(cov[0, 0]):.5f}")
+    assert abs(slope - 0.5) <= allowed
+
+
+def test_no_admissible_knock_leaves_a_lone_motion():
+    """Where the motion is the only attractor reachable within the knocks allowed, the shock is inf with the
+    reason."""
+    p = vi.Params(d=BISTABLE, gbar=GBAR)
+    sh = critical_shock(p, *STARTS["3:1 period-2"], max_size=1e-5, phases=4, refine=0)
+    assert sh.size == math.inf and "no velocity knock" in sh.reason and sh.direction == 0
+    assert sh.simulations > 8
+
+
+@pytest.mark.parametrize("kwargs, named", [
+    (dict(kind="speed"), "kind = 'speed'"), (dict(phases=1), "phases = 1"), (dict(phases=2.5), "phases = 2.5"),
+    (dict(rtol=0.0), "rtol = 0.0"), (dict(rtol=0.7), "rtol = 0.7"), (dict(max_size=-1.0), "max_size = -1.0"),
+    (dict(max_size=math.inf), "max_size = inf"), (dict(refine=-1), "refine = -1"),
+])
+def test_bad_input_is_named(kwargs, named):
+    p = vi.Params(d=BISTABLE, gbar=GBAR)
+    with pytest.raises(ValueError, match="allowed") as err:
+        critical_shock(p, *STARTS["3:1 period-2"], **kwargs)
+    assert named in str(err.value)
+
+
+def test_params_must_be_params():
+    with pytest.raises(ValueError, match=r"params = \(0\.14, 0\.12\); allowed: a vibroimpact\.Params"):
+        critical_shock((0.14, 0.12), 1.645, 0.05067)
+
+
+def test_a_start_without_a_period_is_refused():
+    p = vi.Params(d=BISTABLE, gbar=GBAR)
+    with pytest.raises(ValueError, match=r"\(phi, v0\) = \(1\.645, 0\.05067\); allowed: a start whose run repeats"):
+        critical_shock(p, 1.645, 0.05067, max_periods=1)

@@ -10,7 +10,7 @@ otherwise (another periodic motion, or no period within ``max_periods``).
 
 Along each direction (``+`` and ``-``) at one knock time the boundary of the basin is bracketed by a
 geometric scan of sizes from below, then located by bisection: the boundary found is the first one the
-scan crosses (up to the scan's resolution, a factor :data:`SCAN_RATIO`), to a relative tolerance ``rtol``.
+scan crosses (up to the scan's resolution, a factor ``scan_ratio``), to a relative tolerance ``rtol``.
 The knock times are spread over one period of the cycle (the ball in flight), and the minimum over them is
 refined by a golden-section search around the best one.  This is the minimal critical shock of
 Klinshov et al. (2015) and Halekotte & Feudel (2020), for one component of the state at a time.
@@ -30,14 +30,18 @@ from ..dynamics.runs import simulate, trajectory
 from .energy import voltage_gain
 from .motions import APERIODIC, cycle_class
 
-__all__ = ["Shock", "critical_shock", "KINDS", "SCAN_RATIO"]
+__all__ = ["Shock", "critical_shock", "KINDS", "SCAN_FLOOR", "FINE_SPAN", "LOCAL_MINIMA", "AFTER_IMPACT"]
 
 #: what a knock changes: the velocity ``Zdot`` or the position ``Z``
 KINDS = ("velocity", "position")
-#: ratio of successive sizes of the scan that brackets a boundary
-SCAN_RATIO = 2.0
 #: the scan's smallest size, as a share of the largest admissible one
 SCAN_FLOOR = 1e-4
+#: the scan doubles its size up to the ceiling over this factor, then steps by ``scan_ratio``
+FINE_SPAN = 4.0
+#: the grid's local minima of the knock size (smallest first) around which the knock time is refined
+LOCAL_MINIMA = 3
+#: how long after an impact (a share of the cycle) the knock just after it comes
+AFTER_IMPACT = 1e-4
 #: the golden ratio's conjugate, for the phase refinement
 _GOLD = (math.sqrt(5.0) - 1.0) / 2.0
 
@@ -112,7 +116,7 @@ def _fail(name, value, allowed):
     raise ValueError(f"{name} = {value!r}; allowed: {allowed}")
 
 
-def _check(params, kind, phases, rtol, max_size, refine):
+def _check(params, kind, phases, rtol, max_size, refine, scan_ratio):
     if not isinstance(params, Params):
         _fail("params", params, "a vibroimpact.Params")
     if kind not in KINDS:
@@ -125,6 +129,8 @@ def _check(params, kind, phases, rtol, max_size, refine):
         _fail("max_size", max_size, "None or a finite size > 0")
     if isinstance(refine, bool) or not isinstance(refine, (int, np.integer)) or refine < 0:
         _fail("refine", refine, "an integer >= 0 (golden-section steps)")
+    if not (isinstance(scan_ratio, (int, float)) and 1 < scan_ratio <= 10):
+        _fail("scan_ratio", scan_ratio, "1 < scan_ratio <= 10")
 
 
 class _Runs:
@@ -195,12 +201,20 @@ def _limit(z, kind, sign, half, max_size):
     return room if max_size is None else min(room, max_size)
 
 
-def _boundary(runs, t, z, v, kind, sign, limit, ceiling, rtol):
+def _scan_sizes(limit, top, ratio):
+    """The sizes scanned up to ``top``: doubling from :data:`SCAN_FLOOR` of ``limit`` up to ``top /``
+    :data:`FINE_SPAN` (a stable motion's basin holds a ball around its cycle), then by ``ratio`` up to ``top``."""
+    fine = top / FINE_SPAN
+    coarse = limit * 2.0 ** -np.arange(int(math.log2(1 / SCAN_FLOOR)) + 1)[::-1]
+    steps = fine * ratio ** np.arange(int(math.log(FINE_SPAN, ratio)) + 1)
+    return [*coarse[coarse < fine], *steps[steps < top], top]
+
+
+def _boundary(runs, t, z, v, kind, sign, limit, ceiling, rtol, ratio):
     """The first basin boundary along ``sign`` at time ``t`` below ``min(limit, ceiling)``: ``(lo, hi, cycle at
     hi)`` with ``hi - lo <= rtol * hi``, or None where every size scanned returns."""
     top = min(limit, ceiling)
-    sizes = [s for s in limit * SCAN_RATIO ** -np.arange(int(math.log(1 / SCAN_FLOOR, SCAN_RATIO)) + 1)[::-1]
-             if s < top] + [top]
+    sizes = _scan_sizes(limit, top, ratio)
     lo, hi, cyc = 0.0, None, None
     for s in sizes:
         back, c = runs.returns(t, *_knocked(z, v, kind, sign, s))
@@ -220,29 +234,30 @@ def _boundary(runs, t, z, v, kind, sign, limit, ceiling, rtol):
     return lo, hi, cyc
 
 
-def _at(runs, ref, t, kind, limit, ceiling, rtol):
-    """The smallest boundary over both directions at time ``t``: ``(hi, lo, sign, cycle, (Z, Zdot))`` or None
-    (the ball at rest on a wall, or no boundary below the ceiling)."""
+def _at(runs, ref, t, kind, limit, ceiling, rtol, ratio):
+    """The smallest boundary over the directions at time ``t``: ``(hi, lo, sign, cycle, (Z, Zdot))`` or None (no
+    boundary below the ceiling).  A ball resting on a wall is knocked away from it only (the membrane holds a
+    knock into it)."""
     tr = trajectory(ref, [t])
     z, v = float(tr["Z"][0]), float(tr["Zdot"][0])
     half = 0.5 * runs.params.d
-    if abs(z) >= half and v == 0.0:
-        return None  # resting on a wall: not in flight
+    signs = (-1,) if z >= half and v == 0.0 else (1,) if z <= -half and v == 0.0 else (1, -1)
     best = None
-    for sign in (1, -1):
+    for sign in signs:
         lim = _limit(z, kind, sign, half, limit)
-        found = _boundary(runs, t, z, v, kind, sign, lim, ceiling if best is None else min(ceiling, best[0]), rtol)
+        top = ceiling if best is None else min(ceiling, best[0])
+        found = _boundary(runs, t, z, v, kind, sign, lim, top, rtol, ratio)
         if found is not None and (best is None or found[1] < best[0]):
             best = (found[1], found[0], sign, found[2], (z, v))
     return best
 
 
-def _refine(runs, ref, t_lo, t_hi, best, kind, limit, rtol, steps):
+def _refine(runs, ref, t_lo, t_hi, best, kind, limit, rtol, ratio, steps):
     """Golden-section search of the knock time in ``[t_lo, t_hi]`` around ``best`` (``(hi, lo, sign, cycle, state,
     t)``); the best knock seen."""
     def f(t):
         nonlocal best
-        res = _at(runs, ref, t, kind, limit, 2.0 * best[0], rtol)
+        res = _at(runs, ref, t, kind, limit, 2.0 * best[0], rtol, ratio)
         if res is None:
             return math.inf
         if res[0] < best[0]:
@@ -264,18 +279,22 @@ def _refine(runs, ref, t_lo, t_hi, best, kind, limit, rtol, steps):
     return best
 
 
-def critical_shock(params: Params, phi: float, v0: float, *, kind: str = "velocity", phases: int = 16,
-                   rtol: float = 1e-3, max_size: float | None = None, refine: int = 8, max_periods: float = 200,
+def critical_shock(params: Params, phi: float, v0: float, *, kind: str = "velocity", phases: int = 24,
+                   rtol: float = 1e-3, max_size: float | None = None, refine: int = 8, scan_ratio: float = 1.1,
+                   max_periods: float = 200,
                    match_tol: float = 1e-6, device: Device | None = None) -> Shock:
     """The smallest knock that drops a periodic motion to another attractor.
 
     The motion is the one the run from the bottom impact ``(phi, v0)`` settles on.  At ``phases`` times spread
-    over one period of its cycle (where the ball is in flight) and along both directions, the size of the
-    knock is scanned geometrically from below (ratio :data:`SCAN_RATIO`, from :data:`SCAN_FLOOR` of the
-    largest admissible size) until a knocked run leaves, then bisected between the last size that returns
+    over one period of its cycle and just after each impact, and along both directions, the size of the
+    knock is scanned geometrically from below (doubling from :data:`SCAN_FLOOR` of the largest admissible
+    size, by ``scan_ratio`` over the last factor :data:`FINE_SPAN` below the ceiling: the largest admissible
+    size, or twice the best knock so far) until a knocked run leaves, then bisected between the last size that returns
     and the first that leaves; the boundary found is the first one the scan crosses, up to the scan's
-    resolution.  The minimum over the times is then refined by ``refine`` golden-section steps within one
-    grid step of the best time.
+    resolution: a band of leaving sizes narrower than the ratio can be stepped over (basins of impacting
+    motions interleave).  A ball resting on a wall is knocked away from it only.  The minimum over the times
+    is then refined by ``refine`` golden-section steps between the neighbours of each of the
+    :data:`LOCAL_MINIMA` smallest local minima of the grid.
 
     Parameters
     ----------
@@ -287,7 +306,8 @@ def critical_shock(params: Params, phi: float, v0: float, *, kind: str = "veloci
     kind : {"velocity", "position"}
         A jump of ``Zdot`` or of ``Z``.
     phases : int
-        Knock times spread over one period of the cycle (``>= 2``).
+        Knock times spread evenly over one period of the cycle (``>= 2``); the times just after its impacts
+        are added.
     rtol : float
         Relative width of each bisection bracket (``0 < rtol < 0.5``).
     max_size : float, optional
@@ -295,6 +315,8 @@ def critical_shock(params: Params, phi: float, v0: float, *, kind: str = "veloci
         (``|Z| < d/2``) and ``2 * v_max`` for a velocity knock, ``v_max`` the largest impact speed of the cycle.
     refine : int
         Golden-section steps of the phase refinement (0: the grid's best).
+    scan_ratio : float
+        Ratio of successive sizes of the scan near the ceiling (``1 < scan_ratio <= 10``).
     max_periods : float
         Forcing periods a knocked run may take to repeat; one that does not has left the basin.
     match_tol : float
@@ -330,7 +352,7 @@ def critical_shock(params: Params, phi: float, v0: float, *, kind: str = "veloci
     >>> round(sh.U_T / 1e3, 1), round(sh.reached_U_T / 1e3, 1)    # kV
     (33.7, 33.8)
     """
-    _check(params, kind, phases, rtol, max_size, refine)
+    _check(params, kind, phases, rtol, max_size, refine, scan_ratio)
     device = PAPER if device is None else device
     ref = simulate(params, phi=phi, v0=v0, stop_when_periodic=True, t_end=2.0 * max_periods, max_events=200_000)
     cycle = _cycle(ref)
@@ -340,18 +362,35 @@ def critical_shock(params: Params, phi: float, v0: float, *, kind: str = "veloci
     runs.cycle = cycle
     if max_size is None and kind == "velocity":
         max_size = 2.0 * float(np.nanmax(np.abs(cycle["v_minus"]), initial=0.0)) or 1.0
-    t0, span = cycle["start"], cycle["span"]
-    step = span / phases
-    best = None
-    for j in range(phases):
-        t = t0 + (j + 0.5) * step
-        res = _at(runs, ref, t, kind, max_size, math.inf if best is None else best[0], rtol)
+    times = _knock_times(cycle, phases)
+    grid, best = [], None  # the knock size at each time of the grid (inf above the ceiling), the best knock
+    for t in times:
+        res = _at(runs, ref, t, kind, max_size, math.inf if best is None else 2.0 * best[0], rtol, scan_ratio)
+        grid.append(math.inf if res is None else res[0])
         if res is not None and (best is None or res[0] < best[0]):
             best = (*res, t)
-    if best is not None and refine:
-        best = _refine(runs, ref, max(best[5] - step, t0), min(best[5] + step, t0 + span), best, kind, max_size,
-                       rtol, refine)
+    edges = np.concatenate([[cycle["start"]], times, [cycle["start"] + cycle["span"]]])
+    for j in _local_minima(grid, LOCAL_MINIMA) if best is not None and refine else ():
+        best = _refine(runs, ref, edges[j], edges[j + 2], best, kind, max_size, rtol, scan_ratio, refine)
     return _shock(best, kind, params, phi, cycle, runs, device)
+
+
+def _knock_times(cycle, phases):
+    """The knock times of the grid over one cycle: ``phases`` evenly spread, and just after each impact (the
+    first ``phases`` of a chattering cycle), where the ball leaves a wall."""
+    t0, span = cycle["start"], cycle["span"]
+    even = t0 + (np.arange(phases) + 0.5) * span / phases
+    hits = np.unique(cycle["t"][K.hits(cycle["kind"])])[:phases]
+    after = t0 + (hits - t0 + AFTER_IMPACT * span) % span
+    return np.unique(np.concatenate([even, after]))
+
+
+def _local_minima(values, n):
+    """Indices of the ``n`` smallest finite local minima of ``values`` read around a circle (a cycle)."""
+    v = np.asarray(values)
+    m = np.isfinite(v) & (v <= np.roll(v, 1)) & (v <= np.roll(v, -1))
+    idx = np.flatnonzero(m)
+    return idx[np.argsort(v[idx], kind="stable")][:n].tolist()
 
 
 def _shock(best, kind, params, phi, cycle, runs, device):
@@ -364,7 +403,7 @@ def _shock(best, kind, params, phi, cycle, runs, device):
                      direction=0, state=(math.nan, math.nan), reached="", reached_U_T=math.nan,
                      reason=f"no {kind} knock within the admissible range leaves the basin", **common)
     hi, lo, sign, cyc, state, t = best
-    return Shock(size=float(hi), size_si=float(hi * unit), tolerance=float(hi - lo), phase=(math.pi * t + phi) % (2 * math.pi),
-                 delay=t - cycle["start"], direction=sign, state=state,
+    return Shock(size=float(hi), size_si=float(hi * unit), tolerance=float(hi - lo), phase=float((math.pi * t + phi) % (2 * math.pi)),
+                 delay=float(t - cycle["start"]), direction=sign, state=state,
                  reached=APERIODIC if cyc is None else cyc["motion"].label, reached_U_T=_output(cyc, params, device),
                  **common)

@@ -69,7 +69,7 @@ SAMPLES = os.path.join(REPO, "tools", "mutation_samples")
 LAYER = {**{m: "dynamics" for m in ("params", "flight", "events", "kernels", "runs", "reference", "device")},
          **{m: "analysis" for m in ("orbits", "grazing", "continuation", "bifurcation", "settled", "sweeps", "energy",
                                     "design", "lyapunov", "family_exit", "d_graz", "motions", "windows", "transitions",
-                                    "bistability", "grids", "basins", "regime_maps")},
+                                    "bistability", "grids", "basins", "regime_maps", "shocks")},
          **{m: "benchmarks" for m in ("methods", "peer_heyoka", "peer_siconos", "workprecision", "bench")},
          **{m: "outputs" for m in ("tables", "checks", "paper", "portraits", "figdata", "figcheck", "conditioning")}}
 
@@ -126,6 +126,7 @@ TESTS = {
     "sweeps": ["tests/test_sweeps.py"],
     "energy": ["tests/test_energy.py"],
     "design": ["tests/test_design.py"],
+    "shocks": ["tests/test_shocks.py"],
     "settled": ["tests/test_settled.py", "tests/test_energy.py"],
     "lyapunov": ["tests/test_lyapunov.py", "tests/test_impact_law.py"],
     "family_exit": ["tests/test_family_exit.py"],

@@ -126,7 +126,6 @@ TESTS = {
     "sweeps": ["tests/test_sweeps.py"],
     "energy": ["tests/test_energy.py"],
     "design": ["tests/test_design.py"],
-    "shocks": ["tests/test_shocks.py"],
     "settled": ["tests/test_settled.py", "tests/test_energy.py"],
     "lyapunov": ["tests/test_lyapunov.py", "tests/test_impact_law.py"],
     "family_exit": ["tests/test_family_exit.py"],

@@ -104,3 +104,28 @@ def test_dense_output_is_continuous_and_consistent(pi6):
     assert np.max(np.abs(accel - np.cos(np.pi * tm + float(ds.attrs["phi"])))) < 8.3e-7
     with pytest.raises(ValueError, match="within the run"):
         vi.trajectory(ds, [t[-1] + 1.0])
+
+
+def test_batch_runs_in_flight_are_the_simulators_runs():
+    """attractor_batch from states in flight (knocks, basin stability) gives each run's events to the last bit
+    as vi.simulate from the same state: the batch kernel and the single run share the event loop."""
+    p = vi.Params(d=0.13975, gbar=gbar_of(math.pi / 6), r=0.5)
+    t0 = np.array([0.3, 0.77, 1.9])
+    z0 = np.array([0.01, -0.06, 0.069875])
+    v0 = np.array([0.1, -0.4, -0.2])
+    ab = vi.attractor_batch(p.d, p.gbar, p.r, phi=1.645, v0=v0, t0=t0, Z0=z0, max_periods=200)
+    for k in range(3):
+        run = vi.simulate(p, phi=1.645, v0=v0[k], Z0=z0[k], t0=t0[k], stop_when_periodic=True,
+                          t_end=t0[k] + 400.0)
+        n = int(ab.n_events[k])
+        assert run.sizes["impact"] == n and run.attrs["status"] == "periodic"
+        last = ab.t.values[k][np.isfinite(ab.t.values[k])]
+        assert np.array_equal(run.t.values[n - last.size:], last)
+        assert ab.label.values[k] == vi.identify_attractor(run).label
+
+
+def test_batch_start_in_flight_needs_both_time_and_position():
+    with pytest.raises(ValueError, match="t0 = .*Z0 = .*both"):
+        vi.attractor_batch(0.2, 0.1, 0.5, phi=1.0, v0=0.1, Z0=0.0)
+    with pytest.raises(ValueError, match=r"\|Z0\| <= d/2"):
+        vi.attractor_batch(0.2, 0.1, 0.5, phi=1.0, v0=0.1, t0=0.0, Z0=0.2)

@@ -101,7 +101,7 @@ def last_bottom_impact(win_t, win_wall, win_vm, win_phase, win_kind, n):
     return None
 
 
-def attractor_batch(d, gbar, r, phi, v0, *, max_periods: float = 200, max_events: int = 200_000,
+def attractor_batch(d, gbar, r, phi, v0, *, t0=None, Z0=None, max_periods: float = 200, max_events: int = 200_000,
                     tol: float = 1e-9, window: int = 65, pmax: int = 64, progress: bool | None = None,
                     desc: str = "attractors") -> xr.Dataset:
     """Attractors of many runs in parallel: the last ``window`` events and the motion's class.
@@ -111,6 +111,10 @@ def attractor_batch(d, gbar, r, phi, v0, *, max_periods: float = 200, max_events
     d, gbar, r, phi, v0 : array_like
         Each run's parameters and first bottom impact (phase, pre-impact velocity); broadcast to one
         dimension ``run``.
+    t0, Z0 : array_like, optional
+        Starts in flight instead (as :func:`vibroimpact.simulate`'s): at time ``t0`` (forcing phase
+        ``pi t0 + phi``) with ``Z = Z0`` (``|Z0| <= d/2``) and ``Zdot = v0``; each run then lasts
+        ``max_periods`` after its start.
     max_periods : float
         Longest transient, in forcing periods, before a run is called aperiodic.
     max_events : int
@@ -146,21 +150,32 @@ def attractor_batch(d, gbar, r, phi, v0, *, max_periods: float = 200, max_events
     ([1, 1], [3, 4])
     """
     check_window(window, pmax)
-    arrs = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=float)) for a in (d, gbar, r, phi, v0)))
-    d, gbar, r, phi, v0 = (np.ascontiguousarray(a.ravel()) for a in arrs)
+    in_flight = Z0 is not None
+    if in_flight != (t0 is not None):
+        raise ValueError(f"t0 = {t0!r}, Z0 = {Z0!r}; allowed: both (starts in flight) or neither (bottom impacts)")
+    arrs = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=float))
+                                 for a in (d, gbar, r, phi, v0, *((t0, Z0) if in_flight else ()))))
+    d, gbar, r, phi, v0, *rest = (np.ascontiguousarray(a.ravel()) for a in arrs)
     m = d.shape[0]
     win = empty_windows(m, window)
     ends = K.WindowEnds(status=np.zeros(m, np.int8), lag=np.zeros(m, np.int64), total=np.zeros(m, np.int64),
                         n=np.zeros(m, np.int64))
-    batch = K.Batch(d=d, gbar=gbar, r=r, theta0=phi % (2 * np.pi), v0=v0)
+    if in_flight:
+        t0, Z0 = rest
+        if not (np.isfinite(t0).all() and (np.abs(Z0) <= 0.5 * d).all()):
+            raise ValueError("t0 and Z0: allowed finite start times and |Z0| <= d/2 (inside the cylinder)")
+        batch = K.FlightBatch(d=d, gbar=gbar, r=r, t0=t0, theta0=(np.pi * t0 + phi) % (2 * np.pi), z0=Z0, v0=v0)
+        kernel = K.flight_window_batch
+    else:
+        batch, kernel = K.Batch(d=d, gbar=gbar, r=r, theta0=phi % (2 * np.pi), v0=v0), K.window_batch
     limits = window_limits(max_periods, max_events, tol, pmax)
     shown = interactive() if progress is None else bool(progress)
     # in one parallel call unless a bar is shown: then in tenths (each run is independent of the others)
     cuts = np.linspace(0, m, 11 if shown and m >= 20 else 2).astype(int)
     with Progress(m, desc, shown, unit="run") as bar:
         for a, b in zip(cuts[:-1], cuts[1:], strict=True):
-            K.window_batch(K.Batch(*(x[a:b] for x in batch)), limits, K.Window(*(w[a:b] for w in win)),
-                           K.WindowEnds(*(e[a:b] for e in ends)))
+            kernel(type(batch)(*(x[a:b] for x in batch)), limits, K.Window(*(w[a:b] for w in win)),
+                   K.WindowEnds(*(e[a:b] for e in ends)))
             bar.update(int(b - a))
     return window_dataset(win, *ends, dims=("run",))
 

@@ -1,8 +1,8 @@
 """The event loop: impacts, chattering, sticking and release, with in-loop period detection.
 
 All functions are numba-compiled and work on arrays, which the entry points take in records (numba
-namedtuples: :data:`Model`, :data:`Settings`, :data:`Start`, :data:`EventBuffers`, :data:`Batch`, :data:`Ends`,
-:data:`WindowSettings`, :data:`Window`, :data:`WindowEnds`), at most six parameters each;
+namedtuples: :data:`Model`, :data:`Settings`, :data:`Start`, :data:`EventBuffers`, :data:`Batch`,
+:data:`FlightBatch`, :data:`Ends`, :data:`WindowSettings`, :data:`Window`, :data:`WindowEnds`), at most six parameters each;
 :mod:`vibroimpact.dynamics.runs` and :mod:`vibroimpact.analysis.windows` wrap them.
 
 The rebound at each impact is the impact law's (:mod:`vibroimpact.dynamics.impact`).
@@ -187,6 +187,8 @@ Model = namedtuple("Model", ("d", "gbar", "r"))
 Settings = namedtuple("Settings", ("t_end", "v_chatter", "detect", "tol"))
 #: many runs from bottom impacts, one entry per run: the model's constants, the phase and pre-impact velocity
 Batch = namedtuple("Batch", ("d", "gbar", "r", "theta0", "v0"))
+#: many runs each from a state in flight: the constants, start time and its forcing phase, ``Z`` and ``Zdot``
+FlightBatch = namedtuple("FlightBatch", ("d", "gbar", "r", "t0", "theta0", "z0", "v0"))
 #: how each run of a batch ended: events recorded, status, detected period in events
 Ends = namedtuple("Ends", ("n", "status", "lag"))
 #: a run that keeps only its last events: at most ``max_events`` events, until ``t_end``, the chattering
@@ -387,7 +389,15 @@ def run_window(model, theta0, v0, limits, win):
 
     Returns ``(status, lag, n_total, n_window)``.
     """
-    max_events, t_end, v_chatter, tol, pmax, cap = limits
+    return run_window_from(model, Start(0.0, theta0, 0.5 * model.d, v0, IMPACT, 1), limits, win)
+
+
+@njit(cache=True, error_model="numpy")
+def run_window_from(model, start, limits, win):
+    """:func:`run_window` from the first event ``start`` (:data:`Start`: a bottom impact, or in flight with kind
+    START); the run lasts ``limits.t_end`` after ``start.t``."""
+    max_events, duration, v_chatter, tol, pmax, cap = limits
+    t_end = start.t + duration
     win_t, win_wall, win_vm, win_phase, win_kind = win
     bt = np.zeros(cap)
     bw = np.zeros(cap, dtype=np.int8)
@@ -401,8 +411,7 @@ def run_window(model, theta0, v0, limits, win):
     # a run-time flag, not the literal True: `advance` is then the very specialisation `simulate` calls,
     # compiled once, so the two give the same events to the last bit
     settings = Settings(t_end, v_chatter, tol == tol, tol)
-    n, status, lag = advance(model, Start(0.0, theta0, 0.5 * model.d, v0, IMPACT, 1), 0, settings, counts,
-                             EventBuffers(bt, bw, bvm, bvp, bph, bk, bz))
+    n, status, lag = advance(model, start, 0, settings, counts, EventBuffers(bt, bw, bvm, bvp, bph, bk, bz))
     total = n
     while status == FULL and total < max_events:
         # slide: keep the last `keep` events (enough for the period test), continue after them
@@ -417,8 +426,8 @@ def run_window(model, theta0, v0, limits, win):
             bz[j] = bz[j + shift]
         last = keep - 1
         room = min(cap, keep + max_events - total)
-        start = Start(bt[last], bph[last], bz[last], bvp[last], resume_code(bk[last]), bw[last])
-        n, status, lag = advance(model, start, keep, settings, counts,
+        resume = Start(bt[last], bph[last], bz[last], bvp[last], resume_code(bk[last]), bw[last])
+        n, status, lag = advance(model, resume, keep, settings, counts,
                                  EventBuffers(bt[:room], bw[:room], bvm[:room], bvp[:room], bph[:room], bk[:room],
                                               bz[:room]))
         total += n - keep
@@ -447,6 +456,26 @@ def _window_run(k, batch, limits, win, ends):
     """Run ``k`` of :func:`window_batch`, in a call of its own as :func:`_batch_run`."""
     st, lag, tot, nw = run_window(Model(batch.d[k], batch.gbar[k], batch.r[k]), batch.theta0[k], batch.v0[k], limits,
                                   Window(win.t[k], win.wall[k], win.v_minus[k], win.phase[k], win.kind[k]))
+    ends.status[k] = st
+    ends.lag[k] = lag
+    ends.total[k] = tot
+    ends.n[k] = nw
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def flight_window_batch(batch, limits, win, ends):
+    """:func:`window_batch` for runs each from a state in flight (``batch``, :data:`FlightBatch`): at ``t0``, forcing
+    phase ``theta0``, ``Z = z0`` and ``Zdot = v0``; each lasts ``limits.t_end`` after its start."""
+    for k in prange(batch.d.shape[0]):
+        _flight_window_run(k, batch, limits, win, ends)
+
+
+@njit(cache=True, error_model="numpy")
+def _flight_window_run(k, batch, limits, win, ends):
+    """Run ``k`` of :func:`flight_window_batch`, in a call of its own as :func:`_batch_run`."""
+    start = Start(batch.t0[k], batch.theta0[k], batch.z0[k], batch.v0[k], START, 0)
+    st, lag, tot, nw = run_window_from(Model(batch.d[k], batch.gbar[k], batch.r[k]), start, limits,
+                                       Window(win.t[k], win.wall[k], win.v_minus[k], win.phase[k], win.kind[k]))
     ends.status[k] = st
     ends.lag[k] = lag
     ends.total[k] = tot

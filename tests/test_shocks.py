@@ -84,7 +84,7 @@ def test_never_larger_than_the_brute_force(p, motion, starts, kind):
     bf, runs = brute_force(p, phi, v0, kind, n_box=400, n_sphere=400)
     print(f"{motion} {kind}: shock {sh.size:.6g} in {sh.simulations} runs; brute force {bf:.6g} in {runs} runs")
     assert sh.size <= bf * (1 + 1e-3) + sh.tolerance
-    assert sh.simulations <= 4000  # five times fewer than MCSBruteForce's default 20 000
+    assert sh.simulations <= 2000  # ten times fewer than MCSBruteForce's default 20 000
 
 
 @pytest.mark.parametrize("kind", ["velocity", "position"])
@@ -121,7 +121,8 @@ def test_what_a_knock_does_to_the_long_cylinder():
     assert (round(one.size_si, 2), one.direction, round(one.delay, 2)) == (1.31, 1, 0.80)
     assert round(critical_shock(LONG, *LONG_STARTS[ONE_ONE], kind="position").size_si * 1e3) == 131
     up = critical_shock(LONG, *LONG_STARTS[STICKING])
-    assert (up.reached, round(up.size_si, 3), up.direction, up.state) == (ONE_ONE, 0.084, -1, (LONG.d / 2, 0.0))
+    assert (up.reached, round(up.size_si, 3), up.direction) == (ONE_ONE, 0.084, -1)
+    assert up.state[0] == pytest.approx(LONG.d / 2, abs=1e-6) and abs(up.state[1]) < 1e-4  # on the membrane
     assert round(critical_shock(LONG, *LONG_STARTS[STICKING], kind="position").size_si * 1e3, 1) == 2.2
 
 

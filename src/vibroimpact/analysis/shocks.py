@@ -8,12 +8,15 @@ in-flight state, with the forcing's own phase) until its motion repeats; it *ret
 the cycle it was knocked off (same motion, every event of the cycle within ``match_tol``), it *leaves*
 otherwise (another periodic motion, or no period within ``max_periods``).
 
-Along each direction (``+`` and ``-``) at one knock time the boundary of the basin is bracketed by a
-geometric scan of sizes from below, then located by bisection: the boundary found is the first one the
-scan crosses (up to the scan's resolution, a factor ``scan_ratio``), to a relative tolerance ``rtol``.
-The knock times are spread over one period of the cycle (the ball in flight), and the minimum over them is
-refined by a golden-section search around the best one.  This is the minimal critical shock of
-Klinshov et al. (2015) and Halekotte & Feudel (2020), for one component of the state at a time.
+The knocks are rays: a time over one period of the cycle and a direction (``+`` or ``-``).  All rays are
+knocked together, one batch of runs per size (one parallel kernel call), with sizes growing geometrically
+from below and each ray at its own offset within each step of the scan (neighbouring times together sample
+the sizes finely: the basins of impacting motions interleave in bands narrower than a step), until some
+leave; the boundaries of those that leave are bisected to a relative tolerance ``rtol``; the sizes over
+the factor :data:`FINE_SPAN` below the best are then stepped by ``scan_ratio`` for every ray, and the knock
+time is refined by golden-section searches around the smallest local minima.  This is the minimal critical
+shock of Klinshov et al. (2015) and Halekotte & Feudel (2020), for one component of the state at a time:
+a search along rays with a bisected boundary, not a random one.
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ from ..dynamics import kernels as K
 from ..dynamics.device import PAPER, Device
 from ..dynamics.params import Params
 from ..dynamics.runs import simulate, trajectory
+from .windows import empty_windows, window_limits
 from .energy import voltage_gain
 from .motions import APERIODIC, cycle_class
 
@@ -42,6 +46,8 @@ FINE_SPAN = 4.0
 LOCAL_MINIMA = 3
 #: how long after an impact (a share of the cycle) the knock just after it comes
 AFTER_IMPACT = 1e-4
+#: the knocked runs' period test: tolerance, longest period (events) and cap on events (as :func:`vibroimpact.simulate`)
+PERIOD_TOL, PMAX, MAX_EVENTS = 1e-9, 64, 200_000
 #: the golden ratio's conjugate, for the phase refinement
 _GOLD = (math.sqrt(5.0) - 1.0) / 2.0
 
@@ -133,25 +139,45 @@ def _check(params, kind, phases, rtol, max_size, refine, scan_ratio):
         _fail("scan_ratio", scan_ratio, "1 < scan_ratio <= 10")
 
 
-class _Runs:
-    """The knocked runs of one motion: whether each returns to the motion's cycle, counted."""
+class _Knocks:
+    """The knocked runs of one motion, many at once (one parallel kernel call per batch of knocks): whether each
+    returns to the motion's cycle, counted."""
 
     def __init__(self, params, phi, max_periods, match_tol):
-        self.params, self.phi, self.max_periods, self.match_tol = params, phi, max_periods, match_tol
+        self.params, self.phi, self.match_tol = params, phi, match_tol
+        self.limits = window_limits(max_periods, MAX_EVENTS, PERIOD_TOL, PMAX)
         self.count = 0
         self.cycle = None
 
-    def run(self, t0, z, v):
-        """A run from ``(z, v)`` in flight at ``t0`` until its motion repeats: its cycle (or None)."""
-        self.count += 1
-        ds = simulate(self.params, phi=self.phi, v0=v, Z0=z, t0=t0, stop_when_periodic=True,
-                      t_end=t0 + 2.0 * self.max_periods, max_events=200_000)
-        return _cycle(ds)
+    def runs(self, t0, z, v):
+        """The cycle each run from ``(z, v)`` in flight at ``t0`` settles on (None without a period)."""
+        m = t0.size
+        self.count += m
+        p = self.params
+        win = empty_windows(m, PMAX + 1)
+        ends = K.WindowEnds(status=np.zeros(m, np.int8), lag=np.zeros(m, np.int64), total=np.zeros(m, np.int64),
+                            n=np.zeros(m, np.int64))
+        full = lambda x: np.full(m, float(x))
+        K.flight_window_batch(K.FlightBatch(full(p.d), full(p.gbar), full(p.r), np.ascontiguousarray(t0),
+                                            (math.pi * t0 + self.phi) % (2 * math.pi), np.ascontiguousarray(z),
+                                            np.ascontiguousarray(v)), self.limits, win, ends)
+        return [_window_cycle(win, k, int(ends.n[k]), int(ends.status[k]), int(ends.lag[k])) for k in range(m)]
 
-    def returns(self, t0, z, v):
-        """Whether the run from ``(z, v)`` at ``t0`` settles on the reference cycle, and its cycle."""
-        cyc = self.run(t0, z, v)
-        return cyc is not None and _same(cyc, self.cycle, self.match_tol), cyc
+    def leave(self, rays, idx, size):
+        """Whether each ray ``idx`` knocked by ``size`` leaves the basin, and the cycle it reaches."""
+        z, v = rays.knocked(idx, size)
+        cycles = self.runs(rays.t[idx], z, v)
+        left = np.array([c is None or not _same(c, self.cycle, self.match_tol) for c in cycles], dtype=bool)
+        return left, cycles
+
+
+def _window_cycle(win, k, n, status, lag):
+    """The last period of run ``k``'s window (a dict of its events and motion), or None without a period."""
+    if status != K.PERIODIC or lag == 0 or lag >= n:
+        return None
+    ev = dict(zip(("t", "wall", "v_minus", "phase", "kind"), (w[k, n - lag:n] for w in win), strict=True))
+    span = float(win.t[k, n - 1] - win.t[k, n - 1 - lag])
+    return ev | {"span": span, "motion": cycle_class(ev["wall"], ev["kind"], span)}
 
 
 def _cycle(ds):
@@ -162,7 +188,7 @@ def _cycle(ds):
     n = ds.sizes["impact"]
     ev = {v: ds[v].values[n - lag:n] for v in ("t", "wall", "v_minus", "phase", "kind")}
     span = float(ds["t"].values[n - 1] - ds["t"].values[n - 1 - lag])
-    return ev | {"span": span, "motion": cycle_class(ev["wall"], ev["kind"], span), "run": ds,
+    return ev | {"span": span, "motion": cycle_class(ev["wall"], ev["kind"], span),
                  "start": float(ds["t"].values[n - 1 - lag])}
 
 
@@ -189,112 +215,141 @@ def _output(cyc, params, device):
     return float(np.sum(gain) / (2.0 * cyc["motion"].period))
 
 
-def _knocked(z, v, kind, sign, size):
-    return (z + sign * size, v) if kind == "position" else (z, v + sign * size)
+@dataclass
+class _Rays:
+    """Knocks along a direction at a time each: time, state before the knock, sign, largest admissible size, the
+    group it belongs to (a group stops its scan where one of its rays leaves) and what is known of its boundary."""
+
+    t: np.ndarray
+    z: np.ndarray
+    v: np.ndarray
+    sign: np.ndarray
+    limit: np.ndarray
+    group: np.ndarray
+    kind: str
+
+    def __post_init__(self):
+        n = self.t.size
+        # where in each step of a scan the ray's size falls (a share of the step): spread over the rays in
+        # time order by the golden ratio, so neighbouring times together sample each step finely
+        self.offset = (np.argsort(np.argsort(self.t, kind="stable")) * _GOLD) % 1.0
+        self.lo, self.hi = np.zeros(n), np.full(n, math.inf)
+        self.reached = [None] * n
+
+    def knocked(self, idx, size):
+        if self.kind == "position":
+            return self.z[idx] + self.sign[idx] * size, self.v[idx]
+        return self.z[idx], self.v[idx] + self.sign[idx] * size
 
 
-def _limit(z, kind, sign, half, max_size):
-    """The largest admissible knock along ``sign`` from ``z``: inside the cylinder for a position knock."""
-    if kind == "velocity":
-        return max_size
-    room = (half - sign * z) * (1.0 - 1e-9)
-    return room if max_size is None else min(room, max_size)
+def _rays(ref, times, kind, max_size, half, group):
+    """The rays at ``times`` (group ``group[j]`` for time ``j``): both directions, or away from the wall a ball
+    rests on (the membrane holds a knock into it); position knocks stay inside the cylinder."""
+    tr = trajectory(ref, times)
+    rows = []
+    for j, (t, z, v) in enumerate(zip(times, tr["Z"].values, tr["Zdot"].values, strict=True)):
+        signs = (-1,) if z >= half and v == 0.0 else (1,) if z <= -half and v == 0.0 else (1, -1)
+        for sign in signs:
+            room = (half - sign * z) * (1.0 - 1e-9)
+            lim = max_size if kind == "velocity" else room if max_size is None else min(room, max_size)
+            rows.append((t, z, v, sign, lim, group[j]))
+    cols = np.array(rows, dtype=float).T
+    return _Rays(*cols[:3], cols[3].astype(int), cols[4], cols[5].astype(int), kind)
 
 
-def _scan_sizes(limit, top, ratio):
-    """The sizes scanned up to ``top``: doubling from :data:`SCAN_FLOOR` of ``limit`` up to ``top /``
-    :data:`FINE_SPAN` (a stable motion's basin holds a ball around its cycle), then by ``ratio`` up to ``top``."""
-    fine = top / FINE_SPAN
-    coarse = limit * 2.0 ** -np.arange(int(math.log2(1 / SCAN_FLOOR)) + 1)[::-1]
-    steps = fine * ratio ** np.arange(int(math.log(FINE_SPAN, ratio)) + 1)
-    return [*coarse[coarse < fine], *steps[steps < top], top]
+def _knock(knocks, rays, idx, size):
+    """Knock the rays ``idx`` by ``size`` (each its own); record the size and the cycle reached where they leave
+    (``hi``) and where they return (``lo``).  Returns which left."""
+    left, cycles = knocks.leave(rays, idx, size)
+    rays.lo[idx[~left]] = size[~left]
+    rays.hi[idx[left]] = size[left]
+    for j in np.flatnonzero(left):
+        rays.reached[idx[j]] = cycles[j]
+    return left
 
 
-def _boundary(runs, t, z, v, kind, sign, limit, ceiling, rtol, ratio):
-    """The first basin boundary along ``sign`` at time ``t`` below ``min(limit, ceiling)``: ``(lo, hi, cycle at
-    hi)`` with ``hi - lo <= rtol * hi``, or None where every size scanned returns."""
-    top = min(limit, ceiling)
-    sizes = _scan_sizes(limit, top, ratio)
-    lo, hi, cyc = 0.0, None, None
-    for s in sizes:
-        back, c = runs.returns(t, *_knocked(z, v, kind, sign, s))
-        if not back:
-            hi, cyc = s, c
-            break
-        lo = s
-    if hi is None:
-        return None
-    while hi - lo > rtol * hi and hi - lo > rtol * SCAN_FLOOR * limit:
-        mid = 0.5 * (lo + hi)
-        back, c = runs.returns(t, *_knocked(z, v, kind, sign, mid))
-        if back:
-            lo = mid
-        else:
-            hi, cyc = mid, c
-    return lo, hi, cyc
+def _scan(knocks, rays, idx, levels):
+    """Knock the rays ``idx`` up the sizes ``levels`` (ascending) in lock-step, each ray at its ``offset`` within
+    each step (staggered: together the rays sample the steps finely), each group until one of its rays leaves or
+    every size was tried; a ray stops at its largest admissible size."""
+    active = np.asarray(idx, dtype=int)
+    levels = np.asarray(levels, dtype=float)
+    steps = np.append(levels[1:] / levels[:-1], 1.0)
+    for s, q in zip(levels, steps, strict=True):
+        if active.size == 0:
+            return
+        size = np.minimum(s * q ** rays.offset[active], rays.limit[active])
+        left = _knock(knocks, rays, active, size)
+        stopped = np.isin(rays.group[active], rays.group[active[left]]) | (size >= rays.limit[active])
+        active = active[~stopped]
 
 
-def _at(runs, ref, t, kind, limit, ceiling, rtol, ratio):
-    """The smallest boundary over the directions at time ``t``: ``(hi, lo, sign, cycle, (Z, Zdot))`` or None (no
-    boundary below the ceiling).  A ball resting on a wall is knocked away from it only (the membrane holds a
-    knock into it)."""
-    tr = trajectory(ref, [t])
-    z, v = float(tr["Z"][0]), float(tr["Zdot"][0])
-    half = 0.5 * runs.params.d
-    signs = (-1,) if z >= half and v == 0.0 else (1,) if z <= -half and v == 0.0 else (1, -1)
-    best = None
-    for sign in signs:
-        lim = _limit(z, kind, sign, half, limit)
-        top = ceiling if best is None else min(ceiling, best[0])
-        found = _boundary(runs, t, z, v, kind, sign, lim, top, rtol, ratio)
-        if found is not None and (best is None or found[1] < best[0]):
-            best = (found[1], found[0], sign, found[2], (z, v))
-    return best
+def _bisect(knocks, rays, idx, rtol, floor):
+    """Bisect, in lock-step, the bracket ``(lo, hi]`` of each ray ``idx`` that left until
+    ``hi - lo <= rtol * hi`` (or ``floor``)."""
+    active = np.asarray(idx, dtype=int)
+    active = active[np.isfinite(rays.hi[active])]
+    while True:
+        width = rays.hi[active] - rays.lo[active]
+        active = active[(width > rtol * rays.hi[active]) & (width > floor)]
+        if active.size == 0:
+            return
+        _knock(knocks, rays, active, 0.5 * (rays.lo[active] + rays.hi[active]))
 
 
-def _refine(runs, ref, t_lo, t_hi, best, kind, limit, rtol, ratio, steps):
-    """Golden-section search of the knock time in ``[t_lo, t_hi]`` around ``best`` (``(hi, lo, sign, cycle, state,
-    t)``); the best knock seen."""
-    def f(t):
-        nonlocal best
-        res = _at(runs, ref, t, kind, limit, 2.0 * best[0], rtol, ratio)
-        if res is None:
-            return math.inf
-        if res[0] < best[0]:
-            best = (*res, t)
-        return res[0]
+def _thin_bands(knocks, rays, idx, ratio, rtol, floor):
+    """Where a group's best boundary is ``b``, knock all its rays at sizes stepping by ``ratio`` over
+    ``[b /`` :data:`FINE_SPAN` ``, b)``, staggered as in :func:`_scan` (bands of leaving sizes narrower than the
+    coarse scan's step: the basins of impacting motions interleave); bisect each that leaves from its size
+    one step below (or from 0), and go on below the new best."""
+    for g in np.unique(rays.group[idx]):
+        mine = idx[rays.group[idx] == g]
+        best = rays.hi[mine].min()
+        if not math.isfinite(best):
+            continue
+        below = np.zeros(mine.size)
+        for s in best / FINE_SPAN * ratio ** np.arange(int(math.log(FINE_SPAN, ratio)) + 1):
+            size = s * ratio ** rays.offset[mine]
+            test = (size < rays.limit[mine]) & (size < rays.hi[mine]) & (size < best)
+            if not test.any():
+                break
+            rest = mine[test]
+            left, cycles = knocks.leave(rays, rest, size[test])
+            if left.any():
+                hit = rest[left]
+                rays.lo[hit], rays.hi[hit] = below[test][left], size[test][left]
+                for j, c in zip(hit, (cycles[i] for i in np.flatnonzero(left)), strict=True):
+                    rays.reached[j] = c
+                _bisect(knocks, rays, hit, rtol, floor)
+                best = rays.hi[mine].min()
+            below[test] = np.where(np.isin(rest, rest[left]), below[test], size[test])
 
-    a, b = t_lo, t_hi
-    c, d = b - _GOLD * (b - a), a + _GOLD * (b - a)
-    fc, fd = f(c), f(d)
-    for _ in range(steps):
-        if fc <= fd:
-            b, d, fd = d, c, fc
-            c = b - _GOLD * (b - a)
-            fc = f(c)
-        else:
-            a, c, fc = c, d, fd
-            d = a + _GOLD * (b - a)
-            fd = f(d)
-    return best
+
+def _boundaries(knocks, rays, idx, levels, ratio, rtol, floor):
+    """The first boundary of each group of rays ``idx`` (scanned up ``levels``, bands finer than the scan's steps
+    looked for below the best by ``ratio``, bisected to ``rtol``): the smallest ``hi`` per group."""
+    idx = np.asarray(idx, dtype=int)
+    _scan(knocks, rays, idx, levels)
+    _bisect(knocks, rays, idx, rtol, floor)
+    _thin_bands(knocks, rays, idx, ratio, rtol, floor)
 
 
 def critical_shock(params: Params, phi: float, v0: float, *, kind: str = "velocity", phases: int = 24,
-                   rtol: float = 1e-3, max_size: float | None = None, refine: int = 8, scan_ratio: float = 1.1,
+                   rtol: float = 1e-3, max_size: float | None = None, refine: int = 6, scan_ratio: float = 1.1,
                    max_periods: float = 200,
                    match_tol: float = 1e-6, device: Device | None = None) -> Shock:
     """The smallest knock that drops a periodic motion to another attractor.
 
-    The motion is the one the run from the bottom impact ``(phi, v0)`` settles on.  At ``phases`` times spread
-    over one period of its cycle and just after each impact, and along both directions, the size of the
-    knock is scanned geometrically from below (doubling from :data:`SCAN_FLOOR` of the largest admissible
-    size, by ``scan_ratio`` over the last factor :data:`FINE_SPAN` below the ceiling: the largest admissible
-    size, or twice the best knock so far) until a knocked run leaves, then bisected between the last size that returns
-    and the first that leaves; the boundary found is the first one the scan crosses, up to the scan's
-    resolution: a band of leaving sizes narrower than the ratio can be stepped over (basins of impacting
-    motions interleave).  A ball resting on a wall is knocked away from it only.  The minimum over the times
-    is then refined by ``refine`` golden-section steps between the neighbours of each of the
-    :data:`LOCAL_MINIMA` smallest local minima of the grid.
+    The motion is the one the run from the bottom impact ``(phi, v0)`` settles on.  It is knocked at
+    ``phases`` times spread over one period of its cycle and just after each impact, along both directions
+    (a ball resting on a wall away from it only: the membrane holds a knock into it).  The sizes are scanned
+    for all these rays at once (doubling from :data:`SCAN_FLOOR` of the largest admissible size, by
+    ``scan_ratio`` over the last factor :data:`FINE_SPAN`; each ray at its own offset within each step) until
+    one leaves; each ray that left is bisected between the size below that returned and the size that left;
+    every ray is then knocked at sizes stepping by ``scan_ratio`` over the factor :data:`FINE_SPAN` below the
+    best (a band of leaving sizes the coarse steps passed over), and the knock time is refined by ``refine``
+    golden-section steps between the neighbours of each of the :data:`LOCAL_MINIMA` smallest local minima of
+    the grid.  A band of leaving sizes narrower than the steps at every time can still be missed.
 
     Parameters
     ----------
@@ -354,25 +409,80 @@ def critical_shock(params: Params, phi: float, v0: float, *, kind: str = "veloci
     """
     _check(params, kind, phases, rtol, max_size, refine, scan_ratio)
     device = PAPER if device is None else device
-    ref = simulate(params, phi=phi, v0=v0, stop_when_periodic=True, t_end=2.0 * max_periods, max_events=200_000)
+    ref = simulate(params, phi=phi, v0=v0, stop_when_periodic=True, t_end=2.0 * max_periods, max_events=MAX_EVENTS)
     cycle = _cycle(ref)
     if cycle is None:
         _fail("(phi, v0)", (phi, v0), f"a start whose run repeats within max_periods = {max_periods!r}")
-    runs = _Runs(params, phi, max_periods, match_tol)
-    runs.cycle = cycle
+    knocks = _Knocks(params, phi, max_periods, match_tol)
+    knocks.cycle = cycle
     if max_size is None and kind == "velocity":
         max_size = 2.0 * float(np.nanmax(np.abs(cycle["v_minus"]), initial=0.0)) or 1.0
+    half = 0.5 * params.d
     times = _knock_times(cycle, phases)
-    grid, best = [], None  # the knock size at each time of the grid (inf above the ceiling), the best knock
-    for t in times:
-        res = _at(runs, ref, t, kind, max_size, math.inf if best is None else 2.0 * best[0], rtol, scan_ratio)
-        grid.append(math.inf if res is None else res[0])
-        if res is not None and (best is None or res[0] < best[0]):
-            best = (*res, t)
-    edges = np.concatenate([[cycle["start"]], times, [cycle["start"] + cycle["span"]]])
-    for j in _local_minima(grid, LOCAL_MINIMA) if best is not None and refine else ():
-        best = _refine(runs, ref, edges[j], edges[j + 2], best, kind, max_size, rtol, scan_ratio, refine)
-    return _shock(best, kind, params, phi, cycle, runs, device)
+    rays = _rays(ref, times, kind, max_size, half, np.zeros(times.size, int))
+    top = float(rays.limit.max())
+    floor = rtol * SCAN_FLOOR * top
+    _boundaries(knocks, rays, np.arange(rays.t.size), _scan_sizes(top, scan_ratio), scan_ratio, rtol, floor)
+    found = [rays]
+    grid = np.array([rays.hi[rays.t == t].min() for t in times])
+    if refine and np.isfinite(grid).any():
+        edges = np.concatenate([[cycle["start"]], times, [cycle["start"] + cycle["span"]]])
+        brackets = [(edges[j], edges[j + 2]) for j in _local_minima(grid, LOCAL_MINIMA)]
+        found += _refine(knocks, ref, brackets, rays.hi.min(), dict(kind=kind, max_size=max_size, half=half),
+                         (scan_ratio, rtol, floor), refine)
+    return _shock(_best(found), kind, params, phi, cycle, knocks, device)
+
+
+def _scan_sizes(top, ratio):
+    """The sizes scanned up to ``top``: doubling from :data:`SCAN_FLOOR` of it up to ``top /``
+    :data:`FINE_SPAN` (a stable motion's basin holds a ball around its cycle), then by ``ratio`` up to ``top``."""
+    fine = top / FINE_SPAN
+    coarse = top * 2.0 ** -np.arange(int(math.log2(1 / SCAN_FLOOR)) + 1)[::-1]
+    steps = fine * ratio ** np.arange(int(math.log(FINE_SPAN, ratio)) + 1)
+    return [*coarse[coarse < fine], *steps[steps < top], top]
+
+
+def _refine(knocks, ref, brackets, best, ray_args, steps_args, steps):
+    """Golden-section searches of the knock time, one per bracket ``(t_lo, t_hi)``, in lock-step: at each step
+    the new time of every bracket is knocked (scanned from an eighth of the best knock so far, by ``ratio``
+    over ``[best/2, 2 best]``, then bisected).  Returns the rays knocked."""
+    ratio, rtol, floor = steps_args
+    found = []
+
+    def f(ts):
+        nonlocal best
+        rays = _rays(ref, np.asarray(ts), group=np.arange(len(ts)), **ray_args)
+        levels = [best / 8, best / 4, *(0.5 * best * ratio ** np.arange(int(math.log(4.0, ratio)) + 1)), 2 * best]
+        idx = np.arange(rays.t.size)
+        _scan(knocks, rays, idx, levels)
+        _bisect(knocks, rays, idx, rtol, floor)
+        found.append(rays)
+        best = min(best, float(rays.hi.min()))
+        return [float(rays.hi[rays.group == g].min()) for g in range(len(ts))]
+
+    ab = np.array(brackets, dtype=float)
+    c, d = ab[:, 1] - _GOLD * (ab[:, 1] - ab[:, 0]), ab[:, 0] + _GOLD * (ab[:, 1] - ab[:, 0])
+    vals = f([*c, *d])
+    fc, fd = np.array(vals[:len(c)]), np.array(vals[len(c):])
+    for _ in range(steps):
+        left = fc <= fd  # the minimum lies in [a, d]: d <- c, a new c; else in [c, b]: c <- d, a new d
+        ab[left, 1], ab[~left, 0] = d[left], c[~left]
+        new = np.where(left, ab[:, 1] - _GOLD * (ab[:, 1] - ab[:, 0]), ab[:, 0] + _GOLD * (ab[:, 1] - ab[:, 0]))
+        fnew = np.array(f(new))
+        d[left], fd[left], c[left], fc[left] = c[left], fc[left], new[left], fnew[left]
+        c[~left], fc[~left], d[~left], fd[~left] = d[~left], fd[~left], new[~left], fnew[~left]
+    return found
+
+
+def _best(found):
+    """The smallest knock that left among the rays ``found``: ``(hi, lo, sign, cycle, state, t)``, or None."""
+    best = None
+    for rays in found:
+        j = int(np.argmin(rays.hi))
+        if math.isfinite(rays.hi[j]) and (best is None or rays.hi[j] < best[0]):
+            best = (float(rays.hi[j]), float(rays.lo[j]), int(rays.sign[j]), rays.reached[j],
+                    (float(rays.z[j]), float(rays.v[j])), float(rays.t[j]))
+    return best
 
 
 def _knock_times(cycle, phases):

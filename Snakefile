@@ -71,6 +71,7 @@ include: "workflow/rules/checks.smk"
 include: "workflow/rules/bench.smk"
 include: "workflow/rules/bifurcation.smk"
 include: "workflow/rules/design.smk"
+include: "workflow/rules/knocks.smk"
 
 
 rule all:
@@ -89,6 +90,7 @@ rule all:
         [basin_path(n) for n in config["basins"]],
         [map_path(n) for n in config["maps"]],
         "results/tables/design.md",
+        "results/tables/knocks.md",
         "results/tables/chaos.md",
         "results/checks/paper_values.csv",
         "results/tables/workflow_cost.md",

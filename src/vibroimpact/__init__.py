@@ -53,6 +53,7 @@ _WHERE = {
     "design_map": "analysis.design", "start_states": "analysis.design", "tolerance_analysis": "analysis.design",
     "best_designs": "analysis.design",
     "critical_shock": "analysis.shocks", "Shock": "analysis.shocks",
+    "knock_map": "analysis.robust", "knock_section": "analysis.robust", "robust_choice": "analysis.robust",
 }
 
 __all__ = ["__version__", *_WHERE]

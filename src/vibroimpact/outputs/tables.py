@@ -798,3 +798,59 @@ def chaos_markdown(windows: pd.DataFrame, outputs: pd.DataFrame, between: str = 
         lines += ["Between the 2:1 and the 1:1 motions, along each sweep's down direction (the attractor followed "
                   "with d decreasing; runs of one motion, λ₁ over each run; the 1:1 exit in its place):", "", between]
     return "\n".join(lines) + "\n"
+
+
+#: the random search the knock map's runs are compared with: Attractors.jl's MCSBruteForce default samples
+BRUTE_FORCE_RUNS = 20_000
+
+
+def _design_name(d: dict | None, x: str, y: str) -> str:
+    if d is None:
+        return "none"
+    fmt = {"s": lambda v: f"s = {v:.3f} m", "F": lambda v: f"F = {v:.2f} N", "beta": lambda v: f"β = {v:.3f} rad"}
+    return f"{fmt[x](d[x])}, {fmt[y](d[y])}"
+
+
+def knocks_table(km: xr.Dataset, rows_at=()) -> pd.DataFrame:
+    """The knock map's designs (:func:`vibroimpact.analysis.robust.robust_choice` at the map's ``knock``): over the
+    whole map and at each value of ``rows_at`` on its y axis (e.g. the design table's inclines), the best
+    design regardless of knocks and the best whose highest-output motion survives the knock."""
+    from ..analysis.robust import robust_choice
+
+    x, y = km.attrs["x"], km.attrs["y"]
+    ys = km[y].values
+    where = [("whole map", None)] + [(float(v), int(np.argmin(np.abs(ys - v)))) for v in rows_at
+                                     if np.min(np.abs(ys - v)) < 1e-12]
+    out = []
+    for at, row in where:
+        ch = robust_choice(km, float(km.attrs["knock"]), row=row)
+        for which, d in (("best output", ch["best"]), ("survives the knock", ch["robust"])):
+            r = {"among": at, "design": which, "found": d is not None, x: np.nan, y: np.nan, "motion": "",
+                 "U_T": np.nan, "shock": np.nan, "knock": ch["knock"], "unit": ch["unit"], "designs": ch["designs"],
+                 "survive": ch["survive"]}
+            out.append(r | ({k: d[k] for k in (x, y, "motion", "U_T", "shock")} if d is not None else {}))
+    return pd.DataFrame(out)
+
+
+def knocks_markdown(df: pd.DataFrame, km: xr.Dataset) -> str:
+    """The knock map's table: its two designs, then what the map holds and what its shocks cost (runs per motion
+    against the random search's)."""
+    x, y, unit = km.attrs["x"], km.attrs["y"], km.attrs["knock_unit"]
+    among = lambda a: "whole map" if a == "whole map" else f"{y} = {_pi_name(a) if y == 'beta' else a}"
+    rows = [{"among": among(r["among"]), "design": r["design"], "where": _design_name(r if r["found"] else None, x, y),
+             "highest-output motion": r["motion"], "Ū_T (kV)": f"{r.U_T / 1e3:.2f}" if r["found"] else "",
+             f"its critical shock ({unit})": ("∞" if np.isinf(r.shock) else f"{r.shock:.3g}") if r["found"] else "",
+             "designs surviving": f"{r.survive} of {r.designs}"}
+            for _, r in df.iterrows()]
+    runs = km["shock_runs"].values[km["shock_runs"].values > 0]
+    missing = km["top_reason"].values[np.isnan(km["top_shock"].values)]
+    reasons = pd.Series(missing).value_counts()
+    out = (f"The knock: {float(km.attrs['knock']):g} {unit} ({km.attrs['knock_kind']} of the ball relative to the "
+           "cylinder).\n\n")
+    out += pd.DataFrame(rows).to_markdown(index=False) + "\n\n"
+    out += (f"{runs.size} motions knocked, {int(np.median(runs)) if runs.size else 0} runs per motion (median), "
+            f"{int(runs.max(initial=0))} at most, against {BRUTE_FORCE_RUNS} for a random search "
+            "(Attractors.jl's MCSBruteForce default).\n")
+    for why, n in reasons.items():
+        out += f"\n- no critical shock at {n} design(s): {why}"
+    return out + ("\n" if len(reasons) else "")

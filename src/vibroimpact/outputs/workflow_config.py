@@ -21,11 +21,12 @@ from jsonschema import Draft202012Validator
 from jsonschema.exceptions import best_match, by_relevance
 
 from ..analysis.design import DESIGN_AXES, DISTRIBUTIONS, MIN_STARTS, RELATIVE, start_states
+from ..analysis.shocks import KINDS
 from ..dynamics.device import Device
 from .checks import item_names
 from .registry import REGISTRY, figures
 
-__all__ = ["STUDY_NUMBERS", "ConfigError", "WorkflowConfig", "check", "check_design", "coerce_studies", "figure_names",
+__all__ = ["STUDY_NUMBERS", "ConfigError", "WorkflowConfig", "check", "check_design", "check_knocks", "coerce_studies", "figure_names",
            "schema_error", "validate_schema"]
 
 #: how a value is shown in a refusal: on one line, a long value cut short (``...``) at about 120 characters
@@ -384,6 +385,7 @@ def check(config: dict) -> WorkflowConfig:
     _studies(config)
     check_design(config["design"], {q: config["resolution"][q]["design"] for q in config["resolution"]},
                  config["maps"])
+    check_knocks(config["knocks"], config["maps"], device)
     _lift(config, device)
     paper = device.same_physics(Device())
     if paper:  # the known discrepancies are the paper's device's: another device's check does not read them
@@ -665,3 +667,22 @@ def check_design(design: dict, presets: dict, maps: dict) -> None:
             raise ConfigError(f"resolution.{q}.design.grid", pre["grid"], "[nx, ny], each >= 2")
         if not 1 <= pre["chunks"] <= ny:
             raise ConfigError(f"resolution.{q}.design.chunks", pre["chunks"], f"an integer in [1, {ny}] (grid rows: {ny})")
+
+
+def check_knocks(knocks: dict, maps: dict, device: Device) -> None:
+    """Refuse a knocks config that makes no sense, naming the key, the value and what is allowed: the plane a
+    design map can be made on, a knock of the device's kind, a section design the device can be built as."""
+    name = knocks["map"]
+    if name not in maps:
+        raise ConfigError("knocks.map", name, f"a regime map of `maps` ({', '.join(maps)}), whose plane it knocks")
+    axes = (maps[name]["x"], maps[name]["y"])
+    if not set(axes) <= set(DESIGN_AXES):
+        raise ConfigError(f"knocks.map ({name})", list(axes), f"a plane of two of {', '.join(DESIGN_AXES)} (physical axes)")
+    if knocks["kind"] not in KINDS:
+        raise ConfigError("knocks.kind", knocks["kind"], " or ".join(KINDS))
+    if not (isinstance(knocks["knock"], (int, float)) and 0 < knocks["knock"] < math.inf):
+        raise ConfigError("knocks.knock", knocks["knock"], "a finite knock > 0 (m/s for velocity, m for position)")
+    try:
+        device.params(**knocks["section"])
+    except (ValueError, TypeError) as err:
+        raise ConfigError("knocks.section", knocks["section"], f"a design the device can be built as ({err})") from None

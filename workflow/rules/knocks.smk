@@ -1,0 +1,70 @@
+# Knocks (vibroimpact.analysis.robust): on the plane of a design map, every point run from the design maps' start
+# states to its attractors, the critical shock of each attractor, the design that keeps its output under the
+# configured knock, and the basins a knock crosses in a (Z, Zdot) section of one design.
+KNOCKS = config["knocks"]
+
+
+rule knock_map:
+    output:
+        "results/knocks/map.nc",
+    log:
+        "logs/knocks/map.log",
+    benchmark:
+        "benchmarks/knocks/map.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    threads: 2
+    params:
+        spec=config["maps"][KNOCKS["map"]],
+        knocks=KNOCKS,
+        device=DEVICE_SPEC,
+        design=DESIGN,
+        preset=RESOLUTION["knocks"],
+        max_periods=config["sweeps"]["max_periods"],
+        tol=config["sweeps"]["tol"],
+        window=config["sweeps"]["window"],
+        window_time=config["energy"]["window_time"],
+        code=code("knock_map.py"),
+    script:
+        "../scripts/knock_map.py"
+
+
+rule knock_section:
+    output:
+        "results/knocks/section.nc",
+    log:
+        "logs/knocks/section.log",
+    benchmark:
+        "benchmarks/knocks/section.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    threads: 2
+    params:
+        knocks=KNOCKS,
+        device=DEVICE_SPEC,
+        design=DESIGN,
+        preset=RESOLUTION["knocks"],
+        max_periods=config["sweeps"]["max_periods"],
+        tol=config["sweeps"]["tol"],
+        window=config["sweeps"]["window"],
+        window_time=config["energy"]["window_time"],
+        code=code("knock_section.py"),
+    script:
+        "../scripts/knock_section.py"
+
+
+rule knocks_table:
+    input:
+        "results/knocks/map.nc",
+    output:
+        csv="results/tables/knocks.csv",
+        md="results/tables/knocks.md",
+    log:
+        "logs/tables/knocks.log",
+    conda:
+        "../envs/vibroimpact.yaml"
+    params:
+        table_betas=DESIGN["table_betas"],
+        code=code("knocks_table.py"),
+    script:
+        "../scripts/knocks_table.py"

@@ -1,0 +1,14 @@
+"""The knock map's table: the best design, the best that survives the configured knock (over the map and at each
+incline of the design table), and what the shocks cost."""
+import logging
+
+import xarray as xr
+
+from vibroimpact.outputs.tables import knocks_markdown, knocks_table
+
+logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+km = xr.load_dataset(snakemake.input[0], engine="netcdf4")
+df = knocks_table(km, snakemake.params.table_betas if km.attrs["y"] == "beta" else ())
+df.to_csv(snakemake.output.csv, index=False)
+with open(snakemake.output.md, "w") as fh:
+    fh.write(knocks_markdown(df, km))

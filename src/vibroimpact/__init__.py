@@ -53,6 +53,7 @@ _WHERE = {
     "design_map": "analysis.design", "start_states": "analysis.design", "tolerance_analysis": "analysis.design",
     "best_designs": "analysis.design",
     "critical_shock": "analysis.shocks", "Shock": "analysis.shocks",
+    "basin_stability": "analysis.basin_stability",
 }
 
 __all__ = ["__version__", *_WHERE]

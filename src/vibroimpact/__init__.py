@@ -54,6 +54,7 @@ _WHERE = {
     "best_designs": "analysis.design",
     "critical_shock": "analysis.shocks", "Shock": "analysis.shocks",
     "knock_map": "analysis.robust", "knock_section": "analysis.robust", "robust_choice": "analysis.robust",
+    "basin_stability": "analysis.basin_stability",
 }
 
 __all__ = ["__version__", *_WHERE]

@@ -44,7 +44,7 @@ from .settled import LONG_IMPACTS, STICK_REL, polish_cycle, split_no_period
 from .windows import attractor_batch, last_bottom_impact
 
 __all__ = ["DISTRIBUTIONS", "MIN_STARTS", "AT_REST", "start_states", "design_map",
-           "merge_chunks", "share_interval", "table_designs", "tolerance_analysis", "curve_margin", "box_minimum", "best_designs"]
+           "merge_chunks", "share_interval", "point_attractors", "table_designs", "tolerance_analysis", "curve_margin", "box_minimum", "best_designs"]
 
 #: start-state distributions: at rest on the bottom membrane (uniform phase), or a box of bottom impacts
 DISTRIBUTIONS = ("rest", "box")
@@ -373,6 +373,16 @@ def _block_points(runs, pts, n_st, grid, forces, device, window_time, confidence
         points.append((atts, int(runs["n_events"].values[rs].sum())))
     return points
 
+
+
+def point_attractors(runs, d, gbar, r, F, device, window_time, confidence):
+    """The attractors of one parameter point ``(d, gbar, r)`` at the force ``F`` from its runs (one
+    :func:`~vibroimpact.analysis.windows.attractor_batch` over any starts), grouped and settled as a design map's
+    point: its :class:`PointAttractor` list (most starts first) and the events simulated."""
+    n = runs.sizes["run"]
+    grid = tuple(np.array([float(v)]) for v in (d, gbar, r, F))
+    ((atts, events),) = _block_points(runs, [0], n, grid, np.full(n, float(F)), device, window_time, confidence)
+    return atts, events
 
 
 def _assemble(points, shape, x_name, xs, y_name, ys, d, gbar, fixed, n_st, total, settings):

@@ -9,7 +9,8 @@ import vibroimpact as vi
 
 ENTRY_POINTS = ["find_orbit", "continue_orbit", "sweep", "locate_transitions", "bistable_intervals", "basins",
                 "regime_map", "Membrane", "voltage_gain", "speed_si", "averages", "orbit_energy", "branch_energy",
-                "sweep_energy", "simulate", "trajectory", "basin_stability"]
+                "sweep_energy", "simulate", "trajectory", "basin_stability", "critical_shock", "knock_map",
+                "knock_section"]
 
 
 @pytest.mark.parametrize("name", ENTRY_POINTS)

@@ -181,6 +181,16 @@ def pareto_front(U_T, shock) -> np.ndarray:
     """Indices (into the flattened arrays) of the designs no other beats on both output ``U_T`` and critical
     ``shock`` (higher is better for both; NaN is left out), by decreasing shock.
 
+    Parameters
+    ----------
+    U_T, shock : array_like
+        Each design's output and critical shock (``inf``: no admissible knock drops it).
+
+    Returns
+    -------
+    numpy.ndarray
+        The indices of the front.
+
     Examples
     --------
     >>> from vibroimpact.analysis.robust import pareto_front
@@ -202,6 +212,15 @@ def robust_choice(km: xr.Dataset, knock: float, *, row: int | None = None) -> di
     """The design of highest output whose highest-output motion survives every knock up to ``knock`` (in the
     map's unit: its critical shock is at least ``knock``), beside the best design regardless of knocks; among
     the designs of one ``row`` of the map (one value of its y axis, e.g. one incline) if given.
+
+    Parameters
+    ----------
+    km : xarray.Dataset
+        A knock map (:func:`knock_map`).
+    knock : float
+        The knock the design must survive, in the map's unit (``km.attrs["knock_unit"]``).
+    row : int, optional
+        Only the designs of this row of the map (an index along its y axis).
 
     Returns
     -------
@@ -286,7 +305,8 @@ def knock_section(params: Params, shock: Shock | None, phi: float, zs, vs, *, ma
     Z, V = np.meshgrid(zs, vs, indexing="xy")
     ds = attractor_batch(params.d, params.gbar, params.r, phi, V.ravel(), t0=t0, Z0=Z.ravel(),
                          max_periods=max_periods, progress=progress, desc="basins in a section")
-    out = xr.Dataset({"label": (("Zdot", "Z"), ds["label"].values.reshape(Z.shape))},
+    out = xr.Dataset({"label": (("Zdot", "Z"), ds["label"].values.reshape(Z.shape)),
+                      "sticking": (("Zdot", "Z"), ds["sticking"].values.reshape(Z.shape))},
                      coords={"Z": ("Z", zs, {"units": "1", "long_name": "position Z (towards the bottom membrane)"}),
                              "Zdot": ("Zdot", vs, {"units": "1", "long_name": "velocity Zdot"})})
     out.attrs.update(phase=(math.pi * t0 + phi) % (2 * math.pi), t0=t0, phi=phi, d=params.d, gbar=params.gbar,

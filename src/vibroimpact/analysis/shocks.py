@@ -34,7 +34,7 @@ from .windows import empty_windows, window_limits
 from .energy import voltage_gain
 from .motions import APERIODIC, cycle_class
 
-__all__ = ["Shock", "critical_shock", "KINDS", "SCAN_FLOOR", "FINE_SPAN", "LOCAL_MINIMA", "AFTER_IMPACT"]
+__all__ = ["Shock", "critical_shock", "KINDS", "SCAN_FLOOR", "SCAN_RATIO", "FINE_SPAN", "LOCAL_MINIMA", "AFTER_IMPACT"]
 
 #: what a knock changes: the velocity ``Zdot`` or the position ``Z``
 KINDS = ("velocity", "position")
@@ -48,6 +48,8 @@ LOCAL_MINIMA = 3
 AFTER_IMPACT = 1e-4
 #: the knocked runs' period test: tolerance, longest period (events) and cap on events (as :func:`vibroimpact.simulate`)
 PERIOD_TOL, PMAX, MAX_EVENTS = 1e-9, 64, 200_000
+#: the default ratio of successive sizes of the scan's fine steps
+SCAN_RATIO = 1.1
 #: the golden ratio's conjugate, for the phase refinement
 _GOLD = (math.sqrt(5.0) - 1.0) / 2.0
 
@@ -335,7 +337,7 @@ def _boundaries(knocks, rays, idx, levels, ratio, rtol, floor):
 
 
 def critical_shock(params: Params, phi: float, v0: float, *, kind: str = "velocity", phases: int = 24,
-                   rtol: float = 1e-3, max_size: float | None = None, refine: int = 6, scan_ratio: float = 1.1,
+                   rtol: float = 1e-3, max_size: float | None = None, refine: int = 6, scan_ratio: float = SCAN_RATIO,
                    max_periods: float = 200,
                    match_tol: float = 1e-6, device: Device | None = None) -> Shock:
     """The smallest knock that drops a periodic motion to another attractor.

@@ -13,6 +13,7 @@ import xarray as xr
 from ..analysis.energy import delivered
 from ..analysis.lyapunov import t_quantile
 from ..analysis.motions import CHAOTIC, ONE_ONE, TWO_ONE
+from ..analysis.robust import robust_choice
 from ..analysis.settled import LONG_BATCHES
 from ..analysis.transitions import PERIOD_DOUBLING
 from ..benchmarks.workprecision import OUTCOMES
@@ -815,8 +816,6 @@ def knocks_table(km: xr.Dataset, rows_at=()) -> pd.DataFrame:
     """The knock map's designs (:func:`vibroimpact.analysis.robust.robust_choice` at the map's ``knock``): over the
     whole map and at each value of ``rows_at`` on its y axis (e.g. the design table's inclines), the best
     design regardless of knocks and the best whose highest-output motion survives the knock."""
-    from ..analysis.robust import robust_choice
-
     x, y = km.attrs["x"], km.attrs["y"]
     ys = km[y].values
     where = [("whole map", None)] + [(float(v), int(np.argmin(np.abs(ys - v)))) for v in rows_at

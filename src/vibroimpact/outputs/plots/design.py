@@ -9,8 +9,11 @@ from matplotlib.colors import Normalize
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from ._common import curve_pieces, pi_label, pi_ticks, use_style, wellposed
+from ...analysis.robust import pareto_front, robust_choice
+from ...analysis.shocks import SCAN_RATIO
+from ._common import curve_pieces, motion_color, pi_label, pi_ticks, use_style, wellposed
 
+_SYMBOL = {"s": "s", "F": "F", "beta": "β"}
 _AXIS = {"s": "cylinder length $s$ (m)", "F": r"forcing amplitude $\|\hat F\|$ (N)", "beta": r"incline $\beta$ (rad)"}
 
 
@@ -125,3 +128,66 @@ def fig_design_map(ds, curves, best):
                  f"({starts}); tolerance {tol}", fontsize=9)
     return fig
 
+
+
+def _knock_points(km):
+    """The designs a knock map draws: flat arrays of output (kV), critical shock, highest-output motion, whether
+    each is known (an output and a shock, finite or infinite), and whether its highest-output motion is one of
+    several the starts reached (a classification a start near a basin boundary can change)."""
+    u = km["top_U_T"].values.ravel() / 1e3
+    s = km["top_shock"].values.ravel()
+    lab = km["top_label"].values.ravel().astype(str)
+    several = (np.sum(km["share"].values > 0, axis=-1) > 1).ravel()
+    return u, s, lab, np.isfinite(u) & ~np.isnan(s), several
+
+
+def fig_knocks(km):
+    """Output against critical shock over the designs of a knock map
+    (:func:`vibroimpact.analysis.robust.knock_map`): each design's highest-output motion at its critical shock
+    (a circle in the motion's colour; at ∞ where no admissible knock drops it), the Pareto front (ringed: no
+    design beats one of them on both), the knock the robust design survives (dashed), the best design (diamond)
+    and the best that survives the knock (star).  The shock axis is logarithmic; each shock is located to one
+    step of the bisection's scan (``shock_scan_ratio``), recorded for the figure check."""
+    use_style()
+    fig, ax = plt.subplots(figsize=(7.4, 4.6))
+    u, s, lab, known, several = _knock_points(km)
+    knock, unit = float(km.attrs["knock"]), km.attrs["knock_unit"]
+    finite = known & np.isfinite(s)
+    lo = np.log10(min(float(np.min(s[finite], initial=knock)), knock) / 1.6)
+    hi = np.log10(max(float(np.max(s[finite], initial=knock)), knock) * 1.6)
+    x_inf = hi + 0.18  # where a design no knock drops is drawn
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = np.where(np.isinf(s), x_inf, np.log10(s))
+    x, y = np.where(known, x, np.nan), np.where(known, u, np.nan)
+    step = dict(step_x=float(np.log10(km.attrs.get("shock_scan_ratio", SCAN_RATIO))), step_y=0.0)
+    colours = [motion_color(n) if k else "none" for n, k in zip(lab, known, strict=True)]
+    wellposed(ax.scatter(x, y, s=24, c=colours, edgecolor="k", lw=0.3, zorder=3), "located", provenance="simulation",
+              sampled=several, **step)
+    handles = [Line2D([], [], ls="", marker="o", color=motion_color(n), mec="k", mew=0.3, label=n)
+               for n in sorted(set(lab[known]), key=lambda n: -np.sum(lab[known] == n))]
+    front = np.zeros(x.size, bool)
+    front[pareto_front(u, s)] = True
+    wellposed(ax.scatter(np.where(front, x, np.nan), np.where(front, y, np.nan), s=90, facecolor="none",
+                         edgecolor="k", lw=0.9, zorder=4), "located", provenance="simulation", sampled=several, **step)
+    handles.append(Line2D([], [], ls="", marker="o", mfc="none", mec="k", ms=8, label="Pareto front"))
+    wellposed(ax.axvline(np.log10(knock), ls="--", color="0.35", lw=1.0, zorder=1), "located", step_x=0.0, step_y=0.0)
+    handles.append(Line2D([], [], ls="--", color="0.35", label=f"knock to survive: {knock:g} {unit}"))
+    ch = robust_choice(km, knock)
+    for d, marker, size, text in ((ch["best"], "D", 40, "best output"), (ch["robust"], "*", 150, "best surviving the knock")):
+        at = ((x_inf if np.isinf(d["shock"]) else np.log10(d["shock"])), d["U_T"] / 1e3) if d else (np.nan, np.nan)
+        wellposed(ax.scatter([at[0]], [at[1]], s=size, marker=marker, facecolor="w" if marker == "D" else "none",
+                             edgecolor="k", lw=1.1, zorder=5 if marker == "D" else 6), "located",
+                  provenance="simulation", sampled=np.array([True]), **step)
+        handles.append(Line2D([], [], ls="", marker=marker, mfc="none", mec="k", ms=8 if marker == "*" else 6, label=text))
+    decades = np.arange(np.ceil(lo), np.floor(hi) + 1)
+    ax.set_xticks([*decades, x_inf], [*(f"{10 ** k:g}" for k in decades), "∞"])
+    ax.set_xlim(lo, x_inf + 0.12)
+    ax.set_xlabel(f"critical shock of its highest-output motion ({unit}; ∞: no admissible knock drops it)")
+    ax.set_ylabel(r"its output $\bar U_T$ (kV)")
+    missing = int(np.sum(np.isfinite(u) & np.isnan(s)))
+    x_name, y_name = km.attrs["x"], km.attrs["y"]
+    ax.set_title(f"Output against critical shock over the designs of the ({_SYMBOL[x_name]}, {_SYMBOL[y_name]}) plane"
+                 + (f"\n{missing} designs without a critical shock (no periodic motion to knock) not drawn"
+                    if missing else ""), fontsize=8)
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=6)
+    return fig

@@ -314,6 +314,41 @@ def fig_basins(b):
     return fig
 
 
+def fig_knock_section(sec):
+    """The basins a knock crosses (:func:`vibroimpact.analysis.robust.knock_section`): the motion reached from each
+    state of the ``(Z, Zdot)`` section at the forcing phase of a critical shock, in the motions' colours; the state
+    the knock hits (filled circle) and the knocked state (open circle) joined by the knock (arrow); the title
+    gives the design, the knock and the two motions' outputs."""
+
+    use_style()
+    fig, ax = plt.subplots(figsize=(7.4, 4.4))
+    handles = _class_image(ax, sec.attractor, sec.Z.values, sec.Zdot.values, json.loads(sec.attrs["legend"]),
+                           sticking_motions(sec), key=False)
+    a = sec.attrs
+    ax.set_xlabel(r"position $Z$ (non-dimensional; $+d/2$: bottom membrane)")
+    ax.set_ylabel(r"velocity $\dot Z$ (non-dimensional)")
+    title = (f"Basins at the forcing phase {a['phase']:.3f} rad, s = {a['s']:.3g} m, " + beta_label(float(a["beta"]))
+             + f", d = {a['d']:.4g}")
+    if not a.get("reason") and "size" in a:
+        start = (float(a["Z_state"]), float(a["Zdot_state"]))
+        end = (float(a["Z_knocked"]), float(a["Zdot_knocked"]))
+        ax.annotate("", xy=end, xytext=start, arrowprops=dict(arrowstyle="->", color="k", lw=1.2), zorder=5)
+        ax.plot(*start, "o", color="k", ms=5, zorder=6)
+        ax.plot(*end, "o", mfc="w", mec="k", ms=5, zorder=6)
+        handles += [Line2D([], [], ls="", marker="o", color="k", ms=5, label="state the knock hits"),
+                    Line2D([], [], ls="", marker="o", mfc="w", mec="k", ms=5, label="knocked state"),
+                    Line2D([], [], color="k", lw=1.2, label="the critical shock")]
+        title += (f"\ncritical shock {a['size_si']:.3g} {a['size_unit']} drops the {a['motion']} "
+                  f"({float(a['U_T']) / 1e3:.1f} kV)\nto the {a['reached']} ({float(a['reached_U_T']) / 1e3:.1f} kV)")
+        span = float(sec.Z.values[-1] - sec.Z.values[0])
+        ax.set_xlim(float(sec.Z.values[0]) - 0.03 * span, float(sec.Z.values[-1]) + 0.03 * span)  # a state on a wall shows
+    else:
+        title += f"\nno critical shock drawn: {a.get('reason', '')}"
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=6)
+    ax.set_title(title, fontsize=8)
+    return fig
+
+
 def _scan_lines(m, xdim, ydim, scans):
     """The paper's sweeps that lie in the plane of map ``m``: (name, xs, ys) for each."""
     fixed = [k for k in ("beta", "F", "s") if k not in (xdim, ydim) and k in m.attrs]

@@ -1,0 +1,180 @@
+"""Robust design under knocks (vibroimpact.analysis.robust): the critical shock of every attractor of a design map
+against the single-motion call and the map's own outputs, the Pareto front and the robust choice against their
+definitions, the basins a knock crosses against single runs, and the knocks config refused where it makes no
+sense."""
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import vibroimpact as vi
+from vibroimpact.analysis.robust import pareto_front, point_params, robust_choice
+from vibroimpact.outputs.tables import knocks_markdown, knocks_table
+from vibroimpact.outputs.workflow_config import ConfigError, check_knocks
+
+BETA = math.pi / 6
+SHOCK = dict(phases=8, refine=2)
+
+
+@pytest.fixture(scope="module")
+def km():
+    """A small knock map at pi/6: the bistable band (s = 0.2245 m: 2:1 and 3:1), beyond G2 (0.23 m: the 2:1
+    alone), and at pi/3 a chaotic length (d = 0.235) and the long cylinder (0.6 m: the 1:1 beside a
+    stick-release cycle)."""
+    phi, v0 = vi.start_states(16, distribution="box", seed=3)
+    dm = vi.design_map("s", [0.2245, 0.23, 0.235 / vi.Params.from_physical(s=1.0, beta=math.pi / 3).d, 0.6], "beta",
+                       [BETA, math.pi / 3], phi=phi, v0=v0)
+    return vi.knock_map(dm, **SHOCK)
+
+
+def test_each_shock_is_the_single_motion_call_s(km):
+    """At every point and attractor with a shock, vi.critical_shock from the recorded bottom impact, at the point's
+    parameters built anew, gives the same size, phase and motion reached."""
+    dev = vi.Device()
+    checked = 0
+    for iy, ix, a in zip(*np.nonzero(np.isfinite(km["shock"].values)), strict=True):
+        p = dev.params(s=float(km.s[ix]), beta=float(km.beta[iy]))
+        sh = vi.critical_shock(p, float(km.impact_phase[iy, ix, a]), float(km.impact_v_minus[iy, ix, a]), **SHOCK)
+        assert sh.size_si == km["shock"].values[iy, ix, a] and sh.reached == km["shock_reached"].values[iy, ix, a]
+        assert sh.phase == km["shock_phase"].values[iy, ix, a]
+        checked += 1
+    assert checked >= 3
+
+
+def test_the_motion_reached_delivers_the_map_s_output_for_it(km):
+    """Where a knock drops a motion to another attractor of the same point, the reached motion's output (from the
+    knocked run's own cycle) is the design map's output for that attractor (its Newton-solved cycle) to 1e-6."""
+    pairs = 0
+    for iy, ix, a in zip(*np.nonzero(np.isfinite(km["shock"].values)), strict=True):
+        reached = km["shock_reached"].values[iy, ix, a]
+        same = np.flatnonzero(km["label"].values[iy, ix] == reached)
+        if same.size == 1:
+            assert km["shock_reached_U_T"].values[iy, ix, a] == pytest.approx(km["U_T"].values[iy, ix, same[0]], rel=1e-6)
+            pairs += 1
+    assert pairs >= 2
+
+
+def test_what_is_known_and_what_is_missing(km):
+    """The lone 2:1 beyond G2 cannot be knocked off (inf, with the reason); the chaotic length has no shock, its
+    reason says why; the highest-output attractor is the one of largest U_T; every attractor of the map is
+    either knocked or has a reason."""
+    (iy,) = np.flatnonzero(np.isclose(km.beta.values, BETA))
+    assert km["top_label"].values[iy, 1] == "2:1 period-2" and np.isinf(km["top_shock"].values[iy, 1])
+    assert "no velocity knock" in km["top_reason"].values[iy, 1]
+    chaotic = km["label"].values == "chaotic"
+    assert chaotic.any() and all("periodic motions" in r for r in km["shock_reason"].values[chaotic])
+    present = km["label"].values != ""
+    assert np.all(present <= (np.isfinite(km["shock"].values) | (km["shock_reason"].values != "")))
+    u = np.where(km["share"].values >= km.attrs["min_share"], km["U_T"].values, -np.inf)
+    assert np.array_equal(km["top"].values, np.argmax(u, axis=-1))
+
+
+def test_units_and_descriptions(km):
+    for v in ("shock", "shock_size", "shock_phase", "shock_reached_U_T", "top_U_T", "top_shock", "shock_runs"):
+        assert km[v].attrs["units"] and km[v].attrs["long_name"]
+    assert km["shock"].attrs["units"] == "m/s" == km.attrs["knock_unit"]
+
+
+def test_the_pareto_front_is_what_no_design_beats():
+    """On random designs (ties and infinite shocks included): no front point is beaten on both by any design,
+    and every design off the front is beaten on both, or equalled, by a front point."""
+    rng = np.random.default_rng(5)
+    u = rng.integers(0, 8, 60).astype(float)
+    s = np.where(rng.random(60) < 0.2, np.inf, rng.integers(0, 8, 60).astype(float))
+    s[3] = np.nan
+    front = set(pareto_front(u, s).tolist())
+    ok = ~np.isnan(s)
+    for i in np.flatnonzero(ok):
+        beaten = ok & (u >= u[i]) & (s >= s[i]) & ((u > u[i]) | (s > s[i]))
+        if i in front:
+            assert not beaten.any()
+        else:
+            assert beaten.any() or any(u[j] == u[i] and s[j] == s[i] for j in front)
+    assert 3 not in front
+
+
+def _synthetic(u, s, labels):
+    ny, nx = u.shape
+    ds = xr.Dataset({"top_U_T": (("beta", "s"), u), "top_shock": (("beta", "s"), s),
+                     "top_label": (("beta", "s"), labels)},
+                    coords={"beta": np.arange(ny, dtype=float), "s": np.arange(nx, dtype=float) / 10})
+    ds.attrs.update(x="s", y="beta", knock_unit="m/s", knock=1.0)
+    return ds
+
+
+def test_the_robust_choice_is_the_best_that_survives():
+    """Against a direct search: the robust design has the largest output among shocks >= knock (inf survives,
+    NaN is not a design), the best is the largest output of all; within a row, only that row counts."""
+    rng = np.random.default_rng(7)
+    u = rng.random((4, 6)) * 50e3
+    s = rng.choice([0.1, 0.5, 1.0, 2.0, np.inf, np.nan], size=(4, 6))
+    km = _synthetic(u, s, np.full((4, 6), "1:1 period-2"))
+    for knock, row in ((1.0, None), (0.5, 2), (3.0, None), (1.0, 1)):
+        ch = robust_choice(km, knock, row=row)
+        rows = np.arange(4)[:, None] == (row if row is not None else np.arange(4)[:, None])
+        known = ~np.isnan(s) & rows
+        surv = known & (s >= knock)
+        assert ch["survive"] == surv.sum() and ch["designs"] == known.sum()
+        assert ch["best"]["U_T"] == u[known].max()
+        assert (ch["robust"] is None) == (not surv.any())
+        if surv.any():
+            assert ch["robust"]["U_T"] == u[surv].max() and ch["robust"]["shock"] >= knock
+    with pytest.raises(ValueError, match=r"knock = -1\.0; allowed: a finite size >= 0 \(in m/s\)"):
+        robust_choice(km, -1.0)
+
+
+def test_the_table_says_both_designs(km):
+    """The knocks table: over the map and at each incline, the best design and the best that survives the knock;
+    the surviving one's shock is at least the knock and its output at most the best's."""
+    km = km.assign_attrs(knock=0.01)
+    df = knocks_table(km, [BETA, math.pi / 3])
+    assert list(df["among"]) == ["whole map", "whole map", BETA, BETA, math.pi / 3, math.pi / 3]
+    robust = df[df.design == "survives the knock"]
+    assert (robust.shock.fillna(np.inf) >= 0.01).all()
+    for at in ("whole map", BETA):
+        best, surv = df[(df["among"] == at) & (df.design == "best output")], df[(df["among"] == at) & (df.design != "best output")]
+        assert float(surv.U_T.iloc[0]) <= float(best.U_T.iloc[0])
+    md = knocks_markdown(df, km)
+    assert "The knock: 0.01 m/s" in md and "| beta = π/6" in md and "∞" in md and "runs per motion" in md
+
+
+def test_the_section_is_what_single_runs_reach(km):
+    """At the long cylinder's 1:1 motion: the state the knock hits returns to it, the knocked state reaches the
+    motion the shock names (vi.simulate from it); cells of the section reach the motions single runs do."""
+    (iy,) = np.flatnonzero(np.isclose(km.beta.values, math.pi / 3))
+    ix = int(np.flatnonzero(np.isclose(km.s.values, 0.6))[0])
+    a = int(km["top"].values[iy, ix])
+    p = point_params(km, iy, ix, vi.Device())
+    phi, v0 = float(km.impact_phase[iy, ix, a]), float(km.impact_v_minus[iy, ix, a])
+    sh = vi.critical_shock(p, phi, v0, **SHOCK)
+    zs, vs = np.linspace(-p.d / 2, p.d / 2, 7), np.linspace(-1.0, 1.0, 5)
+    sec = vi.knock_section(p, sh, phi, zs, vs)
+    t0 = sec.attrs["t0"]
+
+    def reached(z, v):
+        return vi.identify_attractor(vi.simulate(p, phi, v, Z0=z, t0=t0, n_impacts=20_000)).label
+
+    assert reached(sec.attrs["Z_knocked"], sec.attrs["Zdot_knocked"]) == sh.reached == sec.attrs["reached"]
+    assert reached(sec.attrs["Z_state"], sec.attrs["Zdot_state"]) == sh.motion
+    for j, k in ((0, 0), (2, 3), (4, 6), (1, 5)):
+        assert sec.label.values[j, k] == reached(zs[k], vs[j])
+    assert sec.attrs["phase"] == pytest.approx(sh.phase, abs=1e-12)
+    with pytest.raises(ValueError, match=r"zs = .*allowed: \|Z\| <= d/2"):
+        vi.knock_section(p, sh, phi, [0.0, p.d], vs)
+
+
+@pytest.mark.parametrize("change, key", [
+    (dict(map="nowhere"), "knocks.map = 'nowhere'"), (dict(kind="speed"), "knocks.kind = 'speed'"),
+    (dict(knock=math.inf), "knocks.knock = inf"), (dict(section={"s": -0.5, "beta": 1.0}), "knocks.section"),
+])
+def test_a_knocks_config_that_makes_no_sense_is_refused(change, key):
+    knocks = dict(map="s_beta", kind="velocity", knock=2.0, section={"s": 0.6, "beta": 1.0}) | change
+    maps = {"s_beta": {"x": "s", "y": "beta"}, "d_gbar": {"x": "d", "y": "gbar"}}
+    with pytest.raises(ConfigError, match="allowed") as err:
+        check_knocks(knocks, maps, vi.Device())
+    assert key in str(err.value)
+    with pytest.raises(ConfigError, match="physical axes"):
+        check_knocks(dict(knocks, map="d_gbar") if "map" not in change else knocks | {"map": "d_gbar"}, maps,
+                     vi.Device())

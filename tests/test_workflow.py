@@ -5,6 +5,7 @@ import re
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 import xarray as xr
 import yaml
@@ -380,3 +381,21 @@ def test_a_package_change_reruns_the_jobs_whose_scripts_import_it(tmp_path):
     assert planned_after_editing("analysis/design.py") == set()
     assert planned_after_editing("outputs/plots/orbits.py") == {"scene_figure"}
     assert planned_after_editing("dynamics/flight.py") == {"caption_orbits", "caption_summary", "scene_figure"}
+
+
+def test_the_default_target_knocks_every_design_of_its_plane(default_run):
+    """The default target's knock map (README's first command, in a scratch clone under another libm): every
+    attractor of every design either has a critical shock or says why not; the table names the knock and both
+    designs over the map; the figures are drawn."""
+    tmp_path, res = default_run
+    assert res.returncode == 0, res.stderr[-2000:]
+    km = xr.open_dataset(tmp_path / "results" / "knocks" / "map.nc", engine="netcdf4")
+    present = km["label"].values != ""
+    known = ~np.isnan(km["shock"].values)
+    assert present.any() and np.all(present <= (known | (km["shock_reason"].values != "")))
+    runs = km["shock_runs"].values[known]
+    assert np.all(runs > 0) and np.median(runs) <= 2000  # ten times fewer than a 20 000-sample random search
+    table = (tmp_path / "results" / "tables" / "knocks.md").read_text()
+    assert f"The knock: {km.attrs['knock']:g} m/s" in table and "| whole map | best output" in table
+    for stem in ("knocks", "knock_section"):
+        assert (tmp_path / "results" / "figures" / f"{stem}.png").stat().st_size > 1000

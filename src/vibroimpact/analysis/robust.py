@@ -43,7 +43,7 @@ def _why_not(label: str, phase: float, v_minus: float) -> str:
     if label == AT_REST:
         return "at rest on the bottom membrane: the forcing never lifts the ball"
     if label in NO_PERIOD_LABELS:
-        return f"{label}: the critical shock is defined here for periodic motions"
+        return f"{label}: the critical shock is defined for periodic motions only"
     if not (math.isfinite(phase) and math.isfinite(v_minus)):
         return "no bottom impact of the motion recorded to start it from"
     return ""

@@ -178,3 +178,14 @@ def test_a_knocks_config_that_makes_no_sense_is_refused(change, key):
     with pytest.raises(ConfigError, match="physical axes"):
         check_knocks(dict(knocks, map="d_gbar") if "map" not in change else knocks | {"map": "d_gbar"}, maps,
                      vi.Device())
+
+
+def test_the_points_shared_among_processes_give_the_same_map(km):
+    """workers=2 (two processes of one thread each) gives every shock, reason and run count of one process, to
+    the last bit: each knocked run is independent of the others."""
+    two = vi.knock_map(km, workers=2, **SHOCK)
+    for v in ("shock", "shock_size", "shock_phase", "shock_reached_U_T", "shock_runs", "shock_direction"):
+        assert np.array_equal(two[v].values, km[v].values, equal_nan=True), v
+    assert (two["shock_reason"].values == km["shock_reason"].values).all()
+    with pytest.raises(ValueError, match=r"workers = 0; allowed: an integer >= 1"):
+        vi.knock_map(km, workers=0)

@@ -20,7 +20,8 @@ phi, v0 = start_states(pre["starts"], distribution=st["distribution"], seed=st["
 dm = design_map(sp["x"], xs, sp["y"], ys, phi=phi, v0=v0, device=device, max_periods=snakemake.params.max_periods,
                 tol=snakemake.params.tol, window=snakemake.params.window, window_time=snakemake.params.window_time,
                 min_share=de["min_share"], confidence=de["confidence"], **{k: sp[k] for k in ("beta", "s", "F") if k in sp})
-km = knock_map(dm, kind=kn["kind"], device=device)
+# the points shared among the job's threads, one process each (the same shocks as in one process)
+km = knock_map(dm, kind=kn["kind"], device=device, workers=max(1, snakemake.threads))
 km.attrs.update(provenance(**dict(snakemake.params)), map=kn["map"], knock=float(kn["knock"]),
                 distribution=st["distribution"], seed=st["seed"])
 write_netcdf(km, snakemake.output[0])

@@ -12,7 +12,11 @@ motion's critical shock, the picture of what the knock crosses.
 from __future__ import annotations
 
 import math
+import multiprocessing
+import sys
+from concurrent.futures import ProcessPoolExecutor
 
+import numba
 import numpy as np
 import xarray as xr
 
@@ -49,7 +53,7 @@ def _why_not(label: str, phase: float, v_minus: float) -> str:
     return ""
 
 
-def knock_map(dm: xr.Dataset, *, kind: str = "velocity", device: Device | None = None,
+def knock_map(dm: xr.Dataset, *, kind: str = "velocity", device: Device | None = None, workers: int = 1,
               progress: bool | None = None, **shock_kw) -> xr.Dataset:
     """The critical shock of every attractor at every point of a design map.
 
@@ -62,6 +66,9 @@ def knock_map(dm: xr.Dataset, *, kind: str = "velocity", device: Device | None =
         The knock (:func:`vibroimpact.critical_shock`).
     device : Device, optional
         The harvester the map was made for (the paper's by default).
+    workers : int
+        Processes the points are shared among (one thread each; 1: this process, its kernels in parallel).  The
+        result does not depend on it.
     progress : bool, optional
         A progress bar over the points (default: only when run interactively).
     **shock_kw
@@ -95,6 +102,8 @@ def knock_map(dm: xr.Dataset, *, kind: str = "velocity", device: Device | None =
     """
     if kind not in KINDS:
         raise ValueError(f"kind = {kind!r}; allowed: one of {KINDS}")
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise ValueError(f"workers = {workers!r}; allowed: an integer >= 1")
     device = PAPER if device is None else device
     shape = dm["label"].shape
     fields = {k: np.full(shape, np.nan) for k in ("shock", "shock_size", "shock_phase", "shock_reached_U_T")}
@@ -103,28 +112,59 @@ def knock_map(dm: xr.Dataset, *, kind: str = "velocity", device: Device | None =
     reason = np.full(shape, "", dtype=object)
     labels = dm["label"].values.astype(str)
     ny, nx, na = shape
+    tasks = [(point_params(dm, iy, ix, device), [(a, labels[iy, ix, a], float(dm["impact_phase"].values[iy, ix, a]),
+                                                 float(dm["impact_v_minus"].values[iy, ix, a])) for a in range(na)
+                                                if labels[iy, ix, a]], kind, device, shock_kw)
+             for iy in range(ny) for ix in range(nx)]
     shown = interactive() if progress is None else bool(progress)
     with Progress(ny * nx, f"critical shocks over ({dm.attrs['x']}, {dm.attrs['y']})", shown, unit="point") as bar:
-        for iy in range(ny):
-            for ix in range(nx):
-                params = point_params(dm, iy, ix, device)
-                for a in range(na):
-                    if not labels[iy, ix, a]:
-                        continue
-                    phase, vm = (float(dm[v].values[iy, ix, a]) for v in ("impact_phase", "impact_v_minus"))
-                    why = _why_not(labels[iy, ix, a], phase, vm)
-                    sh = None
-                    if not why:
-                        try:
-                            sh = critical_shock(params, phase, vm, kind=kind, device=device, **shock_kw)
-                        except ValueError as err:  # the start's run finds no period within the cap
-                            why = f"no critical shock: {err}"
-                    if sh is not None:
-                        why = sh.reason
-                        _fill(fields, ints, reached, (iy, ix, a), sh)
-                    reason[iy, ix, a] = why
-                bar.update(1)
+        for flat, found in enumerate(_each_point(tasks, workers)):
+            iy, ix = divmod(flat, nx)
+            for a, sh, why in found:
+                if sh is not None:
+                    _fill(fields, ints, reached, (iy, ix, a), sh)
+                reason[iy, ix, a] = why
+            bar.update(1)
     return _assemble(dm, kind, fields, ints, reached, reason, shock_kw)
+
+
+def _point_shocks(task):
+    """The critical shocks of one point's attractors: ``[(attractor, Shock or None, reason)]``."""
+    params, attractors, kind, device, shock_kw = task
+    out = []
+    for a, label, phase, vm in attractors:
+        why, sh = _why_not(label, phase, vm), None
+        if not why:
+            try:
+                sh = critical_shock(params, phase, vm, kind=kind, device=device, **shock_kw)
+                why = sh.reason
+            except ValueError as err:  # the start's run finds no period within the cap
+                why = f"no critical shock: {err}"
+        out.append((a, sh, why))
+    return out
+
+
+def _one_thread():
+    numba.set_num_threads(1)
+
+
+def _each_point(tasks, workers):
+    """:func:`_point_shocks` of every task, in order: in this process, or in ``workers`` processes of one thread
+    each (each shock is the same either way: the runs of a batch are independent)."""
+    if workers == 1:
+        yield from map(_point_shocks, tasks)
+        return
+    ctx = multiprocessing.get_context("spawn")  # numba's threads do not survive a fork
+    # a spawned worker re-runs the caller's script unless told it has none: everything a worker runs lives in
+    # this package, so the script (a Snakemake job's, a user's without a __main__ guard) is not run again
+    main = sys.modules["__main__"]
+    path = main.__dict__.pop("__file__", None) if getattr(main, "__spec__", None) is None else None
+    try:
+        with ProcessPoolExecutor(workers, mp_context=ctx, initializer=_one_thread) as pool:
+            yield from pool.map(_point_shocks, tasks, chunksize=1)
+    finally:
+        if path is not None:
+            main.__file__ = path
 
 
 def _fill(fields, ints, reached, at, sh: Shock):

@@ -21,9 +21,10 @@ dm = design_map(sp["x"], xs, sp["y"], ys, phi=phi, v0=v0, device=device, max_per
                 tol=snakemake.params.tol, window=snakemake.params.window, window_time=snakemake.params.window_time,
                 min_share=de["min_share"], confidence=de["confidence"], **{k: sp[k] for k in ("beta", "s", "F") if k in sp})
 # the points shared among the job's threads, one process each (the same shocks as in one process)
-km = knock_map(dm, kind=kn["kind"], device=device, workers=max(1, snakemake.threads))
+workers = max(1, snakemake.threads)
+km = knock_map(dm, kind=kn["kind"], device=device, workers=workers)
 km.attrs.update(provenance(**dict(snakemake.params)), map=kn["map"], knock=float(kn["knock"]),
-                distribution=st["distribution"], seed=st["seed"])
+                distribution=st["distribution"], seed=st["seed"], workers=workers)
 write_netcdf(km, snakemake.output[0])
 runs = km["shock_runs"].values
 logging.info("%d points, %d attractors knocked, %d runs (at most %d per motion)", km["top"].size,

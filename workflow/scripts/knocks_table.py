@@ -2,6 +2,7 @@
 incline of the design table), and what the shocks cost."""
 import logging
 
+import pandas as pd
 import xarray as xr
 
 from vibroimpact.outputs.tables import knocks_markdown, knocks_table
@@ -11,4 +12,4 @@ km = xr.load_dataset(snakemake.input[0], engine="netcdf4")
 df = knocks_table(km, snakemake.params.table_betas if km.attrs["y"] == "beta" else ())
 df.to_csv(snakemake.output.csv, index=False)
 with open(snakemake.output.md, "w") as fh:
-    fh.write(knocks_markdown(df, km))
+    fh.write(knocks_markdown(df, km, seconds=float(pd.read_csv(snakemake.input.cost, sep="\t")["s"].iloc[0])))

@@ -831,9 +831,10 @@ def knocks_table(km: xr.Dataset, rows_at=()) -> pd.DataFrame:
     return pd.DataFrame(out)
 
 
-def knocks_markdown(df: pd.DataFrame, km: xr.Dataset) -> str:
+def knocks_markdown(df: pd.DataFrame, km: xr.Dataset, seconds: float | None = None) -> str:
     """The knock map's table: its two designs, then what the map holds and what its shocks cost (runs per motion
-    against the random search's)."""
+    against the random search's, and the job's time in ``seconds`` where given: whole job, its design map
+    included)."""
     x, y, unit = km.attrs["x"], km.attrs["y"], km.attrs["knock_unit"]
     among = lambda a: "whole map" if a == "whole map" else f"{y} = {_pi_name(a) if y == 'beta' else a}"
     rows = [{"among": among(r["among"]), "design": r["design"], "where": _design_name(r if r["found"] else None, x, y),
@@ -849,7 +850,11 @@ def knocks_markdown(df: pd.DataFrame, km: xr.Dataset) -> str:
     out += pd.DataFrame(rows).to_markdown(index=False) + "\n\n"
     out += (f"{runs.size} motions knocked, {int(np.median(runs)) if runs.size else 0} runs per motion (median), "
             f"{int(runs.max(initial=0))} at most, against {BRUTE_FORCE_RUNS} for a random search "
-            "(Attractors.jl's MCSBruteForce default).\n")
+            "(Attractors.jl's MCSBruteForce default)")
+    if seconds is not None:
+        out += (f"; the whole job (its design map of {km['top'].size} designs included) took {seconds:.0f} s on "
+                f"{km.attrs.get('workers', 1)} processes")
+    out += ".\n"
     for why, n in reasons.items():
         out += f"\n- no critical shock at {n} design(s): {why}"
     return out + ("\n" if len(reasons) else "")

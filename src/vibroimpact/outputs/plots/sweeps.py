@@ -332,6 +332,7 @@ def fig_knock_section(sec):
     if not a.get("reason") and "size" in a:
         start = (float(a["Z_state"]), float(a["Zdot_state"]))
         end = (float(a["Z_knocked"]), float(a["Zdot_knocked"]))
+        ax.plot(*zip(start, end, strict=True), "-", color="k", lw=1.2, zorder=5)  # the knock, its head below
         ax.annotate("", xy=end, xytext=start, arrowprops=dict(arrowstyle="->", color="k", lw=1.2), zorder=5)
         ax.plot(*start, "o", color="k", ms=5, zorder=6)
         ax.plot(*end, "o", mfc="w", mec="k", ms=5, zorder=6)

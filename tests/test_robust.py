@@ -69,12 +69,43 @@ def test_what_is_known_and_what_is_missing(km):
     assert np.all(present <= (np.isfinite(km["shock"].values) | (km["shock_reason"].values != "")))
     u = np.where(km["share"].values >= km.attrs["min_share"], km["U_T"].values, -np.inf)
     assert np.array_equal(km["top"].values, np.argmax(u, axis=-1))
+    # the top's label, output, shock and reason are those of that attractor at that point
+    pairs = (("top_label", "label"), ("top_U_T", "U_T"), ("top_shock", "shock"), ("top_reason", "shock_reason"))
+    for (iy, ix), a in np.ndenumerate(km["top"].values):
+        for top, var in pairs:
+            mine, its = km[top].values[iy, ix], km[var].values[iy, ix, a]
+            assert mine == its or (isinstance(its, float) and math.isnan(its) and math.isnan(mine)), (iy, ix, top)
 
 
 def test_units_and_descriptions(km):
     for v in ("shock", "shock_size", "shock_phase", "shock_reached_U_T", "top_U_T", "top_shock", "shock_runs"):
         assert km[v].attrs["units"] and km[v].attrs["long_name"]
     assert km["shock"].attrs["units"] == "m/s" == km.attrs["knock_unit"]
+
+
+@pytest.mark.parametrize("kind, unit, component", [("velocity", "m/s", "velocity Zdot"),
+                                                   ("position", "m", "position Z")])
+def test_a_point_with_no_output_has_no_top_and_the_shock_names_its_component(km, kind, unit, component):
+    """Two points of the map (one length, both inclines), each with a single attractor without a period (no
+    shock is computed for it): the first carries an output, the second none (U_T NaN). The first's top is its
+    attractor; the second has none (top = -1, no label, output or shock, and the reason). The shock's unit and
+    description are those of the knock's kind."""
+    dm = km.isel(s=[0]).copy(deep=True)
+    assert dm.sizes["beta"] == 2
+    dm["label"].values[...] = ""
+    dm["label"].values[:, 0, 0] = "unsettled"
+    dm["share"].values[...] = 0.0
+    dm["share"].values[:, 0, 0] = 1.0
+    dm["U_T"].values[...] = np.nan
+    dm["U_T"].values[0, 0, 0] = 1000.0
+    two = vi.knock_map(dm, kind=kind, **SHOCK)
+    assert two["top"].values.tolist() == [[0], [-1]] and two["top_label"].values.tolist() == [["unsettled"], [""]]
+    assert two["top_U_T"].values[0, 0] == 1000.0 and np.isnan(two["top_U_T"].values[1, 0])
+    assert np.isnan(two["top_shock"].values).all() and np.isnan(two["shock"].values).all()
+    assert "periodic motions only" in two["top_reason"].values[0, 0]
+    assert two["top_reason"].values[1, 0] == "no attractor with an output"
+    assert two["shock"].attrs["units"] == unit == two.attrs["knock_unit"]
+    assert f"the ball's {component} that drops" in two["shock"].attrs["long_name"]
 
 
 def test_the_pareto_front_is_what_no_design_beats():
@@ -163,6 +194,27 @@ def test_the_section_is_what_single_runs_reach(km):
     assert sec.attrs["phase"] == pytest.approx(sh.phase, abs=1e-12)
     with pytest.raises(ValueError, match=r"zs = .*allowed: \|Z\| <= d/2"):
         vi.knock_section(p, sh, phi, [0.0, p.d], vs)
+
+
+def test_a_section_without_a_knock_is_at_the_start_s_phase_and_says_why():
+    """Without a shock (None) or with one no admissible knock reaches (inf), the section is at the start's
+    phase (t0 = 0), says why, and its cells reach what single runs from those states at t = 0 reach."""
+    p = vi.Params(d=0.13975, gbar=0.12201)
+    phi, v0 = 1.645, 0.05067
+    zs, vs = np.array([-0.03, 0.03]), np.array([-0.4, 0.4])
+    none = vi.knock_section(p, None, phi, zs, vs)
+    reason = "no periodic motion to knock"
+    assert (none.attrs["t0"], none.attrs["phase"], none.attrs["reason"]) == (0.0, phi, reason)
+    assert "Z_knocked" not in none.attrs
+    inf = vi.critical_shock(p, phi, v0, max_size=1e-5, phases=2, refine=0)
+    assert inf.size == math.inf
+    sec = vi.knock_section(p, inf, phi, zs, vs)
+    assert (sec.attrs["t0"], sec.attrs["phase"], sec.attrs["reason"]) == (0.0, phi, inf.reason)
+    assert math.isnan(sec.attrs["Z_knocked"]) and math.isnan(sec.attrs["Zdot_knocked"])
+    assert np.array_equal(sec.label.values, none.label.values)
+    for j, k in ((0, 0), (1, 1)):
+        run = vi.simulate(p, phi, vs[j], Z0=zs[k], t0=0.0, n_impacts=20_000)
+        assert sec.label.values[j, k] == vi.identify_attractor(run).label
 
 
 @pytest.mark.parametrize("change, key", [

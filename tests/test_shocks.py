@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import vibroimpact as vi
+from vibroimpact.analysis import shocks
 from vibroimpact.analysis.shocks import critical_shock
 
 BETA = math.pi / 6
@@ -170,9 +171,83 @@ def test_no_admissible_knock_leaves_a_lone_motion():
     assert sh.simulations > 8
 
 
+@pytest.mark.parametrize("kind", ["velocity", "position"])
+def test_a_shock_just_below_the_largest_admissible_knock_is_found(kind):
+    """With ``max_size`` a tenth of a per cent above the critical shock, the leaving knocks lie in the scan's
+    last step: the shock is still found (every ray is knocked at the largest admissible size), the same one,
+    at the same time and in the same direction."""
+    p = vi.Params(d=BISTABLE, gbar=GBAR)
+    free = critical_shock(p, *STARTS["3:1 period-2"], kind=kind, phases=2, refine=0)
+    capped = critical_shock(p, *STARTS["3:1 period-2"], kind=kind, phases=2, refine=0, max_size=1.001 * free.size)
+    assert capped.size <= 1.001 * free.size and capped.size == pytest.approx(free.size, rel=2e-3)
+    assert (capped.delay, capped.direction, capped.reached) == (free.delay, free.direction, free.reached)
+
+
+def test_a_knocked_run_that_does_not_repeat_in_time_has_left_without_an_output():
+    """From the 3:1 orbit's own bottom impact (Newton-solved: the reference run repeats at once) with a cap of
+    20 forcing periods, the knock that leaves is the uncapped call's (to the 2:1), but the run after it has no
+    period yet: it reaches "no period found", with no output (NaN), beside the 3:1 motion's own."""
+    p = vi.Params(d=BISTABLE, gbar=GBAR)
+    o = vi.find_orbit(p, "BBBT", 5.88, 0.3967)
+    free = critical_shock(p, o.phi, float(o.v_minus[0]), phases=2, refine=0)
+    capped = critical_shock(p, o.phi, float(o.v_minus[0]), phases=2, refine=0, max_periods=20)
+    assert free.reached == "2:1 period-2" and capped.size == pytest.approx(free.size, rel=1e-9)
+    assert capped.reached == "no period found" and math.isnan(capped.reached_U_T)
+    assert capped.U_T == free.U_T and math.isfinite(capped.U_T)
+
+
+def test_two_cycles_are_one_only_event_by_event():
+    """A cycle is the same as itself, as itself with every phase a turn on or moved by half the tolerance, and
+    as its events in another order; not with one event's phase or pre-impact velocity moved by twice the
+    tolerance, nor with one event on the other wall, whatever the motion's label and events count say."""
+    p, tol = vi.Params(d=BISTABLE, gbar=GBAR), 1e-6
+    ref = vi.simulate(p, *STARTS["3:1 period-2"], stop_when_periodic=True, t_end=400.0)
+    cyc = shocks._cycle(ref)
+    assert cyc["t"].size == 4
+
+    def moved(key, j, by):
+        values = cyc[key].copy()
+        values[j] = values[j] + by
+        return cyc | {key: values}
+
+    order = np.arange(4)[::-1]
+    assert shocks._same(cyc, cyc, tol) and shocks._same(cyc | {"phase": cyc["phase"] + 2 * math.pi}, cyc, tol)
+    assert shocks._same(cyc, {k: cyc[k][order] if k in ("t", "wall", "v_minus", "phase", "kind") else v
+                              for k, v in cyc.items()}, tol)
+    for j in range(4):
+        assert shocks._same(moved("phase", j, tol / 2), cyc, tol) and shocks._same(moved("v_minus", j, -tol / 2), cyc, tol)
+        for other in (moved("phase", j, 2 * tol), moved("v_minus", j, 2 * tol), moved("wall", j, -2 * cyc["wall"][j])):
+            assert not shocks._same(other, cyc, tol) and not shocks._same(cyc, other, tol), j
+
+
+def test_the_refinement_scans_from_an_eighth_to_twice_the_best_knock_so_far(monkeypatch):
+    """Each golden-section step scans its new times from an eighth of the smallest knock found so far, then a
+    quarter, then by ``scan_ratio`` from half of it up to twice it: the scans the refinement asks for, recorded,
+    against the best that each step leaves; the shock is the smallest of them."""
+    calls = []
+    scan = shocks._scan
+
+    def record(knocks, rays, idx, levels):
+        calls.append(np.asarray(levels, dtype=float))
+        return scan(knocks, rays, idx, levels)
+
+    monkeypatch.setattr(shocks, "_scan", record)
+    p = vi.Params(d=BISTABLE, gbar=GBAR)
+    sh = critical_shock(p, *STARTS["3:1 period-2"], phases=4, refine=3, scan_ratio=1.1)
+    assert len(calls) == 1 + 1 + 3  # the grid, the first two golden-section points, one per step
+    bests = []
+    for levels in calls[1:]:
+        best = levels[-1] / 2
+        steps = 0.5 * best * 1.1 ** np.arange(int(math.log(4.0, 1.1)) + 1)
+        assert np.array_equal(levels, [best / 8, best / 4, *steps, 2 * best])
+        bests.append(best)
+    assert all(a >= b for a, b in zip(bests, bests[1:], strict=False)) and sh.size <= bests[-1]
+
+
 @pytest.mark.parametrize("kwargs, named", [
     (dict(kind="speed"), "kind = 'speed'"), (dict(phases=1), "phases = 1"), (dict(phases=2.5), "phases = 2.5"),
     (dict(rtol=0.0), "rtol = 0.0"), (dict(rtol=0.7), "rtol = 0.7"), (dict(max_size=-1.0), "max_size = -1.0"),
+    (dict(max_size=0.0), "max_size = 0.0"),
     (dict(max_size=math.inf), "max_size = inf"), (dict(refine=-1), "refine = -1"),
 ])
 def test_bad_input_is_named(kwargs, named):

@@ -70,7 +70,7 @@ LAYER = {**{m: "dynamics" for m in ("params", "flight", "events", "kernels", "ru
          **{m: "analysis" for m in ("orbits", "grazing", "continuation", "bifurcation", "settled", "sweeps", "energy",
                                     "design", "lyapunov", "family_exit", "d_graz", "motions", "windows", "transitions",
                                     "bistability", "grids", "basins", "regime_maps", "shocks",
-                                    "basin_stability")},
+                                    "basin_stability", "robust")},
          **{m: "benchmarks" for m in ("methods", "peer_heyoka", "peer_siconos", "workprecision", "bench")},
          **{m: "outputs" for m in ("tables", "checks", "paper", "portraits", "figdata", "figcheck", "conditioning")}}
 
@@ -127,6 +127,9 @@ TESTS = {
     "sweeps": ["tests/test_sweeps.py"],
     "energy": ["tests/test_energy.py"],
     "design": ["tests/test_design.py"],
+    "robust": ["tests/test_robust.py"],
+    "basin_stability": ["tests/test_basin_stability.py"],
+    "shocks": ["tests/test_shocks.py"],
     "settled": ["tests/test_settled.py", "tests/test_energy.py"],
     "lyapunov": ["tests/test_lyapunov.py", "tests/test_impact_law.py"],
     "family_exit": ["tests/test_family_exit.py"],

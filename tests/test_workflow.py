@@ -106,7 +106,7 @@ def test_bad_config_fails_before_any_job(tmp_path, key, value, words):
 #: a device file with a misspelt top-level key, and the one line that refuses it
 MISSPELT = "physiks:\n  omega: 14.137166941154069\n"
 REFUSAL = ("config: physiks = {'omega': 14.137166941154069} is not allowed; allowed: one of the keys device, quality, "
-           "physics, captions, scenes, resolution, attractor, branches, branch_scenes, sweeps, basins, maps, design, "
+           "physics, captions, scenes, resolution, attractor, branches, branch_scenes, sweeps, basins, maps, design, knocks, "
            "membrane, energy, chaos, studies, study_defaults, checks, figure_checks, bifurcation, work_precision, "
            "failure_map, bench; did you mean physics?")
 
@@ -383,6 +383,7 @@ def test_a_package_change_reruns_the_jobs_whose_scripts_import_it(tmp_path):
     assert planned_after_editing("dynamics/flight.py") == {"caption_orbits", "caption_summary", "scene_figure"}
 
 
+@pytest.mark.slow
 def test_the_default_target_knocks_every_design_of_its_plane(default_run):
     """The default target's knock map (README's first command, in a scratch clone under another libm): every
     attractor of every design either has a critical shock or says why not; the table names the knock and both

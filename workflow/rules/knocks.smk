@@ -10,7 +10,7 @@ rule knock_map:
     log:
         "logs/knocks/map.log",
     benchmark:
-        "benchmarks/knocks/map.tsv"
+        "benchmarks/knock_map/map.tsv"
     conda:
         "../envs/vibroimpact.yaml"
     threads: 2
@@ -35,7 +35,7 @@ rule knock_section:
     log:
         "logs/knocks/section.log",
     benchmark:
-        "benchmarks/knocks/section.tsv"
+        "benchmarks/knock_section/section.tsv"
     conda:
         "../envs/vibroimpact.yaml"
     threads: 2
@@ -57,7 +57,7 @@ rule knocks_table:
     input:
         "results/knocks/map.nc",
         # the knock map's job time (its benchmark file), for the cost line
-        cost="benchmarks/knocks/map.tsv",
+        cost="benchmarks/knock_map/map.tsv",
     output:
         csv="results/tables/knocks.csv",
         md="results/tables/knocks.md",

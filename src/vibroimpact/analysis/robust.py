@@ -97,7 +97,7 @@ def knock_map(dm: xr.Dataset, *, kind: str = "velocity", device: Device | None =
     [['2:1 period-2', '2:1 period-2']]
     >>> [round(float(v), 3) for v in km.top_shock.values[0]]    # m/s
     [0.022, inf]
-    >>> km.shock_reached.values[0, 0].tolist(), km.shock_reason.values[0, 1, 0]
+    >>> km.shock_reached.values[0, 0].tolist(), str(km.shock_reason.values[0, 1, 0])
     (['2:1 period-2', '3:1 period-2'], 'no velocity knock within the admissible range leaves the basin')
     """
     if kind not in KINDS:

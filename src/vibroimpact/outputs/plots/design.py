@@ -167,7 +167,7 @@ def fig_knocks(km):
     wellposed(ax.scatter(x, y, s=24, c=colours, edgecolor="k", lw=0.3, zorder=3), "located", provenance="simulation",
               sampled=several, **step)
     handles = [Line2D([], [], ls="", marker="o", color=motion_color(n), mec="k", mew=0.3, label=n)
-               for n in sorted(set(lab[known]), key=lambda n: -np.sum(lab[known] == n))]
+               for n in sorted(set(lab[known]), key=lambda n: (-np.sum(lab[known] == n), n))]  # a tie by name
     front = np.zeros(x.size, bool)
     front[pareto_front(u, s)] = True
     wellposed(ax.scatter(np.where(front, x, np.nan), np.where(front, y, np.nan), s=90, facecolor="none",

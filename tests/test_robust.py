@@ -10,7 +10,7 @@ import pytest
 import xarray as xr
 
 import vibroimpact as vi
-from vibroimpact.analysis.robust import pareto_front, point_params, robust_choice
+from vibroimpact.analysis.robust import mark_choices, pareto_front, point_params, robust_choice
 from vibroimpact.outputs.tables import knocks_markdown, knocks_table
 from vibroimpact.outputs.workflow_config import ConfigError, check_knocks
 
@@ -241,3 +241,15 @@ def test_the_points_shared_among_processes_give_the_same_map(km):
     assert (two["shock_reason"].values == km["shock_reason"].values).all()
     with pytest.raises(ValueError, match=r"workers = 0; allowed: an integer >= 1"):
         vi.knock_map(km, workers=0)
+
+
+def test_the_marked_designs_are_the_front_and_the_choice(km):
+    """mark_choices flags what the figure draws: the Pareto front's points and the two designs robust_choice picks."""
+    marked = mark_choices(km, 0.01)
+    assert set(np.flatnonzero(marked["pareto"].values.ravel())) == set(
+        pareto_front(km["top_U_T"].values, km["top_shock"].values).tolist())
+    ch = robust_choice(km, 0.01)
+    for flag in ("best", "robust"):
+        (iy,), (ix,) = np.nonzero(marked[flag].values)
+        assert (float(km.s[ix]), float(km.beta[iy])) == (ch[flag]["s"], ch[flag]["beta"])
+    assert marked.attrs["knock"] == 0.01 and marked.attrs["shock_fine_span"] > 1

@@ -5,7 +5,7 @@ import logging
 import numba
 
 from vibroimpact.analysis.design import design_map, grid_axes, start_states
-from vibroimpact.analysis.robust import knock_map
+from vibroimpact.analysis.robust import knock_map, mark_choices
 from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.dynamics.device import Device
 
@@ -22,8 +22,8 @@ dm = design_map(sp["x"], xs, sp["y"], ys, phi=phi, v0=v0, device=device, max_per
                 min_share=de["min_share"], confidence=de["confidence"], **{k: sp[k] for k in ("beta", "s", "F") if k in sp})
 # the points shared among the job's threads, one process each (the same shocks as in one process)
 workers = max(1, snakemake.threads)
-km = knock_map(dm, kind=kn["kind"], device=device, workers=workers)
-km.attrs.update(provenance(**dict(snakemake.params)), map=kn["map"], knock=float(kn["knock"]),
+km = mark_choices(knock_map(dm, kind=kn["kind"], device=device, workers=workers), float(kn["knock"]))
+km.attrs.update(provenance(**dict(snakemake.params)), map=kn["map"],
                 distribution=st["distribution"], seed=st["seed"], workers=workers)
 write_netcdf(km, snakemake.output[0])
 runs = km["shock_runs"].values

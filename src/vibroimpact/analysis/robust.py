@@ -26,10 +26,10 @@ from ..dynamics.params import Params
 from .._progress import Progress, interactive
 from .design import AT_REST
 from .motions import NO_PERIOD_LABELS
-from .shocks import KINDS, Shock, critical_shock
+from .shocks import FINE_SPAN, KINDS, Shock, critical_shock
 from .windows import attractor_batch
 
-__all__ = ["knock_map", "robust_choice", "pareto_front", "knock_section", "point_params"]
+__all__ = ["knock_map", "robust_choice", "pareto_front", "mark_choices", "knock_section", "point_params"]
 
 _UNIT = {"velocity": "m/s", "position": "m"}
 
@@ -194,7 +194,8 @@ def _assemble(dm, kind, fields, ints, reached, reason, shock_kw):
     ds["shock_reason"] = (dims3, reason.astype(str), {"units": "1", "long_name": "why no critical shock was "
                           "computed ('' where it was)"})
     _top(ds, dm.attrs.get("min_share", 0.0))
-    ds.attrs.update(knock_kind=kind, knock_unit=unit, **{f"shock_{k}": v for k, v in shock_kw.items()})
+    ds.attrs.update(knock_kind=kind, knock_unit=unit, shock_fine_span=FINE_SPAN,
+                    **{f"shock_{k}": v for k, v in shock_kw.items()})
     return annotate(ds)
 
 
@@ -297,6 +298,45 @@ def robust_choice(km: xr.Dataset, knock: float, *, row: int | None = None) -> di
 
     return {"robust": design(survive), "best": design(known), "knock": float(knock), "unit": km.attrs["knock_unit"],
             "designs": int(known.sum()), "survive": int(survive.sum())}
+
+
+def mark_choices(km: xr.Dataset, knock: float) -> xr.Dataset:
+    """``km`` with the designs a figure marks, per point: ``pareto`` (on the Pareto front of output against
+    critical shock, :func:`pareto_front`), ``best`` and ``robust`` (the designs :func:`robust_choice` picks over
+    the whole map for ``knock``); the knock in the attributes ``knock``, ``knock_unit``.
+
+    Parameters
+    ----------
+    km : xarray.Dataset
+        A knock map (:func:`knock_map`).
+    knock : float
+        The knock the robust design survives, in the map's unit.
+
+    Returns
+    -------
+    xarray.Dataset
+        The knock map with the three flags.
+    """
+    ch = robust_choice(km, knock)
+    dims, shape = km["top_U_T"].dims, km["top_U_T"].shape
+    front = np.zeros(shape, bool)
+    front.flat[pareto_front(km["top_U_T"].values, km["top_shock"].values)] = True
+    x, y = km.attrs["x"], km.attrs["y"]
+
+    def flag(d):
+        out = np.zeros(shape, bool)
+        if d is not None:
+            out[int(np.argmin(np.abs(km[y].values - d[y]))), int(np.argmin(np.abs(km[x].values - d[x])))] = True
+        return out
+
+    km = km.assign(pareto=(dims, front, {"units": "1", "long_name": "on the Pareto front of output against "
+                                         "critical shock (no design has more of both)"}),
+                   best=(dims, flag(ch["best"]), {"units": "1", "long_name": "the design of highest output"}),
+                   robust=(dims, flag(ch["robust"]), {"units": "1", "long_name": "the design of highest output "
+                                                      f"whose highest-output motion survives a knock of {knock:g} "
+                                                      f"{ch['unit']}"}))
+    km.attrs["knock"] = float(knock)
+    return km
 
 
 def knock_section(params: Params, shock: Shock | None, phi: float, zs, vs, *, max_periods: float = 200,

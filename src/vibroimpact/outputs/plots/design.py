@@ -9,8 +9,6 @@ from matplotlib.colors import Normalize
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from ...analysis.robust import pareto_front, robust_choice
-from ...analysis.shocks import FINE_SPAN
 from ._common import curve_pieces, motion_color, pi_label, pi_ticks, use_style, wellposed
 
 _SYMBOL = {"s": "s", "F": "F", "beta": "β"}
@@ -147,8 +145,9 @@ def fig_knocks(km):
     (a circle in the motion's colour; at ∞ where no admissible knock drops it), the Pareto front (ringed: no
     design beats one of them on both), the knock the robust design survives (dashed), the best design (diamond)
     and the best that survives the knock (star).  The shock axis is logarithmic; the figure check compares each
-    shock to within the factor :data:`~vibroimpact.analysis.shocks.FINE_SPAN` its fine scan spans (another
-    machine can find another of the thin bands in which impacting basins interleave)."""
+    shock to within the factor its fine scan spans (``shock_fine_span``: another machine can find another of the
+    thin bands in which impacting basins interleave).  The front and the two designs are the dataset's
+    (:func:`vibroimpact.analysis.robust.mark_choices`)."""
     use_style()
     fig, ax = plt.subplots(figsize=(7.4, 4.6))
     u, s, lab, known, several = _knock_points(km)
@@ -162,22 +161,21 @@ def fig_knocks(km):
     x, y = np.where(known, x, np.nan), np.where(known, u, np.nan)
     # a shock is the smallest boundary the scan found; where the basins interleave in bands narrower than its
     # steps, another machine's last bits can find another band within the factor the fine scan spans below it
-    step = dict(step_x=float(np.log10(FINE_SPAN)), step_y=0.0)
+    step = dict(step_x=float(np.log10(km.attrs["shock_fine_span"])), step_y=0.0)
     colours = [motion_color(n) if k else "none" for n, k in zip(lab, known, strict=True)]
     wellposed(ax.scatter(x, y, s=24, c=colours, edgecolor="k", lw=0.3, zorder=3), "located", provenance="simulation",
               sampled=several, **step)
     handles = [Line2D([], [], ls="", marker="o", color=motion_color(n), mec="k", mew=0.3, label=n)
                for n in sorted(set(lab[known]), key=lambda n: (-np.sum(lab[known] == n), n))]  # a tie by name
-    front = np.zeros(x.size, bool)
-    front[pareto_front(u, s)] = True
+    front = km["pareto"].values.ravel()
     wellposed(ax.scatter(np.where(front, x, np.nan), np.where(front, y, np.nan), s=90, facecolor="none",
                          edgecolor="k", lw=0.9, zorder=4), "located", provenance="simulation", sampled=several, **step)
     handles.append(Line2D([], [], ls="", marker="o", mfc="none", mec="k", ms=8, label="Pareto front"))
     wellposed(ax.axvline(np.log10(knock), ls="--", color="0.35", lw=1.0, zorder=1), "located", step_x=0.0, step_y=0.0)
     handles.append(Line2D([], [], ls="--", color="0.35", label=f"knock to survive: {knock:g} {unit}"))
-    ch = robust_choice(km, knock)
-    for d, marker, size, text in ((ch["best"], "D", 40, "best output"), (ch["robust"], "*", 150, "best surviving the knock")):
-        at = ((x_inf if np.isinf(d["shock"]) else np.log10(d["shock"])), d["U_T"] / 1e3) if d else (np.nan, np.nan)
+    for flag, marker, size, text in (("best", "D", 40, "best output"), ("robust", "*", 150, "best surviving the knock")):
+        mark = np.flatnonzero(km[flag].values.ravel())
+        at = (x[mark[0]], y[mark[0]]) if mark.size else (np.nan, np.nan)
         wellposed(ax.scatter([at[0]], [at[1]], s=size, marker=marker, facecolor="w" if marker == "D" else "none",
                              edgecolor="k", lw=1.1, zorder=5 if marker == "D" else 6), "located",
                   provenance="simulation", sampled=np.array([True]), **step)

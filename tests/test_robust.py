@@ -10,7 +10,7 @@ import pytest
 import xarray as xr
 
 import vibroimpact as vi
-from vibroimpact.analysis.robust import mark_choices, pareto_front, point_params, robust_choice
+from vibroimpact.analysis.robust import mark_choices, pareto_front, point_params, robust_choice, table_choices
 from vibroimpact.outputs.tables import knocks_markdown, knocks_table
 from vibroimpact.outputs.workflow_config import ConfigError, check_knocks
 
@@ -160,7 +160,7 @@ def test_the_table_says_both_designs(km):
     """The knocks table: over the map and at each incline, the best design and the best that survives the knock;
     the surviving one's shock is at least the knock and its output at most the best's."""
     km = km.assign_attrs(knock=0.01)
-    df = knocks_table(km, [BETA, math.pi / 3])
+    df = knocks_table(table_choices(km, 0.01, [BETA, math.pi / 3, 0.123]), km)
     assert list(df["among"]) == ["whole map", "whole map", BETA, BETA, math.pi / 3, math.pi / 3]
     robust = df[df.design == "survives the knock"]
     assert (robust.shock.fillna(np.inf) >= 0.01).all()

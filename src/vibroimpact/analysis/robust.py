@@ -29,7 +29,7 @@ from .motions import NO_PERIOD_LABELS
 from .shocks import FINE_SPAN, KINDS, Shock, critical_shock
 from .windows import attractor_batch
 
-__all__ = ["knock_map", "robust_choice", "pareto_front", "mark_choices", "knock_section", "point_params"]
+__all__ = ["knock_map", "robust_choice", "pareto_front", "mark_choices", "table_choices", "knock_section", "point_params"]
 
 _UNIT = {"velocity": "m/s", "position": "m"}
 
@@ -298,6 +298,30 @@ def robust_choice(km: xr.Dataset, knock: float, *, row: int | None = None) -> di
 
     return {"robust": design(survive), "best": design(known), "knock": float(knock), "unit": km.attrs["knock_unit"],
             "designs": int(known.sum()), "survive": int(survive.sum())}
+
+
+def table_choices(km: xr.Dataset, knock: float, rows_at=()) -> dict:
+    """:func:`robust_choice` over the whole map (key ``"whole map"``) and within each row of the map at a value of
+    ``rows_at`` on its y axis (e.g. the design table's inclines; key: the value), for the knocks table
+    (:func:`vibroimpact.outputs.tables.knocks_table`).
+
+    Parameters
+    ----------
+    km : xarray.Dataset
+        A knock map (:func:`knock_map`).
+    knock : float
+        The knock the robust design survives, in the map's unit.
+    rows_at : sequence of float
+        Values of the map's y axis; those not on it are passed over.
+
+    Returns
+    -------
+    dict
+        The choices, by where they are made.
+    """
+    ys = km[km.attrs["y"]].values
+    rows = {float(v): int(np.argmin(np.abs(ys - v))) for v in rows_at if np.min(np.abs(ys - v)) < 1e-12}
+    return {"whole map": robust_choice(km, knock)} | {v: robust_choice(km, knock, row=r) for v, r in rows.items()}
 
 
 def mark_choices(km: xr.Dataset, knock: float) -> xr.Dataset:

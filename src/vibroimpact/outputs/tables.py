@@ -13,7 +13,6 @@ import xarray as xr
 from ..analysis.energy import delivered
 from ..analysis.lyapunov import t_quantile
 from ..analysis.motions import CHAOTIC, ONE_ONE, TWO_ONE
-from ..analysis.robust import robust_choice
 from ..analysis.settled import LONG_BATCHES
 from ..analysis.transitions import PERIOD_DOUBLING
 from ..benchmarks.workprecision import OUTCOMES
@@ -812,17 +811,13 @@ def _design_name(d: dict | None, x: str, y: str) -> str:
     return f"{fmt[x](d[x])}, {fmt[y](d[y])}"
 
 
-def knocks_table(km: xr.Dataset, rows_at=()) -> pd.DataFrame:
-    """The knock map's designs (:func:`vibroimpact.analysis.robust.robust_choice` at the map's ``knock``): over the
-    whole map and at each value of ``rows_at`` on its y axis (e.g. the design table's inclines), the best
-    design regardless of knocks and the best whose highest-output motion survives the knock."""
+def knocks_table(choices: dict, km: xr.Dataset) -> pd.DataFrame:
+    """The knock map's designs: for each set of designs ``choices`` names (``"whole map"``, or a value of the
+    map's y axis) what :func:`vibroimpact.analysis.robust.robust_choice` picked, the best design regardless of
+    knocks and the best whose highest-output motion survives the knock; two rows each."""
     x, y = km.attrs["x"], km.attrs["y"]
-    ys = km[y].values
-    where = [("whole map", None)] + [(float(v), int(np.argmin(np.abs(ys - v)))) for v in rows_at
-                                     if np.min(np.abs(ys - v)) < 1e-12]
     out = []
-    for at, row in where:
-        ch = robust_choice(km, float(km.attrs["knock"]), row=row)
+    for at, ch in choices.items():
         for which, d in (("best output", ch["best"]), ("survives the knock", ch["robust"])):
             r = {"among": at, "design": which, "found": d is not None, x: np.nan, y: np.nan, "motion": "",
                  "U_T": np.nan, "shock": np.nan, "knock": ch["knock"], "unit": ch["unit"], "designs": ch["designs"],

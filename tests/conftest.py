@@ -80,9 +80,9 @@ def _copy_workflow(tmp_path):
     return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 
 
-def _snakemake(tmp_path, *args):
+def _snakemake(tmp_path, *args, env=None):
     return subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", *args], cwd=tmp_path,
-                          capture_output=True, text=True, timeout=600)
+                          capture_output=True, text=True, timeout=600, env=None if env is None else os.environ | env)
 
 
 # ---- README.md's commands, executed as written (tests/test_readme.py) -----------------------------
@@ -167,3 +167,27 @@ def default_run(readme_clone):
     """The default target and `check` as README.md runs them (in a scratch clone, under another libm)."""
     clone, _, check = readme_clone
     return clone, check
+
+
+# ---- the suite's durations, for the testing page (tools/test_durations.py) ----------------------------------
+import time as _time  # noqa: E402
+
+#: where a run of the whole suite (no paths, no -m, no -k) leaves every test's seconds (setup, call and teardown
+#: summed), read by tools/test_durations.py; results/ is not tracked, so the clone stays clean
+DURATIONS = ROOT / "results" / "tests" / "durations.csv"
+_seconds: dict[str, float] = {}
+_started = _time.perf_counter()
+
+
+def pytest_runtest_logreport(report):
+    _seconds[report.nodeid] = _seconds.get(report.nodeid, 0.0) + report.duration
+
+
+def pytest_sessionfinish(session, exitstatus):
+    opt = session.config.option
+    whole = not session.config.args_source.name == "ARGS" and not opt.markexpr and not opt.keyword
+    if whole and _seconds:
+        DURATIONS.parent.mkdir(parents=True, exist_ok=True)
+        rows = sorted(_seconds.items(), key=lambda kv: -kv[1])
+        DURATIONS.write_text("test,seconds\n" + "".join(f'"{k}",{v:.2f}\n' for k, v in rows)
+                             + f'"(the whole run, wall)",{_time.perf_counter() - _started:.2f}\n')

@@ -39,6 +39,7 @@ rule work_precision:
         "logs/bench/work_precision.log",
     benchmark:
         "benchmarks/bench/work_precision.tsv"
+    priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
     threads: workflow.cores  # timed: run alone
@@ -58,6 +59,7 @@ rule failure_map:
         "logs/bench/failure_map.log",
     benchmark:
         "benchmarks/bench/failure_map.tsv"
+    priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
     threads: 1  # outcomes, not timings: runs beside other jobs (max_seconds only bounds a stalled method)
@@ -80,6 +82,7 @@ rule analytics_accuracy:
         "logs/bench/analytics_accuracy.log",
     benchmark:
         "benchmarks/bench/analytics_accuracy.tsv"
+    priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
     threads: workflow.cores  # timed: run alone
@@ -129,6 +132,7 @@ rule bench_figure:
         "benchmarks/bench_figure/{bench}.tsv"
     wildcard_constraints:
         bench="work_precision|failure_map|analytics_accuracy",
+    priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
     params:

@@ -11,6 +11,7 @@ rule knock_map:
         "logs/knocks/map.log",
     benchmark:
         "benchmarks/knock_map/map.tsv"
+    priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
     threads: 2
@@ -36,6 +37,7 @@ rule knock_section:
         "logs/knocks/section.log",
     benchmark:
         "benchmarks/knock_section/section.tsv"
+    priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
     threads: 2
@@ -63,6 +65,7 @@ rule knocks_table:
         md="results/tables/knocks.md",
     log:
         "logs/tables/knocks.log",
+    priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
     params:

@@ -38,6 +38,7 @@ rule basins:
         "logs/basins/beta-{beta}_r-{r}/{basin}.log",
     benchmark:
         "benchmarks/basins/beta-{beta}_r-{r}/{basin}.tsv"
+    priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
     threads: 2
@@ -58,6 +59,7 @@ rule regime_map:
         "logs/maps/{map}_r-{r}.log",
     benchmark:
         "benchmarks/maps/{map}_r-{r}.tsv"
+    priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
     threads: 2
@@ -141,6 +143,7 @@ rule fig_basins:
         "logs/figures/basins.log",
     benchmark:
         "benchmarks/fig_basins/basins.tsv"
+    priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
     params:
@@ -164,6 +167,7 @@ rule fig_regime_map:
         "logs/figures/regime_map.log",
     benchmark:
         "benchmarks/fig_regime_map/regime_map.tsv"
+    priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
     params:

@@ -1,0 +1,95 @@
+"""The default target's cold wall time, this tree against a baseline commit, measured in one run.
+
+    .venv/bin/python benchmarks/bench_default_target.py [BASELINE] [--rounds N] [--out FILE]
+
+Each run starts from nothing, as a fresh clone does: a scratch copy of the files (the baseline commit's, from
+`git archive`, or this working tree's: the files git tracks and new ones it does not ignore), no results,
+numba's cache empty (a directory of its own), the same Python environment; then `snakemake --cores 2` (the
+default target at the configured preset).  With ``--rounds N`` the two alternate N times (baseline first) and
+each side's fastest run is reported, so that a noisy stretch of a shared machine slows one round of each.  The
+baseline defaults to ``HEAD`` (the last commit, against the uncommitted tree).  Per run: the wall seconds, the
+jobs run, and from the jobs' own benchmark files the sum of their wall and CPU seconds.  Prints a Markdown table
+with the machine and the command; ``--out`` also writes it to a file.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import os
+import platform
+import shutil
+import subprocess
+import sys
+import tarfile
+import tempfile
+import time
+from pathlib import Path
+
+import pandas as pd
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_devices import ROOT, scratch_copy  # noqa: E402
+
+
+def baseline_copy(rev: str, dest: Path) -> Path:
+    """The files of commit ``rev`` in ``dest``."""
+    data = subprocess.run(["git", "archive", "--format=tar", rev], cwd=ROOT, capture_output=True, check=True).stdout
+    with tarfile.open(fileobj=io.BytesIO(data)) as tar:
+        tar.extractall(dest, filter="data")
+    return dest
+
+
+def job_seconds(bench_dir: Path) -> tuple[int, float, float]:
+    """Jobs, and the sums of their wall and CPU seconds, from a run's Snakemake benchmark files."""
+    n, wall, cpu = 0, 0.0, 0.0
+    for f in bench_dir.rglob("*.tsv"):
+        rows = list(csv.DictReader(f.open(), delimiter="\t"))
+        if rows:
+            n, wall, cpu = n + 1, wall + float(rows[-1]["s"]), cpu + float(rows[-1]["cpu_time"])
+    return n, wall, cpu
+
+
+def cold_default_target(tree: Path, where: Path) -> dict:
+    """``snakemake --cores 2`` in ``tree`` with an empty numba cache under ``where``."""
+    env = os.environ | {"NUMBA_CACHE_DIR": str(where / "numba"), "PYTHONPATH": str(tree / "src")}
+    env.pop("VIRTUAL_ENV", None)
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2"], cwd=tree, env=env, check=True,
+                   capture_output=True)
+    wall = time.perf_counter() - t0
+    n, job_wall, job_cpu = job_seconds(tree / "benchmarks")
+    return {"wall seconds (cold)": wall, "benchmarked jobs": n, "jobs' wall seconds": job_wall,
+            "jobs' CPU seconds": job_cpu}
+
+
+def main(baseline: str = "HEAD", rounds: int = 1) -> pd.DataFrame:
+    sides = {f"baseline ({baseline})": lambda d: baseline_copy(baseline, d), "this tree": scratch_copy}
+    runs = {name: [] for name in sides}
+    with tempfile.TemporaryDirectory() as tmp:
+        for k in range(rounds):
+            for name, copy in sides.items():
+                where = Path(tmp) / f"{k}-{len(runs[name])}-{name.split()[0]}"
+                (where / "tree").mkdir(parents=True)
+                runs[name].append(cold_default_target(copy(where / "tree"), where))
+                shutil.rmtree(where)
+    rows = [{"tree": name, **min(r, key=lambda x: x["wall seconds (cold)"])} for name, r in runs.items()]
+    df = pd.DataFrame(rows).round(1)
+    df["ratio to the baseline"] = (df["wall seconds (cold)"] / df["wall seconds (cold)"].iloc[0]).round(2)
+    return df
+
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("baseline", nargs="?", default="HEAD")
+    ap.add_argument("--rounds", type=int, default=1)
+    ap.add_argument("--out")
+    a = ap.parse_args()
+    table = main(a.baseline, a.rounds).to_markdown(index=False)
+    cpu = os.cpu_count()
+    text = (f"{table}\n\nMachine: {platform.machine()}, {cpu} cores, {platform.system()} {platform.release()}, "
+            f"Python {platform.python_version()}. Command: `python benchmarks/bench_default_target.py "
+            f"{a.baseline} --rounds {a.rounds}` ({time.strftime('%Y-%m-%d', time.gmtime())}).\n")
+    print(text)
+    if a.out:
+        Path(a.out).write_text(text)

@@ -161,6 +161,11 @@ def _bench_datasets():
             "curve_seconds": ((), 0.3),
             "sweep_points": ((), 1000),
             "sweep_seconds": ((), 12.0),
+            "sweep_full_events_per_second": ((), 4.2e6),
+            "sweep_kernel_events_per_second": ((), 6.0e6),
+            "sweep_full_kernel_ratio": ((), 0.7),
+            "sweep_batch_events_per_second": ((), 8.0e6),
+            "sweep_full_batch_ratio": ((), 0.5),
         }
     )
     cost = pd.DataFrame(
@@ -193,7 +198,7 @@ def test_every_summary_row_the_speed_page_cites_is_generated():
         for n in re.findall(r"`([a-z][\w-]*)`", text)
         if re.match(
             r"(kernel|heyoka_stepping|impacts_per_second|exact_|work_precision_|matched_|failure_"
-            r"|analytics_|cost_)",
+            r"|analytics_|cost_|sweep_)",
             n,
         )
         and n != "analytics_accuracy"
@@ -206,6 +211,8 @@ def test_every_summary_row_the_speed_page_cites_is_generated():
     row = df.set_index("row").value
     assert row["heyoka_stepping_ratio"] == "1×" and row["impacts_per_second_1"] == "4.6–5"
     assert row["failure_chaos_loose"] == "60" and row["cost_timed_benchmarks"] == "27 s"
+    assert (row["sweep_full_events_per_second"], row["sweep_kernel_events_per_second"],
+            row["sweep_full_kernel_ratio"]) == ("4.2", "6", "0.7")
 
 
 # ---- computed numbers in the guide's prose, against the package -----------------------------------------

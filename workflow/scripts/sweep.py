@@ -2,6 +2,7 @@
 among them placed at the branches' flips) and bistable intervals; its output voltages and averages."""
 import logging
 
+import numba
 import numpy as np
 import xarray as xr
 
@@ -14,6 +15,8 @@ from vibroimpact.datasets import provenance, write_netcdf
 from vibroimpact.dynamics.device import Device
 
 logging.basicConfig(filename=snakemake.log[0], level=logging.INFO)
+# the cores the scheduler gave the job: the directions, long runs and transitions go side by side on them
+numba.set_num_threads(max(1, min(snakemake.threads, numba.config.NUMBA_NUM_THREADS)))
 sc, sw = snakemake.params.scene, snakemake.params.sweeps
 device = Device.from_config(**snakemake.params.device).replace(r=snakemake.params.r)
 values = np.linspace(sc["range"][0], sc["range"][1], snakemake.params.points)

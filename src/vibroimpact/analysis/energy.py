@@ -26,7 +26,7 @@ import xarray as xr
 from ..datasets import annotate
 from ..dynamics import kernels as K
 from ..dynamics.device import PAPER, Device, Membrane, speed_si
-from .settled import LONG_BATCHES, STICK_REL, long_run
+from .settled import LONG_BATCHES, STICK_REL, long_runs
 
 __all__ = ["Membrane", "voltage_gain", "speed_si", "averages", "window_averages", "orbit_energy", "branch_energy", "sweep_energy",
            "delivered"]
@@ -271,14 +271,15 @@ def _settled_energy(sw, F, device):
         cu_t = np.where(per > 0, total / (2.0 * per), np.nan)
     long = np.full((*shape, 4), np.nan)
     batches = int(sw.attrs.get("long_batches", LONG_BATCHES))
-    for idx in np.ndindex(shape):
-        if str(sw["long_status"].values[idx]) != "aperiodic":
-            continue
-        run = long_run(sw.d.values[idx[-1]], sw.gbar.values[idx[-1]], sw.attrs["r"], sw["long_phi"].values[idx],
-                       sw["long_v0"].values[idx], impacts=int(sw.attrs["long_impacts"]), tol=float(sw.attrs.get("tol", 1e-9)))
-        if run["status"] != "aperiodic":
-            continue
-        long[idx] = batch_averages(run, F[idx], device, batches=batches)
+    todo = [idx for idx in np.ndindex(shape) if str(sw["long_status"].values[idx]) == "aperiodic"]
+    if todo:  # the long runs again, side by side (their exponents are not needed)
+        runs = long_runs(*(np.array([float(x) for x in col]) for col in zip(*(
+            (sw.d.values[idx[-1]], sw.gbar.values[idx[-1]], sw.attrs["r"], sw["long_phi"].values[idx],
+             sw["long_v0"].values[idx]) for idx in todo), strict=True)),
+            impacts=int(sw.attrs["long_impacts"]), tol=float(sw.attrs.get("tol", 1e-9)), exponents=False)
+        for idx, run in zip(todo, runs, strict=True):
+            if run["status"] == "aperiodic":
+                long[idx] = batch_averages(run, F[idx], device, batches=batches)
     dims, edims = ("direction", "point"), ("direction", "point", "cycle")
     return {
         "cycle_gain": (edims, cyc_gain, {"units": "V", "long_name": "gain of each impact of the attractor's cycle"}),

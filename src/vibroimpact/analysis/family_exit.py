@@ -23,6 +23,7 @@ slowest impact of the motion beyond (an impact born at a grazing is born with ze
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 import xarray as xr
@@ -31,7 +32,7 @@ from ..datasets import VARIABLES, annotate
 from ..dynamics import impact as law
 from ..dynamics import kernels as K
 from ..dynamics.params import Params
-from ..dynamics.runs import simulate
+from ..dynamics.runs import simulate, simulated_events
 from .grazing import interior_clearance
 from .grids import plane_params
 from .motions import identify_attractor
@@ -68,9 +69,24 @@ def _clearance(run: xr.Dataset, d: float, gbar: float, r: float) -> float:
                 for j in range(t.size - 1)), default=math.inf)
 
 
-def _last_bottom(run: xr.Dataset):
-    b = np.flatnonzero((run.wall.values == 1) & (run.kind.values == K.IMPACT) & (run.v_minus.values > 0))
-    return (float(run.phase.values[b[-1]]), float(run.v_minus.values[b[-1]])) if b.size else None
+def _last_bottom(run):
+    """Phase and pre-impact velocity of a run's last bottom impact (a :class:`_Tail`), or None."""
+    b = np.flatnonzero((run.wall == 1) & (run.kind == K.IMPACT) & (run.v_minus > 0))
+    return (float(run.phase[b[-1]]), float(run.v_minus[b[-1]])) if b.size else None
+
+
+#: the events a :class:`_Tail` keeps
+_TAIL_VARS = ("t", "wall", "v_minus", "phase", "kind")
+
+
+class _Tail(namedtuple("_Tail", ("run", *_TAIL_VARS))):
+    """The judged events of a run of :func:`family_exit` (``run``: ``(d, gbar, r, start, transient, impacts)``)."""
+
+    def dataset(self) -> xr.Dataset:
+        """The same events as :func:`~vibroimpact.simulate`'s dataset (the run made again: the same events)."""
+        d, gbar, r, start, transient, impacts = self.run
+        ev = simulate(Params(d=d, gbar=gbar, r=r), phi=start[0], v0=start[1], n_impacts=transient + impacts)
+        return ev.isel(impact=slice(transient, None))
 
 
 def family_exit(d, gbar, r: float, phi: float, v0: float, *, n: int = 1, impacts: int = 4000,
@@ -128,10 +144,10 @@ def family_exit(d, gbar, r: float, phi: float, v0: float, *, n: int = 1, impacts
     def g_at(x):
         return float(np.interp(x, d[::-1], gbar[::-1]))
 
-    def run(x, start):
-        ev = simulate(Params(d=x, gbar=g_at(x), r=r), phi=start[0], v0=start[1], n_impacts=transient + impacts)
-        tail = ev.isel(impact=slice(transient, None))
-        return in_family(tail.wall.values, tail.kind.values, n), tail
+    def run(x, start):  # the events only (a dataset is made for the runs kept at the end: _Tail.dataset)
+        bufs, m, _ = simulated_events(Params(d=x, gbar=g_at(x), r=r), start[0], start[1], transient + impacts)
+        tail = _Tail((x, g_at(x), r, start, transient, impacts), *(getattr(bufs, v)[transient:m] for v in _TAIL_VARS))
+        return in_family(tail.wall, tail.kind, n), tail
 
     start = (phi, v0)
     ok, tail = run(d[0], start)
@@ -148,6 +164,7 @@ def family_exit(d, gbar, r: float, phi: float, v0: float, *, n: int = 1, impacts
     if i + 1 == d.size:
         return out | {"status": f"not located: the attractor stays {n}:1 down to the line's smallest d = {d[-1]:.6g}"}
     x, y, last, beyond = _refine_exit(run, d[i], d[i + 1], last, tail, start, d[-1], xtol, max_trials)
+    last, beyond = last.dataset(), beyond.dataset()
     refined = x - y <= xtol
     clearance = _clearance(last, x, g_at(x), r)
     att = identify_attractor(beyond)

@@ -225,16 +225,23 @@ def exponents_of_run(run, *, transient: int, batches: int = 20, slow_speed: floa
         The exponents with their intervals and what the run passed through.
     """
     events = K.Window(*(run[v].values for v in ("t", "wall", "v_minus", "phase")), run["kind"].values.astype(np.int8))
+    model = K.Model(float(run.attrs.get("d", math.nan)), float(run.attrs["gbar"]), float(run.attrs["r"]))
+    return _exponents_of_events(events, model, str(run.attrs.get("status")), transient=transient, batches=batches,
+                                slow_speed=slow_speed, confidence=confidence)
+
+
+def _exponents_of_events(events, model, run_status, *, transient, batches, slow_speed, confidence) -> Lyapunov:
+    """:func:`exponents_of_run` of a run's events (:data:`~vibroimpact.dynamics.kernels.Window`), constants
+    (:data:`~vibroimpact.dynamics.kernels.Model`) and status name (``run_status``)."""
     logs = np.zeros((batches, 2))
     counts = np.zeros(5)
-    model = K.Model(float(run.attrs.get("d", math.nan)), float(run.attrs["gbar"]), float(run.attrs["r"]))
     tangent_pass(events, model, TangentSettings(int(transient), int(batches), float(slow_speed)), logs, counts)
     done, sticks, slow, per, span = int(counts[0]), int(counts[1]), int(counts[2]), int(counts[3]), float(counts[4])
     nan2 = (math.nan, math.nan)
     if per < MIN_PER_BATCH:
         status = (f"too few impacts for an interval: {done} flights between impacts after the transient, "
                   f"fewer than {batches} batches of {MIN_PER_BATCH}")
-        if str(run.attrs.get("status")) == "stuck_forever":
+        if run_status == "stuck_forever":
             status = "rests on the bottom wall for good: no impacts, the motion is a fixed point (exponents -inf)"
             return Lyapunov((-math.inf, -math.inf), (-math.inf, -math.inf), ((-math.inf,) * 2,) * 2,
                             ((-math.inf,) * 2,) * 2, confidence, done, int(transient), math.nan, sticks, slow,

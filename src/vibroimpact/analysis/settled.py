@@ -20,21 +20,23 @@ batch means of what the figures draw, with their standard errors.
 
 from __future__ import annotations
 
+import math
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
 
 from ..dynamics import kernels as K
-from ..dynamics.flight import TWO_PI
+from ..dynamics.flight import PI, TWO_PI
 from ..dynamics.params import Params
 from ..dynamics.runs import simulate
-from .lyapunov import exponents_of_run, multiplier_sensitivity
+from .lyapunov import _exponents_of_events, exponents_of_run, multiplier_sensitivity
 from .motions import no_period_label
 from .orbits import OrbitError, orbit_from_vector, parse_word, solve_orbit, step_jacobians
 from .windows import EVENT_VARS, last_bottom_impact
 
-__all__ = ["polish_cycle", "long_run", "long_statistics", "batch_means", "canonical_start", "split_no_period",
+__all__ = ["polish_cycle", "long_run", "long_runs", "long_statistics", "batch_means", "canonical_start", "split_no_period",
            "NoPeriodSplit",
            "settle_attractors",
            "SETTLE_MATCH", "STICK_REL", "LONG_IMPACTS", "LONG_BATCHES"]
@@ -211,6 +213,85 @@ def long_statistics(events: dict, batches: int = LONG_BATCHES):
     return batch_means(np.abs(events["v_minus"][hit]), batches)
 
 
+#: runs of a batch of long runs simulated at once (bounds its buffers: ``impacts`` events each)
+LONG_CHUNK = 256
+
+
+def _run_events(d, gbar, r, phi, v0, *, impacts: int, detect: bool, tol: float) -> list:
+    """The events of runs from bottom impacts ``(phi, v0)`` as :func:`~vibroimpact.simulate` records them with
+    ``n_impacts=impacts`` and ``stop_when_periodic=detect`` (the same kernel, the same start), side by side on
+    numba's threads (:func:`~vibroimpact.dynamics.kernels.run_batch`): per run ``(t, wall, v_minus, phase, kind,
+    status name)``."""
+    d, gbar, r, phi, v0 = (np.asarray(a, dtype=float).ravel() for a in (d, gbar, r, phi, v0))
+    theta0 = np.array([(PI * 0.0 + float(p)) % TWO_PI for p in phi])  # simulate's start phase, at t0 = 0
+    settings = K.Settings(t_end=math.inf, v_chatter=K.V_CHATTER, detect=bool(detect), tol=float(tol))
+    out = []
+    for a in range(0, d.size, LONG_CHUNK):
+        sl = slice(a, min(a + LONG_CHUNK, d.size))
+        m, n = sl.stop - sl.start, int(impacts)
+        bufs = K.EventBuffers(*(np.empty((m, n), np.int8 if v in ("wall", "kind") else float)
+                                for v in K.EventBuffers._fields))
+        ends = K.Ends(n=np.zeros(m, np.int64), status=np.zeros(m, np.int8), lag=np.zeros(m, np.int64))
+        K.run_batch(K.Batch(*(np.ascontiguousarray(x[sl]) for x in (d, gbar, r, theta0, v0))), settings, 64, bufs,
+                    ends)
+        for k in range(m):
+            n_k = int(ends.n[k])
+            out.append((*(getattr(bufs, v)[k, :n_k].copy() for v in EVENT_VARS), K.STATUS_NAMES[int(ends.status[k])]))
+    return out
+
+
+def long_runs(d, gbar, r, phi, v0, *, impacts: int = LONG_IMPACTS, tol: float = 1e-9,
+              exponents: bool = True) -> list:
+    """:func:`long_run` of many starts at once, the runs side by side on numba's threads.
+
+    Parameters
+    ----------
+    d, gbar, r, phi, v0 : array_like
+        Each run's parameters and first bottom impact (1-D, of one length).
+    impacts, tol : int, float
+        As :func:`long_run`'s.
+    exponents : bool
+        Whether to estimate the Lyapunov exponents (else each dict's ``exponents`` is None).
+
+    Returns
+    -------
+    list of dict
+        :func:`long_run`'s dict of each run, the same to the last bit.
+
+    Examples
+    --------
+    >>> import math, vibroimpact as vi
+    >>> from vibroimpact.analysis.settled import long_runs
+    >>> gbar = vi.Device().gbar(math.pi / 3)
+    >>> one = vi.long_run(0.235, gbar, 0.5, 0.42, 0.87, impacts=2000)
+    >>> many = long_runs([0.235, 0.16], gbar, 0.5, [0.42, 1.0], [0.87, 0.2], impacts=2000)
+    >>> [m["status"] for m in many], bool((many[0]["v_minus"] == one["v_minus"]).all())
+    (['aperiodic', 'settles'], True)
+    >>> many[0]["exponents"].per_impact == one["exponents"].per_impact
+    True
+    """
+    d, gbar, r, phi, v0 = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=float)) for a in (d, gbar, r, phi, v0)))
+    first = _run_events(d, gbar, r, phi, v0, impacts=impacts, detect=True, tol=tol)
+    status = [{"periodic": "settles", "stuck_forever": "stuck"}.get(ev[5], "aperiodic") for ev in first]
+    again = [k for k, st in enumerate(status) if st == "settles"] if exponents else []
+    # where it settles: its exponents are those of the orbit it settles on, the same run continued (long_run)
+    on = dict(zip(again, _run_events(*(a[again] for a in (d, gbar, r, phi, v0)), impacts=impacts, detect=False,
+                                     tol=tol), strict=True))
+    out = []
+    for k, ev in enumerate(first):
+        src = ev if status[k] == "aperiodic" else on.get(k)
+        lam = None if src is None or not exponents else _tangent_estimate(src, (d[k], gbar[k], r[k]), int(impacts))
+        out.append(dict(status=status[k], t=ev[0], v_minus=ev[2], kind=ev[4], exponents=lam))
+    return out
+
+
+def _tangent_estimate(ev, dgr, impacts):
+    """:func:`~vibroimpact.analysis.lyapunov.exponents_of_run` of a run of ``impacts`` events (a
+    :func:`_run_events` entry), as :func:`long_run` takes it: its first tenth discarded."""
+    return _exponents_of_events(K.Window(*ev[:5]), K.Model(*(float(x) for x in dgr)), ev[5],
+                                transient=impacts // 10, batches=LONG_BATCHES, slow_speed=1e-3, confidence=0.95)
+
+
 # a record a call returns: its fields are Attributes, not Parameters
 @dataclass(frozen=True)
 class NoPeriodSplit:  # numpydoc ignore=PR01
@@ -242,7 +323,11 @@ class NoPeriodSplit:  # numpydoc ignore=PR01
 def split_no_period(d, gbar, r, phi, v0, *, impacts: int | None = None, tol: float = 1e-9) -> NoPeriodSplit:
     """Continue a motion with no period from a bottom impact ``(phi, v0)`` (e.g. the last of its window)
     and say what it is (:class:`NoPeriodSplit`)."""
-    run = long_run(d, gbar, r, phi, v0, impacts=LONG_IMPACTS if impacts is None else int(impacts), tol=tol)
+    return _split(long_run(d, gbar, r, phi, v0, impacts=LONG_IMPACTS if impacts is None else int(impacts), tol=tol))
+
+
+def _split(run: dict) -> NoPeriodSplit:
+    """:func:`split_no_period` of a continuation already run (:func:`long_run`'s dict)."""
     lam = run["exponents"]
     nan = float("nan")
     lyap = (lam.per_impact[0], *lam.interval[0], lam.per_time[0]) if lam is not None else (nan,) * 4
@@ -252,7 +337,7 @@ def split_no_period(d, gbar, r, phi, v0, *, impacts: int | None = None, tol: flo
 
 
 def settle_attractors(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = None,
-                      tol: float = 1e-9) -> xr.Dataset:
+                      tol: float = 1e-9, batch: bool = True) -> xr.Dataset:
     """Add what is well-posed about each attractor of a window dataset (a sweep's or
     :func:`~vibroimpact.analysis.windows.attractor_batch`'s): the exact cycle of a periodic one, the long-run statistics of an
     aperiodic one (:func:`polish_cycle`, :func:`long_run`), and the largest Lyapunov exponent of each.
@@ -267,27 +352,42 @@ def settle_attractors(ds: xr.Dataset, d, gbar, r, *, long_impacts: int | None = 
     (:func:`no_period_label`); for every run ``lyap1`` (per impact) with its interval ``lyap1_low``,
     ``lyap1_high``, ``lyap1_time`` (per unit time) and ``lyap1_source``: the multipliers of the
     Newton-solved cycle (exact, ``ln max|mu| / N``), ``-inf`` for a sticking cycle (its map is constant)
-    or a ball at rest, else the long run's tangent estimate (:func:`vibroimpact.lyapunov`).
+    or a ball at rest, else the long run's tangent estimate (:func:`vibroimpact.lyapunov`).  The long runs
+    go side by side on numba's threads (:func:`long_runs`); ``batch=False`` runs them one at a time
+    (:func:`long_run`), with the same result.
     """
     long_impacts = LONG_IMPACTS if long_impacts is None else int(long_impacts)
     shape = ds["status"].shape
     d, gbar, r = (np.broadcast_to(np.asarray(a, dtype=float), shape) for a in (d, gbar, r))
     lags = ds["period_events"].values
+    status = ds["status"].values
     acc = _settled_arrays(shape, max(int(lags.max()) if lags.size else 1, 1), ds["label"].values)
     ev = {v: ds[v].values for v in EVENT_VARS}
     n_real = np.isfinite(ev["t"]).sum(axis=-1)
-    for idx in np.ndindex(shape):
-        n, lag = int(n_real[idx]), int(lags[idx])
-        rows = {v: ev[v][idx][:n] for v in EVENT_VARS}
-        start = last_bottom_impact(*(rows[v] for v in EVENT_VARS), n)
-        if lag and n > lag:
-            _settle_cycle(acc, idx, (d[idx], gbar[idx], r[idx]), rows, n, lag, start, long_impacts)
-        elif int(ds["status"].values[idx]) == K.STUCK_FOREVER:  # at rest on the bottom for good: exact
-            acc["settled"][idx], acc["status"][idx], acc["long_status"][idx] = True, "stuck", "stuck"
-            acc["lyap"][idx] = -np.inf
-            acc["source"][idx] = "at rest on the bottom for good"
-        else:
-            _settle_no_period(acc, idx, (d[idx], gbar[idx], r[idx]), start, long_impacts, tol)
+    starts = {idx: last_bottom_impact(*(ev[v][idx] for v in EVENT_VARS), int(n_real[idx])) for idx in np.ndindex(shape)}
+    dgr = {idx: (d[idx], gbar[idx], r[idx]) for idx in np.ndindex(shape)}
+    cyclic = {idx: bool(lags[idx]) and int(n_real[idx]) > int(lags[idx]) for idx in np.ndindex(shape)}
+    splits = [(idx, dgr[idx], starts[idx]) for idx in np.ndindex(shape) if not cyclic[idx]
+              and int(status[idx]) != K.STUCK_FOREVER and starts[idx] is not None and long_impacts]
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        # the long runs of the motions with no period go on numba's threads while the cycles are solved here
+        pending = pool.submit(_split_runs, splits, long_impacts, tol, batch) if batch else None
+        estimates = []  # the periodic runs whose cycle is not solved: (idx, (d, gbar, r), start)
+        for idx in np.ndindex(shape):
+            n, lag = int(n_real[idx]), int(lags[idx])
+            if cyclic[idx]:
+                rows = {v: ev[v][idx][:n] for v in EVENT_VARS}
+                if _settle_cycle(acc, idx, dgr[idx], rows, n, lag, starts[idx], long_impacts):
+                    estimates.append((idx, dgr[idx], starts[idx]))
+            elif int(status[idx]) == K.STUCK_FOREVER:  # at rest on the bottom for good: exact
+                acc["settled"][idx], acc["status"][idx], acc["long_status"][idx] = True, "stuck", "stuck"
+                acc["lyap"][idx] = -np.inf
+                acc["source"][idx] = "at rest on the bottom for good"
+            else:
+                _settle_no_period(acc, idx, starts[idx], long_impacts)
+        _estimate(acc, estimates, long_impacts, batch)
+        _fill_splits(acc, splits, pending.result() if batch else _split_runs(splits, long_impacts, tol, batch),
+                     long_impacts)
     return _with_settled(ds, acc, long_impacts)
 
 
@@ -304,8 +404,9 @@ def _settled_arrays(shape, width, labels):
         source=np.full(shape, "", dtype=object), labels=labels.astype(object))
 
 
-def _settle_cycle(acc, idx, dgr, rows, n, lag, start, long_impacts):
-    """A run with a period: its Newton-solved cycle and exact lambda_1, or why not and an estimate."""
+def _settle_cycle(acc, idx, dgr, rows, n, lag, start, long_impacts) -> bool:
+    """A run with a period: its Newton-solved cycle and exact lambda_1, or why not; True where lambda_1 is
+    to be estimated from a long run instead (:func:`_estimate`)."""
     span = rows["t"][n - 1] - rows["t"][n - 1 - lag]
     res = polish_cycle(*dgr, *(rows[v][n - lag:n] for v in EVENT_VARS), span=span)
     for v, arr in acc["cycle"].items():
@@ -320,17 +421,31 @@ def _settle_cycle(acc, idx, dgr, rows, n, lag, start, long_impacts):
         acc["lyap"][idx] = -np.inf
         acc["source"][idx] = "sticking cycle: its map over a period is constant (multipliers 0)"
     elif start is not None and long_impacts:  # periodic, not solved: the tangent estimate of a run
-        run = simulate(Params(d=float(dgr[0]), gbar=float(dgr[1]), r=float(dgr[2])), *start, n_impacts=long_impacts)
-        lam = exponents_of_run(run, transient=long_impacts // 10, batches=LONG_BATCHES)
-        acc["lyap"][idx] = (lam.per_impact[0], *lam.interval[0], lam.per_time[0])
-        acc["source"][idx] = f"long run of {long_impacts} impacts ({res['status']})"
+        return True
     else:
         acc["source"][idx] = f"not estimated: the cycle is not solved ({res['status']}) and no long run " + (
             "(long_impacts = 0)" if not long_impacts else "(no bottom impact to restart from)")
+    return False
 
 
-def _settle_no_period(acc, idx, dgr, start, long_impacts, tol):
-    """A run without a period: its long run's statistics, lambda_1 and what the motion is."""
+def _estimate(acc, runs, long_impacts, batch):
+    """lambda_1 of the periodic runs whose cycle is not solved, from the tangent estimate of a run of
+    ``long_impacts`` impacts from each start (``runs``: ``(idx, (d, gbar, r), start)``)."""
+    if batch and runs:
+        cols = [np.array([(*dgr, *start)[c] for _, dgr, start in runs]) for c in range(5)]
+        lams = [_tangent_estimate(ev, dgr, long_impacts) for ev, (_, dgr, _) in zip(
+            _run_events(*cols, impacts=long_impacts, detect=False, tol=1e-9), runs, strict=True)]
+    else:
+        lams = [exponents_of_run(simulate(Params(d=float(dgr[0]), gbar=float(dgr[1]), r=float(dgr[2])), *start,
+                                          n_impacts=long_impacts), transient=long_impacts // 10, batches=LONG_BATCHES)
+                for _, dgr, start in runs]
+    for (idx, _, _), lam in zip(runs, lams, strict=True):
+        acc["lyap"][idx] = (lam.per_impact[0], *lam.interval[0], lam.per_time[0])
+        acc["source"][idx] = f"long run of {long_impacts} impacts ({acc['status'][idx]})"
+
+
+def _settle_no_period(acc, idx, start, long_impacts) -> None:
+    """A run without a period: its restart, or why it has no long run (made by :func:`_split_runs`)."""
     acc["status"][idx] = "aperiodic"
     if start is None or not long_impacts:
         acc["long_status"][idx] = "no restart" if start is None else "not run"
@@ -338,16 +453,29 @@ def _settle_no_period(acc, idx, dgr, start, long_impacts, tol):
                               if start is None else "not estimated: no long run (long_impacts = 0)")
         return
     acc["long_start"][idx] = start
-    split = split_no_period(*dgr, *start, impacts=long_impacts, tol=tol)
-    acc["long_status"][idx] = split.status
-    acc["labels"][idx] = split.label
-    acc["stats"][idx] = long_statistics(split.run, LONG_BATCHES)
-    acc["lyap"][idx] = (split.lyap1, split.lyap1_low, split.lyap1_high, split.lyap1_time)
-    acc["source"][idx] = f"long run of {long_impacts} impacts" + {
-        "aperiodic": "", "settles": " (it settles: the estimate over the orbit it settles on)",
-        "stuck": " (it comes to rest for good)"}.get(split.status, f" ({split.status})")
-    if split.status == "stuck":  # at rest on the bottom for good: exact
-        acc["lyap"][idx] = -np.inf
+
+
+def _split_runs(runs, long_impacts, tol, batch) -> list:
+    """What each motion with no period is (:class:`NoPeriodSplit`), from its long run (``runs``:
+    ``(idx, (d, gbar, r), start)``): side by side (:func:`long_runs`), or one at a time."""
+    if batch and runs:
+        cols = [np.array([(*dgr, *start)[c] for _, dgr, start in runs]) for c in range(5)]
+        return [_split(run) for run in long_runs(*cols, impacts=long_impacts, tol=tol)]
+    return [split_no_period(*dgr, *start, impacts=long_impacts, tol=tol) for _, dgr, start in runs]
+
+
+def _fill_splits(acc, runs, splits, long_impacts):
+    """The long runs' statistics, lambda_1 and what each motion is, into ``acc``."""
+    for (idx, _, _), split in zip(runs, splits, strict=True):
+        acc["long_status"][idx] = split.status
+        acc["labels"][idx] = split.label
+        acc["stats"][idx] = long_statistics(split.run, LONG_BATCHES)
+        acc["lyap"][idx] = (split.lyap1, split.lyap1_low, split.lyap1_high, split.lyap1_time)
+        acc["source"][idx] = f"long run of {long_impacts} impacts" + {
+            "aperiodic": "", "settles": " (it settles: the estimate over the orbit it settles on)",
+            "stuck": " (it comes to rest for good)"}.get(split.status, f" ({split.status})")
+        if split.status == "stuck":  # at rest on the bottom for good: exact
+            acc["lyap"][idx] = -np.inf
 
 
 def _with_settled(ds, acc, long_impacts):

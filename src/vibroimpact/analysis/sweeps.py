@@ -18,7 +18,8 @@ from ..datasets import annotate
 from ..dynamics.device import Device
 from .grids import held_values, parameter_grid
 from .settled import settle_attractors
-from .windows import check_window, empty_windows, last_bottom_impact, run_window, window_dataset
+from ..dynamics import kernels as K
+from .windows import check_window, empty_windows, last_bottom_impact, run_window, window_dataset, window_limits
 
 __all__ = ["sweep"]
 
@@ -26,7 +27,7 @@ __all__ = ["sweep"]
 def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, max_periods: float = 200,
           max_events: int = 200_000, tol: float = 1e-9, window: int = 65, pmax: int = 64,
           progress: bool | None = None, long_impacts: int | None = None, device: Device | None = None,
-          **held) -> xr.Dataset:
+          batch: bool = True, **held) -> xr.Dataset:
     """Sweep ``s`` (fixed force) or ``F`` (fixed length) up and down, following the attractor.
 
     Parameters
@@ -51,6 +52,11 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
         :data:`vibroimpact.analysis.settled.LONG_IMPACTS`, 0: none).
     device : Device, optional
         The harvester (default the paper's, ``Device()``): its mass, forcing, gravity and restitution.
+    batch : bool
+        Whether the points' runs go in one compiled call, the two directions side by side, and the long runs
+        of :func:`~vibroimpact.analysis.settled.settle_attractors` side by side (the default); ``False`` makes
+        every run from Python, one after the other: the reference the batched path is tested against (the
+        same dataset, to the last bit).
     **held
         The fixed ``s`` (m, of a force sweep; 0.85 by default) or ``F`` (N, of a length sweep; the device's
         by default), and ``r`` to change the device's restitution.
@@ -92,27 +98,15 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
     r = device.r
     m = d.shape[0]
     win = empty_windows((2, m), window)
-    st = np.zeros((2, m), np.int8)
-    lag = np.zeros((2, m), np.int64)
-    tot = np.zeros((2, m), np.int64)
-    nw = np.zeros((2, m), np.int64)
+    ends = K.WindowEnds(status=np.zeros((2, m), np.int8), lag=np.zeros((2, m), np.int64),
+                        total=np.zeros((2, m), np.int64), n=np.zeros((2, m), np.int64))
     starts = np.zeros((2, m, 2))
-    bar = Progress(2 * m, f"sweep of {vary} (up and down)", progress, unit="point")
-    for k_dir, idx in enumerate((range(m), range(m - 1, -1, -1))):
-        start = (phi, v0)
-        for i in idx:
-            bar.update()
-            w1, st[k_dir, i], lag[k_dir, i], tot[k_dir, i], nw[k_dir, i] = run_window(
-                d[i], gbar[i], r, start[0], start[1], max_periods, max_events, tol, window, pmax)
-            starts[k_dir, i] = start
-            for arr, w in zip(win, w1, strict=True):
-                arr[k_dir, i] = w
-            nxt = last_bottom_impact(*w1, int(nw[k_dir, i]))
-            if nxt is not None:
-                start = nxt
-    bar.close()
+    follow = _follow_chains if batch else _follow_points
+    with Progress(2 * m, f"sweep of {vary} (up and down)", progress, unit="point") as bar:
+        follow((d, gbar, r), (phi, v0), (max_periods, max_events, tol, window, pmax), (win, ends, starts), bar)
+    st, lag, tot, nw = ends
     ds = window_dataset(win, st, lag, tot, nw, dims=("direction", "point"))
-    ds = settle_attractors(ds, d[None, :], gbar[None, :], r, long_impacts=long_impacts, tol=tol)
+    ds = settle_attractors(ds, d[None, :], gbar[None, :], r, long_impacts=long_impacts, tol=tol, batch=batch)
     ds = ds.assign_coords(direction=["up", "down"], point=np.arange(m), d=("point", d), gbar=("point", gbar),
                           s=("point", s_arr), F=("point", F_arr))
     ds["start_phi"] = (("direction", "point"), starts[..., 0], {"units": "rad", "long_name": "phase of the start impact"})
@@ -122,3 +116,40 @@ def sweep(vary: str, values, *, beta: float, phi: float = 0.0, v0: float = 0.5, 
     ds.attrs.update(vary=vary, beta=beta, r=r, max_periods=max_periods, tol=tol, window=int(window), pmax=int(pmax),
                     first_phi=phi, first_v0=v0, **held, **device.attrs())
     return annotate(ds)
+
+
+def _follow_chains(dgr, first, settings, out, bar):
+    """Both directions' points in compiled calls (:func:`~vibroimpact.dynamics.kernels.chain_windows`), the two
+    side by side, in tenths; ``settings``: ``(max_periods, max_events, tol, window, pmax)``; ``out``: the windows,
+    their ends and the starts used, filled in."""
+    d, gbar, r = dgr
+    max_periods, max_events, tol, _, pmax = settings
+    limits = window_limits(max_periods, max_events, tol, pmax)
+    win, ends, starts = out
+    m = d.shape[0]
+    order = np.stack([np.arange(m), np.arange(m - 1, -1, -1)])
+    chain = K.Chain(d=np.ascontiguousarray(d, dtype=float), gbar=np.ascontiguousarray(gbar, dtype=float), r=float(r),
+                    order=order, start=np.array([first, first], dtype=float), used=starts)
+    cuts = np.linspace(0, m, 11 if m >= 20 else 2).astype(int)  # in tenths, for the bar and the log
+    for a, b in zip(cuts[:-1], cuts[1:], strict=True):
+        K.chain_windows(chain, (int(a), int(b)), limits, win, ends)
+        bar.update(2 * int(b - a))
+
+
+def _follow_points(dgr, first, settings, out, bar):
+    """:func:`_follow_chains` one point at a time from Python (:func:`~vibroimpact.analysis.windows.run_window`),
+    up then down: the reference of the compiled chains."""
+    d, gbar, r = dgr
+    win, ends, starts = out
+    m = d.shape[0]
+    for k_dir, idx in enumerate((range(m), range(m - 1, -1, -1))):
+        start = first
+        for i in idx:
+            bar.update()
+            w1, *res = run_window(d[i], gbar[i], r, start[0], start[1], *settings)
+            for arr, x in zip(ends, res, strict=True):
+                arr[k_dir, i] = x
+            starts[k_dir, i] = start
+            for arr, w in zip(win, w1, strict=True):
+                arr[k_dir, i] = w
+            start = last_bottom_impact(*w1, int(res[3])) or start

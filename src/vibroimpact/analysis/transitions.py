@@ -5,7 +5,10 @@ at their flips (:func:`period_doublings`)."""
 from __future__ import annotations
 
 import math
+import threading
+from concurrent.futures import ThreadPoolExecutor
 
+import numba
 import numpy as np
 import xarray as xr
 
@@ -27,7 +30,7 @@ __all__ = ["locate_transitions", "period_doublings", "PERIOD_DOUBLING"]
 
 def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float = 20_000,
                        max_events: int = 2_000_000, max_trials: int = 200,
-                       progress: bool | None = None) -> xr.Dataset:
+                       progress: bool | None = None, workers: int | None = None) -> xr.Dataset:
     """Locate where each direction's followed attractor changes, to ``xtol`` in d.
 
     The changes are looked for between neighbouring points of the sweep whose motions differ.
@@ -51,7 +54,10 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
     max_trials : int
         Runs allowed per transition.
     progress : bool, optional
-        A progress bar over the sweep's points (default: only when run interactively).
+        A progress bar over the changes looked for (default: only when run interactively).
+    workers : int, optional
+        Threads locating the changes side by side (default: numba's thread count); the result is the same
+        for any number.
 
     Returns
     -------
@@ -80,42 +86,126 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
     g0, dvals = sw["gbar"].values, sw["d"].values
     motions = window_motions(sw)
     ev = [sw[v].values for v in EVENT_VARS]
-    rows = []
-    bar = Progress(len(sw.direction) * (len(dvals) - 1), "locate transitions", progress, unit="point")
-    for k_dir, name in enumerate(sw.direction.values):
+    chains = _candidates(sw, motions)
+    bar = Progress(sum(map(len, chains)), "locate transitions", progress, unit="change")
+
+    def locate(task):
+        k_dir, name, i, j = task
         sign = 1.0 if name == "up" else -1.0
-        order = range(len(dvals) - 1) if name == "up" else range(len(dvals) - 1, 0, -1)
-        last_end = None
-        for i in order:
-            bar.update()
-            j = i + 1 if name == "up" else i - 1
-            before = motions[k_dir, i]
-            if before == motions[k_dir, j] or not before.periodic:
-                continue
-            if last_end is not None and sign * (dvals[i] - last_end) < 0:
-                continue  # this change was already passed by the previous located transition
-            n = int(np.sum(np.isfinite(ev[0][k_dir, i])))
-            start = last_bottom_impact(*(e[k_dir, i] for e in ev), n) or (
-                float(sw["start_phi"][k_dir, i]), float(sw["start_v0"][k_dir, i]))
-            slope = (g0[j] - g0[i]) / (dvals[j] - dvals[i])  # gbar is affine in d for both sweeps
+        before = motions[k_dir, i]
+        n = int(np.sum(np.isfinite(ev[0][k_dir, i])))
+        start = last_bottom_impact(*(e[k_dir, i] for e in ev), n) or (
+            float(sw["start_phi"][k_dir, i]), float(sw["start_v0"][k_dir, i]))
+        slope = (g0[j] - g0[i]) / (dvals[j] - dvals[i])  # gbar is affine in d for both sweeps
 
-            def follow(trial, start, gi=g0[i], slope=slope, di=dvals[i]):
-                win, st, lag, _, nw = run_window(trial, gi + slope * (trial - di), r, start[0], start[1],
-                                                 max_periods, max_events, tol, window, pmax)
-                return window_motion(win, nw, st, lag)[0], last_bottom_impact(*win, nw) or start
+        def follow(trial, start, gi=g0[i], slope=slope, di=dvals[i]):
+            win, st, lag, _, nw = run_window(trial, gi + slope * (trial - di), r, start[0], start[1],
+                                             max_periods, max_events, tol, window, pmax)
+            return window_motion(win, nw, st, lag)[0], last_bottom_impact(*win, nw) or start
 
-            x, y, after, after_start, refined = _follow_to_change(
-                follow, before, start, (dvals[i], dvals[j]), motions[k_dir, j], sign,
-                (float(dvals.min()), float(dvals.max())), xtol, max_trials)
-            last_end = y
-            if after.kind == APERIODIC and after_start is not None:  # what the motion beyond is: its long run says
-                after = motion_without_period(split_no_period(y, g0[i] + slope * (y - dvals[i]), r, *after_start,
-                                                              tol=tol).label)
-            status = "refined" if refined else f"not refined: {max_trials} runs (max_trials) left a bracket of {abs(y - x):.1e}"
-            rows.append((name, 0.5 * (x + y), abs(y - x), before.label, after.label, transition_kind(before, after),
-                         status))
+        x, y, after, after_start, refined = _follow_to_change(
+            follow, before, start, (dvals[i], dvals[j]), motions[k_dir, j], sign,
+            (float(dvals.min()), float(dvals.max())), xtol, max_trials)
+        if after.kind == APERIODIC and after_start is not None:  # what the motion beyond is: its long run says
+            after = motion_without_period(split_no_period(y, g0[i] + slope * (y - dvals[i]), r, *after_start,
+                                                          tol=tol).label)
+        status = "refined" if refined else f"not refined: {max_trials} runs (max_trials) left a bracket of {abs(y - x):.1e}"
+        bar.update()
+        return y, (name, 0.5 * (x + y), abs(y - x), before.label, after.label, transition_kind(before, after), status)
+
+    def passed(task, last_end):  # this change was already passed by the previous located transition
+        sign = 1.0 if task[1] == "up" else -1.0
+        return last_end is not None and sign * (dvals[task[2]] - last_end) < 0
+
+    rows = _run_chains(chains, locate, passed, numba.get_num_threads() if workers is None else int(workers))
     bar.close()
     return _transitions_dataset(rows, beta, xtol, max_periods)
+
+
+def _candidates(sw, motions):
+    """Per direction, in the sweep's order, the neighbouring points ``(k_dir, name, i, j)`` whose motions differ
+    where the first has a period: where :func:`locate_transitions` looks for a change."""
+    m = sw.sizes["point"]
+    chains = []
+    for k_dir, name in enumerate(sw.direction.values):
+        order = range(m - 1) if name == "up" else range(m - 1, 0, -1)
+        step = 1 if name == "up" else -1
+        chains.append([(k_dir, str(name), i, i + step) for i in order
+                       if motions[k_dir, i] != motions[k_dir, i + step] and motions[k_dir, i].periodic])
+    return chains
+
+
+def _run_chains(chains, run, passed, workers):
+    """The rows of ``run(task)`` (``(end, row)``) over each chain of tasks in order, a task left out where
+    ``passed(task, end)`` with the ``end`` of the last task kept before it: the same rows as running the
+    chains one task after the other, computed on up to ``workers`` threads (the kernels release the GIL).
+
+    A thread takes the next task whose predecessors are all settled (deciding on the way which are passed
+    over); where none is, it computes one ahead (its result is used only if the task turns out to be kept)."""
+    state = _ChainState(chains, passed)
+    if workers > 1 and sum(map(len, chains)) > 1:
+        with ThreadPoolExecutor(max_workers=workers) as pool:
+            for f in [pool.submit(state.work, run) for _ in range(workers)]:
+                f.result()
+    else:
+        state.work(run)
+    return state.rows()
+
+
+class _ChainState:
+    """Which tasks of :func:`_run_chains` are started, done, kept or passed over (under one lock)."""
+
+    def __init__(self, chains, passed):
+        self.chains, self.passed = chains, passed
+        self.results = [dict() for _ in chains]
+        self.started = [set() for _ in chains]
+        self.settled = [0] * len(chains)  # tasks before this index are decided (kept and done, or passed)
+        self.kept = [[] for _ in chains]
+        self.last = [None] * len(chains)
+        self.lock = threading.Lock()
+
+    def _settle(self, c):
+        """Decide chain ``c``'s tasks in order as far as their predecessors' ends are known."""
+        tasks = self.chains[c]
+        while self.settled[c] < len(tasks):
+            k = self.settled[c]
+            if self.passed(tasks[k], self.last[c]):
+                self.settled[c] += 1
+            elif k in self.results[c]:
+                self.last[c] = self.results[c][k][0]
+                self.kept[c].append(k)
+                self.settled[c] += 1
+            else:
+                return
+
+    def _next(self):
+        """The next task to compute: ``(chain, index)`` or None when every needed one is started."""
+        for c in range(len(self.chains)):
+            self._settle(c)
+        ahead = None
+        for c, tasks in enumerate(self.chains):
+            todo = [k for k in range(self.settled[c], len(tasks)) if k not in self.started[c]]
+            if todo and todo[0] == self.settled[c]:
+                return c, todo[0]  # its predecessors are decided: it is needed
+            if todo and (ahead is None or len(todo) > ahead[2]):
+                ahead = (c, todo[0], len(todo))
+        return ahead and ahead[:2]
+
+    def work(self, run):
+        while True:
+            with self.lock:
+                nxt = self._next()
+                if nxt is None:
+                    return
+                self.started[nxt[0]].add(nxt[1])
+            res = run(self.chains[nxt[0]][nxt[1]])
+            with self.lock:
+                self.results[nxt[0]][nxt[1]] = res
+
+    def rows(self):
+        for c in range(len(self.chains)):
+            self._settle(c)
+        return [self.results[c][k][1] for c in range(len(self.chains)) for k in self.kept[c]]
 
 
 def _follow_to_change(follow, before, start, grid, after, sign, d_range, xtol, max_trials):

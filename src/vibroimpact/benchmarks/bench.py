@@ -12,8 +12,10 @@ import math
 import os
 import subprocess
 import sys
+import threading
 import time
 import types
+from contextlib import contextmanager
 from functools import partial
 
 import numba
@@ -21,13 +23,19 @@ import numpy as np
 import xarray as xr
 
 from ..analysis.bifurcation import follow_point
+from ..analysis.bistability import bistable_intervals
 from ..analysis.continuation import continue_orbit
+from ..analysis.energy import sweep_energy
+from ..analysis.family_exit import sweep_family_exit
 from ..analysis.lyapunov import lyapunov
 from ..analysis.motions import no_period
 from ..analysis.orbits import find_orbit
 from ..analysis.sweeps import sweep
+from ..analysis.transitions import locate_transitions
+from ..analysis.windows import empty_windows, window_limits
 from ..datasets import annotate
 from ..dynamics import events, flight
+from ..dynamics import kernels as K
 from ..dynamics.device import PAPER
 from ..dynamics.events import next_impact
 from ..dynamics.params import Params
@@ -115,7 +123,14 @@ def report(ds: xr.Dataset) -> str:
            if "curve_points" in v else "")
         + (f"\nSweep of d through s at β = π/3 (Figure 2's range), {int(v['sweep_points'])} points up and {int(v['sweep_points'])} down "
            f"(≤ 200 forcing periods of transient each, {int(v['sweep_events'])} events, {int(v['sweep_no_period'])} points without a period): "
-           f"{v['sweep_seconds']:.2f} s on one core.\n" if "sweep_points" in v else "")
+           f"{v['sweep_seconds']:.2f} s.\n" if "sweep_points" in v else "")
+        + (f"\nThe same sweep with its energy, located transitions, bistable intervals and 1:1 exit: "
+           f"{int(v['sweep_full_events'])} events in {v['sweep_full_seconds']:.2f} s, "
+           f"{v['sweep_full_events_per_second'] / 1e6:.2g} million events per second; the bare batch kernel on the "
+           f"sweep's points, same run: {v['sweep_kernel_events_per_second'] / 1e6:.2g} million "
+           f"(ratio {v['sweep_full_kernel_ratio']:.2f}); without the period test (run_batch, 500 events a point): "
+           f"{v['sweep_batch_events_per_second'] / 1e6:.2g} million (ratio {v['sweep_full_batch_ratio']:.2f}).\n"
+           if "sweep_full_batch_ratio" in v else "")
     )
 
 
@@ -163,25 +178,143 @@ def curve_benchmark(n_points: int = 200) -> xr.Dataset:
     )
 
 
-def sweep_benchmark(n_points: int = 1000, max_periods: float = 200) -> xr.Dataset:
+def sweep_benchmark(n_points: int = 1000, max_periods: float = 200, *, xtol: float = 1e-7,
+                    locate_periods: float = 20_000, max_trials: int = 200) -> xr.Dataset:
     """Time a sweep of d through s at beta = pi/3 over the range of the paper's Figure 2 (1:1, period
     doubling, chaos, 2:1, 3:1), up and down: ``2 n_points`` attractors, each with up to
-    ``max_periods`` forcing periods of transient."""
+    ``max_periods`` forcing periods of transient; then everything the workflow derives from it (rule
+    ``sweep``): its energy (:func:`~vibroimpact.sweep_energy`), its located transitions (``xtol``,
+    ``locate_periods``, ``max_trials``: :func:`~vibroimpact.locate_transitions`), bistable intervals and 1:1 exit.
 
+    The events of every kernel call are counted (the points' windows, the long runs, the transitions' and
+    the exit's runs), and the bare batch kernel is timed in the same run on the same events: the sweep's
+    points from the starts the sweep used (:func:`_kernel_rate`, the same windows), twice after it (the mean
+    of the two)."""
     values = np.linspace(0.19, 0.72, n_points)
-    sweep("s", values[:5], beta=math.pi / 3, max_periods=max_periods)  # compile outside the timing
+    small = sweep("s", values[:5], beta=math.pi / 3, max_periods=max_periods)  # compile outside the timing
+    _derived(small, xtol, locate_periods, max_trials)
+    _kernel_rate(small, max_periods)
+    with _event_counter() as count:
+        t = time.perf_counter()
+        sw = sweep("s", values, beta=math.pi / 3, phi=0.42, v0=0.87, max_periods=max_periods)
+        el = time.perf_counter() - t
+        ev_sweep = count[0]
+        stages = _derived(sw, xtol, locate_periods, max_trials)
+        total = time.perf_counter() - t
+    rate = float(np.mean([_kernel_rate(sw, max_periods) for _ in range(2)]))
+    plain = float(np.mean([_batch_rate(sw) for _ in range(2)]))
+    full = count[0] / total
+    v = {
+        "sweep_points": (n_points, "1", "points per direction"),
+        "sweep_seconds": (el, "s", "up and down sweep, attractors settled (long runs included)"),
+        "sweep_events": (int(sw.n_events.sum()), "1", "events simulated in the sweep's windows"),
+        "sweep_no_period": (int(no_period(sw.label.values).sum()), "1", "points with no period within max_periods"),
+        "sweep_all_events": (ev_sweep, "1", "events simulated by the sweep: its windows and its long runs"),
+        "sweep_events_per_second": (ev_sweep / el, "1/s", "events per second of the sweep (windows and long runs)"),
+        "sweep_energy_seconds": (stages[0], "s", "its energy (sweep_energy)"),
+        "sweep_transitions_seconds": (stages[1], "s", "its located transitions, bistable intervals and 1:1 exit"),
+        "sweep_full_seconds": (total, "s", "the sweep, its energy, transitions, bistable intervals and 1:1 exit"),
+        "sweep_full_events": (count[0], "1", "events simulated by the sweep, its energy, transitions and 1:1 exit"),
+        "sweep_full_events_per_second": (full, "1/s", "events per second of the sweep with its energy, transitions "
+                                         "and 1:1 exit"),
+        "sweep_kernel_events_per_second": (rate, "1/s", "bare batch kernel (window_batch) on the sweep's points "
+                                           "from the starts it used: events per second, same run"),
+        "sweep_full_kernel_ratio": (full / rate, "1", "events per second of the full sweep / of the bare batch "
+                                    "kernel, same run"),
+        "sweep_batch_events_per_second": (plain, "1/s", "run_batch (simulate_batch's kernel, no period test) on the "
+                                          "sweep's points from the starts it used, 500 events each: events per "
+                                          "second, same run"),
+        "sweep_full_batch_ratio": (full / plain, "1", "events per second of the full sweep / of run_batch, same run"),
+    }
+    return annotate(xr.Dataset({k: ((), x, dict(units=u, long_name=n)) for k, (x, u, n) in v.items()},
+                               attrs=dict(sweep_cores=numba.get_num_threads())))
+
+
+def _derived(sw, xtol, locate_periods, max_trials):
+    """What the workflow's rule ``sweep`` derives from a sweep (its energy; its transitions, bistable intervals
+    and 1:1 exit): the seconds of each."""
     t = time.perf_counter()
-    sw = sweep("s", values, beta=math.pi / 3, phi=0.42, v0=0.87, max_periods=max_periods)
+    sweep_energy(sw)
+    t1 = time.perf_counter()
+    tr = locate_transitions(sw, xtol=xtol, max_periods=locate_periods, max_trials=max_trials)
+    bistable_intervals(sw, tr)
+    sweep_family_exit(sw, xtol=xtol)
+    return t1 - t, time.perf_counter() - t1
+
+
+def _kernel_rate(sw, max_periods, pmax: int = 64) -> float:
+    """Events per second of the bare batch kernel (:func:`~vibroimpact.dynamics.kernels.window_batch`, as
+    :func:`~vibroimpact.attractor_batch` calls it, without building the dataset) on a sweep's points from the
+    starts it used: the same runs as the sweep's windows."""
+    d, g = (np.broadcast_to(sw[v].values, sw.start_phi.shape).ravel() for v in ("d", "gbar"))
+    m = d.size
+    batch = K.Batch(d=np.ascontiguousarray(d), gbar=np.ascontiguousarray(g), r=np.full(m, float(sw.attrs["r"])),
+                    theta0=sw.start_phi.values.ravel() % (2 * np.pi), v0=sw.start_v0.values.ravel())
+    win = empty_windows(m, sw.sizes["event"])
+    ends = K.WindowEnds(status=np.zeros(m, np.int8), lag=np.zeros(m, np.int64), total=np.zeros(m, np.int64),
+                        n=np.zeros(m, np.int64))
+    limits = window_limits(max_periods, 200_000, float(sw.attrs["tol"]), int(sw.attrs.get("pmax", pmax)))
+    t = time.perf_counter()
+    K.window_batch(batch, limits, win, ends)
     el = time.perf_counter() - t
-    return xr.Dataset(
-        {
-            "sweep_points": ((), n_points, dict(units="1", long_name="points per direction")),
-            "sweep_seconds": ((), el, dict(units="s", long_name="up and down sweep, one thread")),
-            "sweep_events": ((), int(sw.n_events.sum()), dict(units="1", long_name="events simulated in the sweep")),
-            "sweep_no_period": ((), int(no_period(sw.label.values).sum()),
-                                dict(units="1", long_name="points with no period within max_periods")),
-        }
-    )
+    if not np.array_equal(ends.total, sw.n_events.values.ravel()):
+        raise RuntimeError("the bare kernel's runs are not the sweep's: the rates would not compare")
+    return float(ends.total.sum()) / el
+
+
+def _batch_rate(sw, n_events: int = 500) -> float:
+    """Events per second of :func:`~vibroimpact.dynamics.kernels.run_batch` (:func:`~vibroimpact.simulate_batch`'s
+    kernel, without the dataset) on a sweep's points from the starts it used, ``n_events`` events each."""
+    d, g = (np.ascontiguousarray(np.broadcast_to(sw[v].values, sw.start_phi.shape).ravel()) for v in ("d", "gbar"))
+    m = d.size
+    batch = K.Batch(d=d, gbar=g, r=np.full(m, float(sw.attrs["r"])), theta0=sw.start_phi.values.ravel() % (2 * np.pi),
+                    v0=sw.start_v0.values.ravel())
+    out = K.EventBuffers(*(np.empty((m, n_events), np.int8 if v in ("wall", "kind") else float)
+                           for v in K.EventBuffers._fields))
+    ends = K.Ends(n=np.zeros(m, np.int64), status=np.zeros(m, np.int8), lag=np.zeros(m, np.int64))
+    settings = K.Settings(t_end=math.inf, v_chatter=K.V_CHATTER, detect=False, tol=float(sw.attrs["tol"]))
+    t = time.perf_counter()
+    K.run_batch(batch, settings, 64, out, ends)
+    return float(ends.n.sum()) / (time.perf_counter() - t)
+
+
+@contextmanager
+def _event_counter():
+    """Count the events of every kernel call made from Python inside the block (the window runs and chains,
+    the batches, :func:`~vibroimpact.simulate`'s event loop), on any thread: yields a one-element list."""
+    count, lock = [0], threading.Lock()
+    saved = {name: getattr(K, name) for name in ("run_window", "chain_windows", "run_batch", "advance")}
+
+    def add(n):
+        with lock:
+            count[0] += int(n)
+
+    def run_window(*a):
+        out = saved["run_window"](*a)
+        add(out[2])
+        return out
+
+    def chain_windows(chain, span, limits, win, ends):
+        saved["chain_windows"](chain, span, limits, win, ends)
+        add(sum(ends.total[k, chain.order[k, span[0]:span[1]]].sum() for k in range(chain.order.shape[0])))
+
+    def run_batch(batch, settings, pmax, out, ends):
+        saved["run_batch"](batch, settings, pmax, out, ends)
+        add(ends.n.sum())
+
+    def advance(model, start, i0, settings, counts, out):
+        res = saved["advance"](model, start, i0, settings, counts, out)
+        add(res[0] - i0)
+        return res
+
+    for name, f in (("run_window", run_window), ("chain_windows", chain_windows), ("run_batch", run_batch),
+                    ("advance", advance)):
+        setattr(K, name, f)
+    try:
+        yield count
+    finally:
+        for name, f in saved.items():
+            setattr(K, name, f)
 
 
 #: the two scenes of the kernel's speed target: (beta, d, phi, v0)

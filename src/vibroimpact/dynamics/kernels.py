@@ -77,7 +77,9 @@ def _wrap(x):
 
 @njit(cache=True, error_model="numpy")
 def _phase_distance(a, b):
-    x = abs(a - b) % TWO_PI
+    x = abs(a - b)
+    if not x < TWO_PI:  # the remainder returns a smaller x unchanged (exactly): the call only where it matters
+        x = x % TWO_PI
     return min(x, TWO_PI - x)
 
 
@@ -329,7 +331,7 @@ def advance(model, start, i0, settings, counts, out):
         pending = IMPACT
 
 
-@njit(cache=True, error_model="numpy", parallel=True)
+@njit(cache=True, error_model="numpy", parallel=True, nogil=True)
 def run_batch(batch, settings, pmax, out, ends):
     """Run many independent simulations in parallel, each from a bottom impact (paper convention).
 
@@ -380,7 +382,7 @@ def resume_code(kind):
     return RESUME
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)
 def run_window(model, theta0, v0, limits, win):
     """Run from a bottom impact at t = 0 (phase ``theta0``, pre-impact velocity ``v0``; constants ``model``,
     :data:`Model`) until the motion is periodic, ``limits.t_end`` or ``limits.max_events`` (:data:`WindowSettings`),
@@ -480,3 +482,42 @@ def _flight_window_run(k, batch, limits, win, ends):
     ends.lag[k] = lag
     ends.total[k] = tot
     ends.n[k] = nw
+
+
+#: a sweep's points followed in chains, each point from the last bottom impact of the one before it in its
+#: chain: the constants of each point (``d``, ``gbar``; ``r`` shared), the points of each chain in order
+#: (``order``, ``(chains, m)`` indices), each chain's next start (``start``, ``(chains, 2)``: phase and pre-impact
+#: velocity, updated as the chain goes) and the start each point used (``used``, ``(chains, m, 2)``)
+Chain = namedtuple("Chain", ("d", "gbar", "r", "order", "start", "used"))
+
+
+@njit(cache=True, error_model="numpy", parallel=True, nogil=True)
+def chain_windows(chain, span, limits, win, ends):
+    """:func:`run_window` along the chains of ``chain`` (:data:`Chain`), the chains in parallel: the points at
+    positions ``span[0]`` to ``span[1] - 1`` of each chain's order, each from the chain's current start; a point
+    whose window holds a bottom impact makes its last one the next start.  ``win`` (:data:`Window`) arrays of
+    shape ``(chains, m, window)``, ``ends`` (:data:`WindowEnds`) of shape ``(chains, m)``."""
+    for k in prange(chain.order.shape[0]):
+        _chain_run(k, chain, span, limits, win, ends)
+
+
+@njit(cache=True, error_model="numpy")
+def _chain_run(k, chain, span, limits, win, ends):
+    """Chain ``k`` of :func:`chain_windows`, in a call of its own as :func:`_batch_run`."""
+    for pos in range(span[0], span[1]):
+        i = chain.order[k, pos]
+        phi = chain.start[k, 0]
+        v0 = chain.start[k, 1]
+        chain.used[k, i, 0] = phi
+        chain.used[k, i, 1] = v0
+        w = Window(win.t[k, i], win.wall[k, i], win.v_minus[k, i], win.phase[k, i], win.kind[k, i])
+        st, lag, tot, nw = run_window(Model(chain.d[i], chain.gbar[i], chain.r), phi % TWO_PI, v0, limits, w)
+        ends.status[k, i] = st
+        ends.lag[k, i] = lag
+        ends.total[k, i] = tot
+        ends.n[k, i] = nw
+        for j in range(nw - 1, -1, -1):  # the last bottom impact (windows.last_bottom_impact)
+            if w.wall[j] == 1 and w.kind[j] == IMPACT and w.v_minus[j] > 0:
+                chain.start[k, 0] = w.phase[j]
+                chain.start[k, 1] = w.v_minus[j]
+                break

@@ -135,14 +135,32 @@ def simulate(
     cap_total, t_end = _limits(n_impacts, t_end, stop_when_periodic, max_events)
     if t_end <= t0:
         raise ValueError(f"t_end = {t_end!r} must be later than t0 = {t0!r}")
-    theta0 = (PI * t0 + phi) % TWO_PI
+    bufs, n, status, lag = _event_loop(params, K.Start(t0, (PI * t0 + phi) % TWO_PI, z0, v0, kind0, wall0),
+                                       (cap_total, n_impacts is None),
+                                       K.Settings(t_end=float(t_end), v_chatter=float(v_chatter),
+                                                  detect=bool(stop_when_periodic), tol=float(tol)),
+                                       int(max_period_events))
+    ds = events_dataset(bufs, n)
+    ds.attrs.update(_param_attrs(params))
+    ds.attrs.update(phi=phi, v0=v0, t0=t0, start="bottom impact" if Z0 is None else f"flight at Z0={Z0!r}",
+                    status=K.STATUS_NAMES[status], period_events=int(lag), tol=tol, v_chatter=v_chatter,
+                    t_valid=float(t_end) if status == K.T_END else float(bufs.t[n - 1]))
+    if status == K.STUCK_FOREVER:
+        ds.attrs["note"] = "gbar >= 1: the ball never leaves the bottom wall after it sticks"
+    return ds
+
+
+def _event_loop(params, start, caps, settings, max_period_events):
+    """:func:`simulate`'s event loop from its first event ``start`` (:data:`~vibroimpact.dynamics.kernels.Start`):
+    ``caps`` is ``(events at most, whether the count is open)`` (buffers that grow where it is); returns the
+    buffers, the events recorded, the status and the period found (in events), and warns where the ball comes to
+    rest for good."""
+    cap_total, open_count = caps
     counts = np.zeros(int(max_period_events) + 1, dtype=np.int64)
-    cap = min(cap_total, 4096) if n_impacts is None else cap_total
+    cap = min(cap_total, 4096) if open_count else cap_total
     bufs = _alloc(cap)
     model = K.Model(d=float(params.d), gbar=float(params.gbar), r=float(params.r))
-    settings = K.Settings(t_end=float(t_end), v_chatter=float(v_chatter), detect=bool(stop_when_periodic),
-                          tol=float(tol))
-    n, status, lag = K.advance(model, K.Start(t0, theta0, z0, v0, kind0, wall0), 0, settings, counts, bufs)
+    n, status, lag = K.advance(model, start, 0, settings, counts, bufs)
     while status == K.FULL and n < cap_total:
         # grow the buffers and resume from the last recorded event
         new_cap = min(2 * cap, cap_total)
@@ -156,16 +174,21 @@ def simulate(
         warnings.warn(
             f"gbar = {params.gbar:.6g} >= 1: the ball rests on the bottom wall and the forcing can never "
             "lift it off again; the run ends there (status 'stuck_forever')",
-            stacklevel=2,
+            stacklevel=3,
         )
-    ds = events_dataset(bufs, n)
-    ds.attrs.update(_param_attrs(params))
-    ds.attrs.update(phi=phi, v0=v0, t0=t0, start="bottom impact" if Z0 is None else f"flight at Z0={Z0!r}",
-                    status=K.STATUS_NAMES[status], period_events=int(lag), tol=tol, v_chatter=v_chatter,
-                    t_valid=float(t_end) if status == K.T_END else float(bufs.t[n - 1]))
-    if status == K.STUCK_FOREVER:
-        ds.attrs["note"] = "gbar >= 1: the ball never leaves the bottom wall after it sticks"
-    return ds
+    return bufs, n, status, lag
+
+
+def simulated_events(params: Params, phi: float, v0: float, n_impacts: int):
+    """The events of ``simulate(params, phi, v0, n_impacts=n_impacts)`` without its dataset (the same loop):
+    ``(bufs, n, status)``, the first ``n`` entries of each buffer (:data:`~vibroimpact.dynamics.kernels.EventBuffers`)
+    the run's events.  For the callers that run many short runs and keep few of them."""
+    phi, v0, t0, _, (kind0, z0, wall0) = _start(params, phi, v0, 0.0, None)
+    cap_total, t_end = _limits(n_impacts, None, False, 10_000_000)
+    bufs, n, status, _ = _event_loop(params, K.Start(t0, (PI * t0 + phi) % TWO_PI, z0, v0, kind0, wall0),
+                                     (cap_total, False), K.Settings(t_end=t_end, v_chatter=1e-9, detect=False, tol=1e-9),
+                                     64)
+    return bufs, n, status
 
 
 def _alloc(n, runs=None):

@@ -94,8 +94,23 @@ def _simulator_rows(rows: list, sim: xr.Dataset) -> None:
          f"two-parameter curve of G1 in (s, β), {int(v.get('curve_points', 0))} points: seconds",
          _g(v["curve_seconds"], 2) + " s" if has("curve_seconds") else None),
         ("sweep_seconds", "sweep_seconds",
-         f"sweep of d at β = π/3, {int(v.get('sweep_points', 0))} points each way, one core: seconds",
+         f"sweep of d at β = π/3, {int(v.get('sweep_points', 0))} points each way, attractors settled: seconds",
          _g(v["sweep_seconds"], 3) + " s" if has("sweep_seconds") else None),
+        ("sweep_full_events_per_second", "sweep_full_events_per_second",
+         "the same sweep with its energy, transitions, bistable intervals and 1:1 exit: million events per second",
+         _g(v["sweep_full_events_per_second"] / 1e6, 2) if has("sweep_full_events_per_second") else None),
+        ("sweep_kernel_events_per_second", "sweep_kernel_events_per_second",
+         "the bare batch kernel on the sweep's points, same run: million events per second",
+         _g(v["sweep_kernel_events_per_second"] / 1e6, 2) if has("sweep_kernel_events_per_second") else None),
+        ("sweep_full_kernel_ratio", "sweep_full_kernel_ratio",
+         "events per second of the full sweep / of the bare batch kernel, same run",
+         _g(v["sweep_full_kernel_ratio"], 2) if has("sweep_full_kernel_ratio") else None),
+        ("sweep_batch_events_per_second", "sweep_batch_events_per_second",
+         "the batch kernel without the period test (`run_batch`) on the sweep's points, same run: million events "
+         "per second", _g(v["sweep_batch_events_per_second"] / 1e6, 2) if has("sweep_batch_events_per_second") else None),
+        ("sweep_full_batch_ratio", "sweep_full_batch_ratio",
+         "events per second of the full sweep / of `run_batch`, same run",
+         _g(v["sweep_full_batch_ratio"], 2) if has("sweep_full_batch_ratio") else None),
     ])
 
 

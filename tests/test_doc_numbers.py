@@ -175,7 +175,29 @@ def _bench_datasets():
             "rule": ["sweep", "regime_map", "bifurcation_set", "work_precision", "analytics_accuracy"],
         }
     )
+    # the Lyapunov chart: one setting per family, the periodic motions' nolds estimates infinite
+    lp_fams = ["tangent", "benettin-exact", "benettin-DOP853", "nolds-lyap_r", "nolds-lyap_e"]
+    lp_motions = ["chaotic", "2:1", "3:1 near fold"]
+    lam = np.array([[[0.2, 0.21]] * 5, [[-0.24, -0.24]] * 3 + [[-np.inf] * 2] * 2,
+                    [[-0.06, -0.06]] * 3 + [[-np.inf] * 2] * 2])
+    ref = np.array([0.22, -0.24, -0.06])
+    lp = xr.Dataset(
+        {
+            "lambda1": (("motion", "solver", "repeat"), lam),
+            "error": (("motion", "solver", "repeat"), np.abs(lam - ref[:, None, None])),
+            "seconds": (("motion", "solver", "repeat"), np.ones(lam.shape)),
+            "family": ("solver", lp_fams),
+            "n_impacts": ("solver", [1000] * 5),
+            "lambda_ref": ("motion", ref),
+            "lambda_ref_low": ("motion", ref - 0.003),
+            "lambda_ref_high": ("motion", ref + 0.003),
+            "lambda_floquet": ("motion", [np.nan, -0.2414, -0.0593]),
+        },
+        coords={"motion": lp_motions, "solver": lp_fams, "repeat": [0, 1]},
+        attrs={"n_ref": 200000},
+    )
     return dict(
+        lyapunov_precision=lp,
         kernel=kp,
         simulator=sim,
         work_precision=wp,
@@ -198,7 +220,7 @@ def test_every_summary_row_the_speed_page_cites_is_generated():
         for n in re.findall(r"`([a-z][\w-]*)`", text)
         if re.match(
             r"(kernel|heyoka_stepping|impacts_per_second|exact_|work_precision_|matched_|failure_"
-            r"|analytics_|cost_|sweep_)",
+            r"|analytics_|cost_|sweep_|lyap_)",
             n,
         )
         and n != "analytics_accuracy"
@@ -213,6 +235,8 @@ def test_every_summary_row_the_speed_page_cites_is_generated():
     assert row["failure_chaos_loose"] == "60" and row["cost_timed_benchmarks"] == "27 s"
     assert (row["sweep_full_events_per_second"], row["sweep_kernel_events_per_second"],
             row["sweep_full_kernel_ratio"]) == ("4.2", "6", "0.7")
+    assert row["lyap_nolds_r_chaotic"] == "0.068, sign right 2" and row["lyap_nolds_e_periodic"] == "0 (2:1); 0 (3:1 near fold)"
+    assert row["lyap_floquet"] == "-0.2414 (2:1); -0.0593 (3:1 near fold)"
 
 
 # ---- computed numbers in the guide's prose, against the package -----------------------------------------

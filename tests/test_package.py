@@ -136,6 +136,7 @@ def test_no_module_imports_another_module_s_private_name():
 #: the only imports a function may hold: optional parts and what only one rarely used path needs
 LAZY_IMPORTS = {
     "heyoka": "the optional peer (tools/probe_heyoka.py)",
+    "nolds": "the optional time-series estimators (its import fails on Python 3.11: loaded apart then)",
     "imagehash": "the image check only", "PIL": "the image check only",
     "yaml": "the perturbed regeneration only (a Snakemake config)",
     "tqdm": "a progress bar, only when one is shown",

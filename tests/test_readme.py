@@ -168,7 +168,7 @@ def test_the_device_command_runs_the_example_device(readme_clone):
     drawn = {p.name for p in (root / "results" / "figures").glob("*.png")}
     # every figure of the paper's default target, but the check's own maps and the speed-and-accuracy
     # figures (they measure the simulator on the paper's device whatever the config)
-    bench = {"work_precision.png", "failure_map.png", "analytics_accuracy.png"}
+    bench = {"work_precision.png", "failure_map.png", "analytics_accuracy.png", "lyapunov_precision.png"}
     default = {p.name for p in paper if p.suffix == ".png" and not p.name.startswith(("bifurcation_set", "design_map"))}
     assert bench <= default and default - bench <= drawn, (default - bench) - drawn
     assert not drawn & bench

@@ -46,7 +46,8 @@ def test_a_family_s_figure_is_found_by_its_stem_with_its_entry():
 def test_the_config_s_figures_are_the_registry_s_in_its_order():
     assert figure_names(CONFIG) == [
         "fig0b", "fig4", "figFN2", "fig2", "fig3", "figBiS", "basins", "regime_map", "fig0", "fig5", "lyapunov",
-        "design", "knocks", "knock_section", "work_precision", "failure_map", "analytics_accuracy", "bifurcation_set_s_beta",
+        "design", "knocks", "knock_section", "work_precision", "failure_map", "analytics_accuracy", "lyapunov_precision",
+        "bifurcation_set_s_beta",
         "bifurcation_set_s_F", "bifurcation_set_d_gbar", "bifurcation_set_d_r", "design_map_s_beta",
         "design_map_s_F"]
     tiny = {**CONFIG, "scenes": {"fig4": CONFIG["scenes"]["fig4"]}, "design": {**CONFIG["design"], "maps": []}}

@@ -65,6 +65,7 @@ def test_no_plot_module_imports_from_a_figure_module():
 NOT_MOTION_LABELS = {
     ("benchmarks/workprecision.py", "chaotic"): "a benchmark scene's name (a long chaotic run), in its cases' names",
     ("benchmarks/bench.py", "chaotic"): "a kernel-speed scene's name (a long chaotic run)",
+    ("benchmarks/lyapunov_precision.py", "chaotic"): "the Lyapunov chart's name for the bench's chaotic scene",
     ("outputs/speed.py", "chaotic"): "picks the benchmark's chaotic scene by its case name",
     ("outputs/figcheck.py", "unsettled"): "a field of a drawn point's well-posed record (a flag), and its count",
 }

@@ -181,7 +181,7 @@ def test_the_shipped_config_and_the_example_device_pass_the_schema():
     ({"physiks": {"omega": 14.0}},
      "config: physiks = {'omega': 14.0} is not allowed; allowed: one of the keys device, quality, physics, captions, "
      "scenes, resolution, attractor, branches, branch_scenes, sweeps, basins, maps, design, knocks, membrane, energy, chaos, "
-     "studies, study_defaults, checks, figure_checks, bifurcation, work_precision, failure_map, bench; "
+     "studies, study_defaults, checks, figure_checks, bifurcation, work_precision, lyapunov_precision, failure_map, bench; "
      "did you mean physics?"),
     # a misspelt nested key
     ({"physics": {"omgea": 14.0}},

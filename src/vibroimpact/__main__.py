@@ -21,7 +21,7 @@ TARGETS = {
     "all": "the default: every figure of the paper, its datasets, the arrays each figure draws, the tables "
            "and the check of the paper's published values",
     "check": "the paper's values, and every figure's arrays against its committed reference",
-    "bench": "speed against accuracy of the simulator and its peers",
+    "bench": "speed against accuracy of the simulator and its peers, and of the largest Lyapunov exponent",
     "bifurcation": "bifurcation curves in two parameters over brute-force maps",
     "design_maps": "expected and worst-case output under multistability, robust designs",
     "docs": "the documentation site",

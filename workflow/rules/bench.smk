@@ -6,6 +6,7 @@ rule bench:
         "results/bench/simulator.nc",
         "results/figures/work_precision.png",
         "results/figures/failure_map.png",
+        "results/figures/lyapunov_precision.png",
 
 
 rule bench_simulator:
@@ -49,6 +50,26 @@ rule work_precision:
         code=code("work_precision.py"),
     script:
         "../scripts/work_precision.py"
+
+
+rule lyapunov_precision:
+    """Largest Lyapunov exponent by the tangent map, Benettin and time-series estimators: error against cost."""
+    output:
+        nc="results/bench/lyapunov_precision.nc",
+        md="results/tables/lyapunov_precision.md",
+    log:
+        "logs/bench/lyapunov_precision.log",
+    benchmark:
+        "benchmarks/bench/lyapunov_precision.tsv"
+    conda:
+        "../envs/vibroimpact.yaml"
+    threads: workflow.cores  # timed: run alone
+    params:
+        **config["lyapunov_precision"],
+        **RESOLUTION["bench_size"]["lyapunov"],
+        code=code("lyapunov_precision.py"),
+    script:
+        "../scripts/lyapunov_precision.py"
 
 
 rule failure_map:
@@ -131,7 +152,7 @@ rule bench_figure:
     benchmark:
         "benchmarks/bench_figure/{bench}.tsv"
     wildcard_constraints:
-        bench="work_precision|failure_map|analytics_accuracy",
+        bench="work_precision|failure_map|analytics_accuracy|lyapunov_precision",
     priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
@@ -150,6 +171,7 @@ rule speed_summary:
         matched_accuracy="results/bench/matched_accuracy.nc",
         failure_map="results/bench/failure_map.nc",
         analytics_accuracy="results/bench/analytics_accuracy.nc",
+        lyapunov_precision="results/bench/lyapunov_precision.nc",
         workflow_cost="results/tables/workflow_cost.csv",
     output:
         md="results/tables/speed_summary.md",

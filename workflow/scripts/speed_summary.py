@@ -16,6 +16,7 @@ df = speed_summary(
     matched_accuracy=xr.load_dataset(i.matched_accuracy),
     failure_map=xr.load_dataset(i.failure_map),
     analytics_accuracy=xr.load_dataset(i.analytics_accuracy),
+    lyapunov_precision=xr.load_dataset(i.lyapunov_precision),
     workflow_cost=pd.read_csv(i.workflow_cost),
 )
 with open(snakemake.output.md, "w") as fh:

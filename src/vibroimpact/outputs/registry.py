@@ -177,6 +177,7 @@ REGISTRY: tuple[Figure, ...] = (
     _bench("work_precision", "Work-precision"),
     _bench("failure_map", "Failure map"),
     _bench("analytics_accuracy", "Accuracy of the analytics"),
+    _bench("lyapunov_precision", "Speed against accuracy for λ₁"),
     Figure("bifurcation_set_{map}", None, f"{_PLOTS}.sweeps:fig_bifurcation_set", "fig_bifurcation_set",
            "bifurcation_set.rst", "Bifurcation set over ({map})", caption_wildcard="map",
            configured="maps+bifurcation.maps", target="bifurcation"),

@@ -10,6 +10,8 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from ..benchmarks.lyapunov_precision import summarise
+
 #: the impact-time error the work-precision table asks of the cheapest setting of each method
 WORK_PRECISION_TARGET = 1e-9
 
@@ -281,6 +283,69 @@ def _analytics_rows(rows: list, aa: xr.Dataset) -> None:
     )
 
 
+def _per_motion(values: dict) -> str:
+    """``value (motion); value (motion)``."""
+    return "; ".join(f"{v} ({m})" for m, v in values.items())
+
+
+def _lyapunov_rows(rows: list, lp: xr.Dataset) -> None:
+    src = "results/bench/lyapunov_precision.nc"
+    s = summarise(lp)
+    fam, n = lp.family.values, lp.n_impacts.values
+    motions = [str(m) for m in lp.motion.values]
+    k = lp.sizes["repeat"]
+
+    def longest(family):
+        m = fam == family
+        return lp.solver.values[m][np.argmax(n[m])] if m.any() else None
+
+    _row(rows, "lyap_reference", f"λ₁ per unit t of the reference runs ({int(lp.attrs.get('n_ref', 0))} impacts of the "
+         "tangent map) and its 95 % interval", _per_motion({
+             m: f"{float(lp.lambda_ref.sel(motion=m)):.4f} ({float(lp.lambda_ref_low.sel(motion=m)):.4f} … "
+                f"{float(lp.lambda_ref_high.sel(motion=m)):.4f})" for m in motions}),
+         f"{src}: `lambda_ref`, `lambda_ref_low`, `lambda_ref_high`")
+    floquet = {m: float(lp.lambda_floquet.sel(motion=m)) for m in motions}
+    _row(rows, "lyap_floquet", "ln max|μ| / 2 of the periodic orbits (their Floquet multipliers)",
+         _per_motion({m: f"{v:.4f}" for m, v in floquet.items() if np.isfinite(v)}), f"{src}: `lambda_floquet`")
+    for family, name in (("tangent", "tangent map"), ("benettin-exact", "Benettin on exact flights")):
+        so = longest(family)
+        if so is None:
+            continue
+        _row(rows, f"lyap_{family.replace('-', '_')}_error",
+             f"{name}, its longest runs (n = {int(lp.n_impacts.sel(solver=so))}): median error over {k} starts",
+             _per_motion({m: _g(float(s.error_median.sel(motion=m, solver=so)), 1) for m in motions}),
+             f"{src}: `error`, solver `{so}`")
+    m_ivp, m_ex = fam == "benettin-DOP853", fam == "benettin-exact"
+    if m_ivp.any() and m_ex.any():  # seconds per impact followed (two flights each), same run
+        per = s.seconds / lp.n_impacts
+        ratio = np.concatenate([(v[m_ivp][:, None] / v[m_ex][None, :]).ravel() for v in per.values])  # per motion
+        _row(rows, "lyap_benettin_ivp_cost", "Benettin on DOP853 / on exact flights: seconds per impact, same run "
+             "(over the motions and settings)", _range(ratio, 2, "×"),
+             f"{src}: `seconds`, `n_impacts`, families `benettin-DOP853`, `benettin-exact`")
+    if m_ivp.any():
+        best = {m: float(np.nanmin(s.error_median.sel(motion=m).values[m_ivp])) for m in motions}
+        _row(rows, "lyap_benettin_ivp_error", "Benettin on solve_ivp DOP853: smallest median error over its settings",
+             _per_motion({m: _g(v, 1) for m, v in best.items()}), f"{src}: `error`, family `benettin-DOP853`")
+    for family in ("nolds-lyap_r", "nolds-lyap_e"):
+        so = longest(family)
+        if so is None:
+            continue
+        short = family.split("-")[1]  # lyap_r, lyap_e
+        r = s.sel(solver=so)
+        chaotic = [m for m in motions if not np.isfinite(floquet[m])]
+        periodic = [m for m in motions if np.isfinite(floquet[m])]
+        _rows_of(rows, src, [
+            (f"lyap_nolds_{short[-1]}_chaotic", "error` / `lambda_ref",
+             f"nolds {short}, n = {int(lp.n_impacts.sel(solver=so))}, on the chaotic motion: median relative error, "
+             f"and starts whose sign is right (of {k})",
+             "; ".join(f"{_g(float(r.relative_error.sel(motion=m)), 2)}, sign right {int(r.sign_agrees.sel(motion=m))}"
+                       for m in chaotic) or None),
+            (f"lyap_nolds_{short[-1]}_periodic", "reason", f"nolds {short}, n = {int(lp.n_impacts.sel(solver=so))}, on the "
+             f"periodic motions: starts with a finite estimate (of {k})",
+             _per_motion({m: str(int(r.finite.sel(motion=m))) for m in periodic}) or None),
+        ])
+
+
 def _cost_rows(rows: list, jobs: pd.DataFrame) -> None:
     src = "results/tables/workflow_cost.csv"
     per_rule = jobs.groupby("rule").seconds.agg(["count", "sum"])
@@ -297,7 +362,7 @@ def _cost_rows(rows: list, jobs: pd.DataFrame) -> None:
                 f"{int(n)} jobs, {_g(s, 3)} s",
                 f"{src}: rule `{rule}`",
             )
-    timed = [r for r in ("work_precision", "analytics_accuracy") if r in per_rule.index]
+    timed = [r for r in ("work_precision", "analytics_accuracy", "lyapunov_precision") if r in per_rule.index]
     if timed:
         _row(
             rows,
@@ -319,6 +384,7 @@ def speed_summary(
     failure_map: xr.Dataset | None = None,
     analytics_accuracy: xr.Dataset | None = None,
     workflow_cost: pd.DataFrame | None = None,
+    lyapunov_precision: xr.Dataset | None = None,
 ) -> pd.DataFrame:
     """The numbers the speed-and-accuracy page cites, from the benchmark datasets.
 
@@ -329,6 +395,8 @@ def speed_summary(
         rows.
     workflow_cost : pandas.DataFrame, optional
         The benchmarked jobs (``results/tables/workflow_cost.csv``).
+    lyapunov_precision : xarray.Dataset, optional
+        The largest Lyapunov exponent's speed against accuracy (``results/bench/lyapunov_precision.nc``).
 
     Returns
     -------
@@ -351,6 +419,7 @@ def speed_summary(
         (matched_accuracy, _matched_rows),
         (failure_map, _failure_rows),
         (analytics_accuracy, _analytics_rows),
+        (lyapunov_precision, _lyapunov_rows),
         (workflow_cost, _cost_rows),
     ):
         if ds is not None:

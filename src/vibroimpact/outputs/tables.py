@@ -15,6 +15,7 @@ from ..analysis.lyapunov import t_quantile
 from ..analysis.motions import CHAOTIC, ONE_ONE, TWO_ONE
 from ..analysis.settled import LONG_BATCHES
 from ..analysis.transitions import PERIOD_DOUBLING
+from ..benchmarks.lyapunov_precision import summarise
 from ..benchmarks.workprecision import OUTCOMES
 from .paper import paper_stable, pi_tex
 
@@ -479,6 +480,51 @@ def work_precision_markdown(wp: xr.Dataset) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _lyap_setting(sub) -> str:
+    tol = float(sub.tolerance)
+    return f"n = {int(sub.n_impacts)}" + ("" if math.isnan(tol) else f", rtol {tol:.0e}")
+
+
+def lyapunov_precision_markdown(ds: xr.Dataset) -> str:
+    """The largest Lyapunov exponent by each method against the long reference run, per motion: the estimate
+    (mean over the repeats), its error (median, and range over the repeats), the median relative error, the
+    repeats whose estimate is finite and of the reference's sign, and the median cost; where no repeat gives a
+    finite estimate, the reason instead.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A :func:`vibroimpact.benchmarks.lyapunov_precision.lyapunov_precision` dataset.
+
+    Returns
+    -------
+    str
+        The Markdown table.
+    """
+    s = summarise(ds)
+    k = ds.sizes["repeat"]
+    lines = ["| motion | method | setting | λ₁ (per unit t) | error: median (range) | relative error | "
+             f"sign right (of {k}) | seconds (median) |", "|---|---|---|---|---|---|---|---|"]
+    for m in ds.motion.values:
+        ref = ds.sel(motion=m)
+        floquet = float(ref.lambda_floquet)
+        note = "" if math.isnan(floquet) else f"; Floquet: {floquet:.6f}"
+        lines.append(f"| {m} | reference: tangent map | n = {int(ds.attrs.get('n_ref', 0))} | {float(ref.lambda_ref):.5f} "
+                     f"(95 %: {float(ref.lambda_ref_low):.5f} … {float(ref.lambda_ref_high):.5f}{note}) | | | | "
+                     f"{float(ref.ref_seconds):.2g} |")
+        for so in ds.solver.values:
+            row, sub = s.sel(motion=m, solver=so), ds.sel(motion=m, solver=so)
+            head = f"| {m} | {str(sub.family.values)} | {_lyap_setting(sub)} |"
+            if int(row.finite) == 0:
+                reasons = "; ".join(sorted(set(sub.reason.values.astype(str))))
+                lines.append(f"{head} none: {reasons} | | | 0 | {float(row.seconds):.2g} |")
+                continue
+            lines.append(f"{head} {float(row.lambda1):.5f} | {float(row.error_median):.1e} ({float(row.error_min):.1e}"
+                         f" … {float(row.error_max):.1e}) | {float(row.relative_error):.2g} | {int(row.sign_agrees)} | "
+                         f"{float(row.seconds):.2g} |")
+    return "\n".join(lines) + "\n"
+
+
 #: Benchmark files (globs under benchmarks/) behind each figure, for the workflow-cost summary.
 FIGURE_SOURCES = {
     "fig0b, fig4, figFN2 (caption orbits)": ["orbits/*.tsv"],
@@ -493,6 +539,7 @@ FIGURE_SOURCES = {
     "work_precision": ["bench/work_precision.tsv"],
     "failure_map": ["bench/failure_map.tsv"],
     "analytics_accuracy": ["bench/analytics_accuracy.tsv"],
+    "lyapunov_precision": ["bench/lyapunov_precision.tsv"],
 }
 
 

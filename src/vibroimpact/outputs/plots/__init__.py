@@ -15,7 +15,7 @@ and the arrays the figure draws.
 """
 
 from ._common import STYLE_FILE, save, save_outputs, use_style, wellposed
-from .bench import fig_analytics_accuracy, fig_failure_map, fig_work_precision
+from .bench import fig_analytics_accuracy, fig_failure_map, fig_lyapunov_precision, fig_work_precision
 from .branches import critical_markers, fig2, fig3
 from .chaos import fig_lyapunov
 from .design import fig_design_map
@@ -25,4 +25,4 @@ from .sweeps import fig_basins, fig_bifurcation_set, fig_bis, fig_regime_map
 
 __all__ = ["NEAR_GRAZING", "STYLE_FILE", "critical_markers", "fig0b", "fig2", "fig3", "fig4", "figFN2",
            "fig_analytics_accuracy", "fig_basins", "fig_bis", "fig_design", "fig_design_map", "fig_energy", "fig_failure_map", "fig_lyapunov",
-           "fig_bifurcation_set", "fig_regime_map", "fig_work_precision", "phase_portrait", "save", "save_outputs", "time_series", "use_style", "wellposed"]
+           "fig_bifurcation_set", "fig_regime_map", "fig_lyapunov_precision", "fig_work_precision", "phase_portrait", "save", "save_outputs", "time_series", "use_style", "wellposed"]

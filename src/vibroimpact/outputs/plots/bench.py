@@ -1,4 +1,4 @@
-"""Speed against accuracy: work-precision, failure map, accuracy of the analytics."""
+"""Speed against accuracy: work-precision, failure map, accuracy of the analytics, the largest Lyapunov exponent."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ from matplotlib.patches import Patch
 from matplotlib.ticker import NullFormatter
 
 from ...analysis.motions import no_period
+from ...benchmarks.lyapunov_precision import summarise
 from ...benchmarks.workprecision import OUTCOMES
 from ..layout import AROUND, place_labels
 from ._common import use_style, wellposed
@@ -238,3 +239,80 @@ def _grid_and_located(ax, x, grid, x_located, located, kinds, marker, point_name
                   "magnitude", provenance="method error", timed=("x",), floor=floor)
     return [(ax, name, [((xi, y), off) for off in AROUND], dict(fontsize=6))
             for xi, name, y in zip(x, point_names, grid[:, 0], strict=True)]
+
+
+#: colour and marker of each method of the Lyapunov chart (DOP853: one marker per tolerance, in its order)
+LYAP_STYLE = {
+    "tangent": ("k", ("*",), "tangent map (vi.lyapunov)"),
+    "benettin-exact": ("tab:blue", ("o",), "Benettin, exact flights"),
+    "benettin-DOP853": ("tab:orange", ("s", "^", "v", "<", ">"), "Benettin, solve_ivp DOP853"),
+    "nolds-lyap_r": ("tab:green", ("D",), "nolds lyap_r (Rosenstein), impact velocities"),
+    "nolds-lyap_e": ("tab:purple", ("P",), "nolds lyap_e (Eckmann), impact velocities"),
+}
+#: errors below this are drawn at it (the log axis' floor)
+LYAP_FLOOR = 1e-12
+
+
+def _lyap_lines(ds):
+    """(family, tolerance, label, colour, marker, solver mask) of each line of the Lyapunov chart."""
+    out = []
+    for fam, (color, markers, name) in LYAP_STYLE.items():
+        m = ds.family.values == fam
+        if not m.any():
+            continue
+        tol_all = ds.tolerance.values
+        # in the dataset's order, NaN (no tolerance) once
+        for k, tol in enumerate(dict.fromkeys(float(t) for t in tol_all[m] if not np.isnan(t)) or [math.nan]):
+            sel = m & ((tol_all == tol) | (np.isnan(tol) & np.isnan(tol_all)))
+            n = ds.n_impacts.values[sel]
+            label = name + ("" if np.isnan(tol) else f" rtol={tol:.0e}") + f" (n = {n.min()} … {n.max()})"
+            out.append((fam, tol, label, color, markers[k % len(markers)], sel))
+    return out
+
+
+def fig_lyapunov_precision(ds):
+    """Error of each method's largest Lyapunov exponent against the long reference run, against its cost,
+    log-log, one panel per motion: the medians over the repeats (a marker per run length), a vertical bar over
+    their range, a cross at the top where no repeat gave a finite estimate; the grey band is the reference's
+    own 95 % half-width, below which an error is not resolved.  Errors are recorded for the figure check as
+    magnitudes above that half-width, costs as timings."""
+    use_style()
+    s = summarise(ds)
+    motions = list(ds.motion.values)
+    fig, axes = plt.subplots(1, len(motions), figsize=(3.9 * len(motions), 4.2), squeeze=False, sharey=True)
+    top = 10.0
+    for ax, mo in zip(axes[0], motions, strict=True):
+        sub, ref = s.sel(motion=mo), ds.sel(motion=mo)
+        half = 0.5 * float(ref.lambda_ref_high - ref.lambda_ref_low)
+        rule = dict(provenance="chaotic run" if np.isnan(float(ref.lambda_floquet)) else "method error", floor=half)
+        ax.axhspan(LYAP_FLOOR / 10, half, color="0.85", lw=0)
+        for _fam, _tol, label, color, marker, sel in _lyap_lines(ds):
+            x, y = sub.seconds.values[sel], sub.error_median.values[sel]
+            lo, hi = sub.error_min.values[sel], sub.error_max.values[sel]
+            ok = sub.finite.values[sel] > 0
+            if ok.any():  # no empty line (its data would have an empty dimension)
+                line = ax.loglog(x[ok], np.maximum(y[ok], LYAP_FLOOR), marker=marker, color=color, lw=1, ms=5,
+                                 label=label)[0]
+                wellposed(line, "magnitude", timed=("x",), **rule)
+            for xi, a, b in zip(x[ok], lo[ok], hi[ok], strict=True):
+                bar = ax.plot([xi, xi], np.maximum([a, b], LYAP_FLOOR), color=color, lw=0.8, label="_range")[0]
+                wellposed(bar, "magnitude", timed=("x",), **rule)
+            if (~ok).any():
+                cross = ax.plot(x[~ok], np.full((~ok).sum(), top), "x", color=color, ms=7,
+                                label=f"_{label}: no finite estimate")[0]
+                wellposed(cross, "magnitude", timed=("x",), **rule)
+        ax.set_title(f"{mo} ({str(ref.motion_label.values)})", fontsize=8)  # λ₁ itself: the table
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("cost of the estimate (s, median over the repeats)")
+        ax.set_ylim(LYAP_FLOOR / 3, top * 3)
+    axes[0, 0].set_ylabel("|λ₁ − λ₁ of the reference| per unit t\n(median over the repeats; bar: their range)")
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    handles.append(Patch(color="0.85"))
+    labels.append(f"the reference's 95 % half-width ({int(ds.attrs.get('n_ref', 0))} impacts): not resolved below")
+    nolds = " ".join(str(ds.attrs.get("nolds", "nolds")).split()[:2])  # "nolds 0.6.3", or why it is absent
+    fig.legend(handles, labels, loc="outside lower center", ncol=3, fontsize=6,
+               title=f"{ds.sizes['repeat']} repeats per point (starts apart on the motion); a cross at the top in a "
+                     f"method's colour: no finite estimate in any repeat (why: the table); errors below "
+                     f"{LYAP_FLOOR:.0e} drawn at it; {nolds}", title_fontsize=6)
+    return fig

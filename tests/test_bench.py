@@ -24,3 +24,28 @@ def test_benchmark_reports_speed_and_accuracy():
     assert "Speed-up per impact" in report(ds)
     # the exponents' run is timed beside the plain run (a ratio, reported, never asserted as a speed)
     assert float(ds.lyapunov_ratio) > 1 and "Lyapunov" in report(ds)
+
+
+def test_the_trigonometric_floor_replays_each_sine_s_angle_of_the_event_finder():
+    """The kernel profile's floor (the sines and cosines alone) replays the angles the event finder takes: its
+    plain-Python count records one angle per sine-cosine pair, so twice the angles are the trigonometric calls
+    counted; and the compiled chain computes what the same loop written in Python does."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    from vibroimpact.benchmarks.bench import KERNEL_SCENES, _sincos_chain
+
+    env = dict(os.environ, NUMBA_DISABLE_JIT="1")
+    out = json.loads(subprocess.run([sys.executable, "-m", "vibroimpact.benchmarks.bench", json.dumps({"n": 30})],
+                                    env=env, capture_output=True, text=True, check=True).stdout)
+    assert set(out) == set(KERNEL_SCENES)
+    for c in out.values():
+        assert c["flights"] > 20 and 2 * len(c["sines"]) == round(c["trig"] * c["flights"])
+    x = np.array(out["chaotic"]["sines"][:50])
+    acc = 0.0
+    for _ in range(2):
+        for a in x:
+            acc = math.sin(a + acc * 0.0) + math.cos(a + acc * 0.0)
+    assert _sincos_chain(x, 2) == acc

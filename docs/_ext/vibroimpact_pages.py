@@ -13,6 +13,8 @@
   (the committed ``reference/figures/conditioning*.csv``).
 * ``_generated/mutation_scores.md``: the mutation samples the repository carries
   (``tools/mutation_samples/``) and the verdicts on their survivors, counted by ``tools/mutation.py scores``.
+* ``_generated/test_durations.md``: the test suite's durations as a whole run on a clean clone measured them
+  (the committed ``reference/test_durations.csv``, ``tools/test_durations.py table``).
 
 Nothing is typed: a site built before the workflow ran stops with the target to run.
 """
@@ -123,12 +125,22 @@ def variables_page() -> str:
     return _markdown_table(pd.DataFrame(rows)) + "\n"
 
 
-def mutation_scores(root: Path) -> str:
-    """The testing page's table of mutation scores (``tools/mutation.py scores``)."""
-    spec = importlib.util.spec_from_file_location("mutation_tool", root / "tools" / "mutation.py")
+def _tool(root: Path, name: str):
+    """A script of ``tools/``, loaded as a module."""
+    spec = importlib.util.spec_from_file_location(f"{name}_tool", root / "tools" / f"{name}.py")
     tool = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(tool)
-    return tool.scores()
+    return tool
+
+
+def mutation_scores(root: Path) -> str:
+    """The testing page's table of mutation scores (``tools/mutation.py scores``)."""
+    return _tool(root, "mutation").scores()
+
+
+def test_durations(root: Path) -> str:
+    """The testing page's table of the suite's durations (``tools/test_durations.py table``)."""
+    return _tool(root, "test_durations").table()
 
 
 def conditioning_page(root: Path) -> str:
@@ -149,6 +161,7 @@ def generate(app):
     (src / "paper.md").write_text(paper_page(root))
     (src / "_generated" / "variables.md").write_text(variables_page())
     (src / "_generated" / "mutation_scores.md").write_text(mutation_scores(root))
+    (src / "_generated" / "test_durations.md").write_text(test_durations(root))
 
 
 def setup(app):

@@ -342,13 +342,17 @@ def _count_worker(args: str) -> None:
         counted(name, key)
     fm = types.SimpleNamespace(**{k: getattr(math, k) for k in dir(math) if not k.startswith("_")})
 
-    def trig(f):
+    sines = []  # every sine's argument: the cosine of each is taken of the same angle
+
+    def trig(f, record=None):
         def g(x):
             counts["trig"] += 1
+            if record is not None:
+                record.append(x)
             return f(x)
         return g
 
-    fm.sin, fm.cos = trig(math.sin), trig(math.cos)
+    fm.sin, fm.cos = trig(math.sin, sines), trig(math.cos)
     flight.math = events.math = fm
     out = {}
     for name, (beta, d, phi, v0) in KERNEL_SCENES.items():
@@ -357,12 +361,34 @@ def _count_worker(args: str) -> None:
         th, z0, u = (ds[k].values[50:-1] for k in ("phase", "z", "v_plus"))
         for k in counts:
             counts[k] = 0
+        sines.clear()
         for j in range(th.size):
             c, s = math.cos(th[j]), math.sin(th[j])  # as the event loop does, once per flight
+            sines.append(float(th[j]))
             events.flight_impact(th[j], c, s, math.acos(-p.gbar), z0[j], u[j], p.d, p.gbar, math.inf)
         counts["trig"] += 2 * th.size
-        out[name] = {k: v / th.size for k, v in counts.items()}
+        out[name] = {k: v / th.size for k, v in counts.items()} | {"sines": list(sines), "flights": th.size}
     print(json.dumps(out))
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _sincos_chain(x, reps):
+    """The sine and cosine of every angle of ``x``, ``reps`` times over, each angle waiting for the last pair's
+    result (as the event finder's next point waits for this one's): the latency of the trigonometric calls
+    alone, a floor under the kernel's cost per impact."""
+    acc = 0.0
+    for _ in range(reps):
+        for i in range(x.shape[0]):
+            a = x[i] + acc * 0.0
+            acc = math.sin(a) + math.cos(a)
+    return acc
+
+
+def _trig_floor_timer(sines, reps: int):
+    """A call timing :func:`_sincos_chain` over ``sines`` ``reps`` times (seconds)."""
+    x = np.asarray(sines, dtype=float)
+    _sincos_chain(x, 1)
+    return partial(_seconds, partial(_sincos_chain, x, reps))
 
 
 #: timed runs per measurement of the kernel benchmark; the fastest counts (timeit's convention: on a
@@ -398,7 +424,9 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: i
     sine/cosine calls, point evaluations and root searches of the event finder (counted over
     ``n_counted`` flights of the same algorithm run as plain Python); in the same run, heyoka's
     stepping cost per impact at tol = eps (:func:`~vibroimpact.benchmarks.peer_heyoka.stepping_cost`, over
-    ``n_heyoka`` impacts), NaN where heyoka is not installed.  Every timing is the fastest of
+    ``n_heyoka`` impacts), NaN where heyoka is not installed; the floor the trigonometric calls set, the
+    same angles' sines and cosines replayed compiled as a dependent chain (:func:`_sincos_chain`).  Every
+    timing is the fastest of
     ``repeats`` runs (:data:`REPEATS`), taken in rounds over both scenes and all methods."""
 
 
@@ -406,6 +434,7 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: i
     res = subprocess.run([sys.executable, "-m", "vibroimpact.benchmarks.bench", json.dumps({"n": n_counted})], env=env,
                          capture_output=True, text=True, check=True)
     counts = json.loads(res.stdout)
+    sines = {n: c.pop("sines") for n, c in counts.items()}
 
     names = list(KERNEL_SCENES)
     cores = numba.config.NUMBA_NUM_THREADS
@@ -422,12 +451,15 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: i
         simulate(p, phi, v0, n_impacts=100)
         simulate_batch([p.d] * m, p.gbar, 0.5, phis, v0, n_impacts=10)
         timers[name, "simulate"] = partial(_seconds, partial(simulate, p, phi, v0, n_impacts=n_impacts))
+        timers[name, "trig"] = _trig_floor_timer(sines[name], max(1, n_impacts // counts[name]["flights"]))
         for threads in (1, cores):
             timers[name, threads] = partial(_seconds, partial(simulate_batch, [p.d] * m, p.gbar, 0.5, phis, v0,
                                                               n_impacts=n_impacts // m), threads=threads)
     best = _fastest_in_rounds(timers, repeats)  # ours and heyoka's alike
     numba.set_num_threads(cores)
     us = [best[n, "simulate"] / n_impacts * 1e6 for n in names]
+    trig_us = [best[n, "trig"] / (max(1, n_impacts // counts[n]["flights"]) * counts[n]["flights"]) * 1e6
+               for n in names]
     rate1 = [m * (n_impacts // m) / best[n, 1] for n in names]
     rateall = [m * (n_impacts // m) / best[n, cores] for n in names]
     hy = {n: hy_result[n](best[n, "heyoka"]) for n in hy_result}
@@ -440,6 +472,9 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: i
             "impacts_per_second_1": ("scene", rate1, dict(units="1/s", long_name="simulate_batch on one core")),
             "impacts_per_second_all": ("scene", rateall, dict(units="1/s", long_name=f"simulate_batch on {cores} cores")),
             "trig_per_impact": (*per("trig"), dict(units="1", long_name="sine and cosine calls per impact")),
+            "trig_floor_us_per_impact": ("scene", trig_us, dict(
+                units="us", long_name="the sines and cosines of an impact alone, each angle waiting for the last "
+                "(the angles the event finder takes, replayed compiled): a floor under the kernel's cost")),
             "points_per_impact": (*per("points"), dict(units="1", long_name="points evaluated per impact")),
             "roots_per_impact": (*per("roots"), dict(units="1", long_name="root searches per impact")),
             "heyoka_stepping_us_per_impact": ("scene", hy_us, dict(

@@ -9,7 +9,8 @@ default target at the configured preset).  With ``--rounds N`` the two alternate
 each side's fastest run is reported, so that a noisy stretch of a shared machine slows one round of each.  The
 baseline defaults to ``HEAD`` (the last commit, against the uncommitted tree).  Per run: the wall seconds, the
 jobs run, and from the jobs' own benchmark files the sum of their wall and CPU seconds.  Prints a Markdown table
-with the machine and the command; ``--out`` also writes it to a file.
+with the machine and the command; ``--out`` also writes it to a file; ``--keep DIR`` keeps both sides' results of
+the last round (``DIR/baseline``, ``DIR/this``), for ``tools/same_results.py DIR/baseline DIR/this``.
 """
 from __future__ import annotations
 
@@ -63,7 +64,7 @@ def cold_default_target(tree: Path, where: Path) -> dict:
             "jobs' CPU seconds": job_cpu}
 
 
-def main(baseline: str = "HEAD", rounds: int = 1) -> pd.DataFrame:
+def main(baseline: str = "HEAD", rounds: int = 1, keep: str | None = None) -> pd.DataFrame:
     sides = {f"baseline ({baseline})": lambda d: baseline_copy(baseline, d), "this tree": scratch_copy}
     runs = {name: [] for name in sides}
     with tempfile.TemporaryDirectory() as tmp:
@@ -72,6 +73,8 @@ def main(baseline: str = "HEAD", rounds: int = 1) -> pd.DataFrame:
                 where = Path(tmp) / f"{k}-{len(runs[name])}-{name.split()[0]}"
                 (where / "tree").mkdir(parents=True)
                 runs[name].append(cold_default_target(copy(where / "tree"), where))
+                if keep and k == rounds - 1:  # the last round's results, to compare (tools/same_results.py)
+                    shutil.copytree(where / "tree" / "results", Path(keep) / name.split()[0])
                 shutil.rmtree(where)
     rows = [{"tree": name, **min(r, key=lambda x: x["wall seconds (cold)"])} for name, r in runs.items()]
     df = pd.DataFrame(rows).round(1)
@@ -84,8 +87,9 @@ if __name__ == "__main__":
     ap.add_argument("baseline", nargs="?", default="HEAD")
     ap.add_argument("--rounds", type=int, default=1)
     ap.add_argument("--out")
+    ap.add_argument("--keep", help="copy each side's results of the last round to KEEP/baseline and KEEP/this")
     a = ap.parse_args()
-    table = main(a.baseline, a.rounds).to_markdown(index=False)
+    table = main(a.baseline, a.rounds, a.keep).to_markdown(index=False)
     cpu = os.cpu_count()
     text = (f"{table}\n\nMachine: {platform.machine()}, {cpu} cores, {platform.system()} {platform.release()}, "
             f"Python {platform.python_version()}. Command: `python benchmarks/bench_default_target.py "

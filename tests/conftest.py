@@ -137,6 +137,17 @@ def run_readme(cwd, command, env=None, timeout=3600):
                           env=os.environ | (env or {}))
 
 
+#: the fixtures of README's scratch clone: with the suite spread over processes (pytest-xdist, ``--dist loadgroup``),
+#: every test that needs the clone runs in one of them, so that the clone is set up and run once
+CLONE_FIXTURES = {"readme_clone", "default_run", "docs_build"}
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        if CLONE_FIXTURES & set(getattr(item, "fixturenames", ())):
+            item.add_marker(pytest.mark.xdist_group("readme_clone"))
+
+
 @pytest.fixture(scope="session")
 def readme_clone(tmp_path_factory):
     """A scratch clone set up and run by README.md's first command, as on another machine: under glibc's
@@ -185,6 +196,8 @@ def pytest_runtest_logreport(report):
 
 def pytest_sessionfinish(session, exitstatus):
     opt = session.config.option
+    if hasattr(session.config, "workerinput"):  # a pytest-xdist worker: the controller gets every report
+        return
     whole = not session.config.args_source.name == "ARGS" and not opt.markexpr and not opt.keyword
     if whole and _seconds:
         DURATIONS.parent.mkdir(parents=True, exist_ok=True)

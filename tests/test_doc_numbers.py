@@ -651,6 +651,7 @@ def test_a_passage_holds_in_this_checkout_s_results(passage):
 
 
 @pytest.mark.slow
+@pytest.mark.xdist_group("readme_clone")  # the clone's fixtures, asked for by name below
 @pytest.mark.parametrize("passage", PASSAGES)
 def test_a_passage_holds_in_a_fresh_clone(request, passage):
     """Against README's commands run in a scratch clone (the first, or the docs command after the check)."""

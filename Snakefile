@@ -61,15 +61,6 @@ if not CFG.paper_device:
         workflow.workdir(CFG.results_dir)
 
 
-# numba's cache compiled once, in two processes at once, before the first job (a cold cache would otherwise be
-# filled by whichever jobs start first, each compiling the same functions): vibroimpact._warm; a warm cache
-# costs one file test
-onstart:
-    from vibroimpact._warm import warm
-
-    warm()
-
-
 include: "workflow/rules/orbits.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/orbits_branches.smk"

@@ -41,6 +41,16 @@ def baseline_copy(rev: str, dest: Path) -> Path:
     return dest
 
 
+def fresh_mtimes(tree: Path) -> Path:
+    """Every file of ``tree`` given one modification time, as a fresh clone has them (a copy that kept the working
+    tree's times would leave a figure newer than the code that draws it, and Snakemake would not redraw it)."""
+    now = time.time()
+    for f in tree.rglob("*"):
+        if f.is_file():
+            os.utime(f, (now, now))
+    return tree
+
+
 def job_seconds(bench_dir: Path) -> tuple[int, float, float]:
     """Jobs, and the sums of their wall and CPU seconds, from a run's Snakemake benchmark files."""
     n, wall, cpu = 0, 0.0, 0.0
@@ -72,7 +82,7 @@ def main(baseline: str = "HEAD", rounds: int = 1, keep: str | None = None) -> pd
             for name, copy in sides.items():
                 where = Path(tmp) / f"{k}-{len(runs[name])}-{name.split()[0]}"
                 (where / "tree").mkdir(parents=True)
-                runs[name].append(cold_default_target(copy(where / "tree"), where))
+                runs[name].append(cold_default_target(fresh_mtimes(copy(where / "tree")), where))
                 if keep and k == rounds - 1:  # the last round's results, to compare (tools/same_results.py)
                     shutil.copytree(where / "tree" / "results", Path(keep) / name.split()[0])
                 shutil.rmtree(where)

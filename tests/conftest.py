@@ -80,14 +80,15 @@ def _copy_workflow(tmp_path):
     return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 
 
-def _snakemake(tmp_path, *args, env=None):
+def _snakemake(tmp_path, *args):
     return subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", *args], cwd=tmp_path,
-                          capture_output=True, text=True, timeout=600, env=None if env is None else os.environ | env)
+                          capture_output=True, text=True, timeout=600)
 
 
 # ---- README.md's commands, executed as written (tests/test_readme.py) -----------------------------
 import os  # noqa: E402
 import re  # noqa: E402
+import time  # noqa: E402
 
 #: a shell block of a document, with the marker before it naming what runs it:
 #: <!-- tested by tests/test_x.py::test_name -->  or  <!-- run by .ci/run -->
@@ -118,11 +119,13 @@ def scratch_clone(dest, git=False):
     tree whose one commit holds them (so that ``git status`` shows what a run changed)."""
     files = subprocess.run(["git", "ls-files", "-co", "--exclude-standard", "-z"], cwd=ROOT, capture_output=True,
                            check=True).stdout.decode().split("\0")
-    for f in filter(None, files):
+    now = time.time()  # one modification time for every file, as a fresh clone has them: a copy that kept the
+    for f in filter(None, files):  # working tree's would leave a figure newer than its code, never redrawn
         src = ROOT / f
         if src.is_file():
             (dest / f).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(src, dest / f)
+            os.utime(dest / f, (now, now))
     if git:
         cmd = ["git", "-C", str(dest), "-c", "user.name=test", "-c", "user.email=test@localhost"]
         subprocess.run(cmd[:3] + ["init", "-q"], check=True)
@@ -181,13 +184,12 @@ def default_run(readme_clone):
 
 
 # ---- the suite's durations, for the testing page (tools/test_durations.py) ----------------------------------
-import time as _time  # noqa: E402
 
 #: where a run of the whole suite (no paths, no -m, no -k) leaves every test's seconds (setup, call and teardown
 #: summed), read by tools/test_durations.py; results/ is not tracked, so the clone stays clean
 DURATIONS = ROOT / "results" / "tests" / "durations.csv"
 _seconds: dict[str, float] = {}
-_started = _time.perf_counter()
+_started = time.perf_counter()
 
 
 def pytest_runtest_logreport(report):
@@ -203,4 +205,4 @@ def pytest_sessionfinish(session, exitstatus):
         DURATIONS.parent.mkdir(parents=True, exist_ok=True)
         rows = sorted(_seconds.items(), key=lambda kv: -kv[1])
         DURATIONS.write_text("test,seconds\n" + "".join(f'"{k}",{v:.2f}\n' for k, v in rows)
-                             + f'"(the whole run, wall)",{_time.perf_counter() - _started:.2f}\n')
+                             + f'"(the whole run, wall)",{time.perf_counter() - _started:.2f}\n')

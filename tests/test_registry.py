@@ -81,7 +81,7 @@ def test_every_row_names_a_plot_function_a_caption_and_a_rule_that_draws_it():
         else:
             assert f'caption=figure_caption("{row.rule}")' in rules[row.rule], row.rule
             assert f'category=figure_category("{row.rule}")' in rules[row.rule], row.rule
-        assert row.check == "check_figure" and row.target in ("all", "bifurcation", "design_maps")
+        assert row.check == "check_figure" and row.target in ("all", "bench", "bifurcation", "design_maps")
 
 
 def test_the_target_lists_name_no_figure_but_through_the_registry():

@@ -226,11 +226,11 @@ def exponents_of_run(run, *, transient: int, batches: int = 20, slow_speed: floa
     """
     events = K.Window(*(run[v].values for v in ("t", "wall", "v_minus", "phase")), run["kind"].values.astype(np.int8))
     model = K.Model(float(run.attrs.get("d", math.nan)), float(run.attrs["gbar"]), float(run.attrs["r"]))
-    return _exponents_of_events(events, model, str(run.attrs.get("status")), transient=transient, batches=batches,
+    return exponents_of_events(events, model, str(run.attrs.get("status")), transient=transient, batches=batches,
                                 slow_speed=slow_speed, confidence=confidence)
 
 
-def _exponents_of_events(events, model, run_status, *, transient, batches, slow_speed, confidence) -> Lyapunov:
+def exponents_of_events(events, model, run_status, *, transient, batches, slow_speed, confidence) -> Lyapunov:
     """:func:`exponents_of_run` of a run's events (:data:`~vibroimpact.dynamics.kernels.Window`), constants
     (:data:`~vibroimpact.dynamics.kernels.Model`) and status name (``run_status``)."""
     logs = np.zeros((batches, 2))

@@ -31,7 +31,7 @@ from ..dynamics import kernels as K
 from ..dynamics.flight import PI, TWO_PI
 from ..dynamics.params import Params
 from ..dynamics.runs import simulate
-from .lyapunov import _exponents_of_events, exponents_of_run, multiplier_sensitivity
+from .lyapunov import exponents_of_events, exponents_of_run, multiplier_sensitivity
 from .motions import no_period_label
 from .orbits import OrbitError, orbit_from_vector, parse_word, solve_orbit, step_jacobians
 from .windows import EVENT_VARS, last_bottom_impact
@@ -288,7 +288,7 @@ def long_runs(d, gbar, r, phi, v0, *, impacts: int = LONG_IMPACTS, tol: float = 
 def _tangent_estimate(ev, dgr, impacts):
     """:func:`~vibroimpact.analysis.lyapunov.exponents_of_run` of a run of ``impacts`` events (a
     :func:`_run_events` entry), as :func:`long_run` takes it: its first tenth discarded."""
-    return _exponents_of_events(K.Window(*ev[:5]), K.Model(*(float(x) for x in dgr)), ev[5],
+    return exponents_of_events(K.Window(*ev[:5]), K.Model(*(float(x) for x in dgr)), ev[5],
                                 transient=impacts // 10, batches=LONG_BATCHES, slow_speed=1e-3, confidence=0.95)
 
 

@@ -145,10 +145,17 @@ def run_readme(cwd, command, env=None, timeout=3600):
 CLONE_FIXTURES = {"readme_clone", "default_run", "docs_build"}
 
 
+@pytest.hookimpl(tryfirst=True)  # before pytest-xdist's, which reads the groups
 def pytest_collection_modifyitems(config, items):
+    try:  # pytest >= 9 keeps a node's id in `_id`: pytest-xdist 3.8 writes its group suffix to `_nodeid`, unread
+        from _pytest.nodeid import coerce_node_id
+    except ImportError:  # pytest 8: pytest-xdist adds the suffix of the marker itself
+        coerce_node_id = None
     for item in items:
-        if CLONE_FIXTURES & set(getattr(item, "fixturenames", ())):
+        if CLONE_FIXTURES & set(getattr(item, "fixturenames", ())) or item.get_closest_marker("xdist_group"):
             item.add_marker(pytest.mark.xdist_group("readme_clone"))
+            if coerce_node_id is not None and getattr(config.option, "loadgroup", False) and "@" not in item.nodeid:
+                item._id = coerce_node_id(f"{item.nodeid}@readme_clone")
 
 
 @pytest.fixture(scope="session")

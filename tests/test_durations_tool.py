@@ -11,7 +11,7 @@ spec.loader.exec_module(tool)
 
 def test_the_table_sums_each_file_and_lists_the_slowest_first(tmp_path):
     run = tmp_path / "durations.csv"
-    run.write_text('test,seconds\n"tests/test_a.py::test_x",3.0\n"tests/test_b.py::test_y",10.0\n'
+    run.write_text('test,seconds\n"tests/test_a.py::test_x",3.0\n"tests/test_b.py::test_y@readme_clone",10.0\n'
                    '"tests/test_a.py::test_z",4.5\n"(the whole run, wall)",600.0\n')
     kept = tool.keep(run, tmp_path / "kept.csv")
     assert kept.read_text().startswith("# ") and "cores" in kept.read_text().splitlines()[0]
@@ -38,5 +38,5 @@ def test_the_kept_record_names_tests_that_exist():
     df = pd.read_csv(tool.KEPT, comment="#")
     tests = df[df.test != tool.WHOLE].nlargest(tool.SLOWEST, "seconds").test
     for t in tests:
-        path, name = t.split("::")[0], t.split("::")[1].split("[")[0]
+        path, name = t.split("::")[0], t.split("::")[1].split("[")[0].split("@")[0]
         assert f"def {name}(" in (ROOT / path).read_text(), t

@@ -46,6 +46,7 @@ def table(src: Path = KEPT) -> str:
     df = pd.read_csv(src, comment="#")
     whole = float(df.loc[df.test == WHOLE, "seconds"].iloc[0])
     tests = df[df.test != WHOLE].copy()
+    tests["test"] = tests.test.str.replace(r"@[\w-]+$", "", regex=True)  # pytest-xdist's group suffix
     tests["file"] = tests.test.str.split("::").str[0]
     slowest = tests.nlargest(SLOWEST, "seconds")[["test", "seconds"]]
     slowest["test"] = "`" + slowest.test + "`"

@@ -108,7 +108,7 @@ MISSPELT = "physiks:\n  omega: 14.137166941154069\n"
 REFUSAL = ("config: physiks = {'omega': 14.137166941154069} is not allowed; allowed: one of the keys device, quality, "
            "physics, captions, scenes, resolution, attractor, branches, branch_scenes, sweeps, basins, maps, design, knocks, "
            "membrane, energy, chaos, studies, study_defaults, checks, figure_checks, bifurcation, work_precision, "
-           "failure_map, bench; did you mean physics?")
+           "lyapunov_precision, failure_map, bench; did you mean physics?")
 
 
 def test_a_misspelt_top_level_key_in_a_configfile_is_refused_in_one_line_before_any_job(tmp_path):

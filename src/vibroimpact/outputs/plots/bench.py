@@ -304,7 +304,7 @@ def fig_lyapunov_precision(ds):
         ax.set_title(f"{mo} ({str(ref.motion_label.values)})", fontsize=8)  # λ₁ itself: the table
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("cost of the estimate (s, median over the repeats)")
+        ax.set_xlabel("cost of the estimate, median over the repeats (s)")
         ax.set_ylim(LYAP_FLOOR / 3, top * 3)
     axes[0, 0].set_ylabel("|λ₁ − λ₁ of the reference| per unit t\n(median over the repeats; bar: their range)")
     handles, labels = axes[0, 0].get_legend_handles_labels()

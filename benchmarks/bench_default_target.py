@@ -1,6 +1,6 @@
 """The default target's cold wall time, this tree against a baseline commit, measured in one run.
 
-    .venv/bin/python benchmarks/bench_default_target.py [BASELINE] [--rounds N] [--out FILE]
+    .venv/bin/python benchmarks/bench_default_target.py [BASELINE] [--rounds N] [--warm] [--out FILE]
 
 Each run starts from nothing, as a fresh clone does: a scratch copy of the files (the baseline commit's, from
 `git archive`, or this working tree's: the files git tracks and new ones it does not ignore), no results,
@@ -10,7 +10,9 @@ each side's fastest run is reported, so that a noisy stretch of a shared machine
 baseline defaults to ``HEAD`` (the last commit, against the uncommitted tree).  Per run: the wall seconds, the
 jobs run, and from the jobs' own benchmark files the sum of their wall and CPU seconds.  Prints a Markdown table
 with the machine and the command; ``--out`` also writes it to a file; ``--keep DIR`` keeps both sides' results of
-the last round (``DIR/baseline``, ``DIR/this``), for ``tools/same_results.py DIR/baseline DIR/this``.
+the last round (``DIR/baseline``, ``DIR/this``), for ``tools/same_results.py DIR/baseline DIR/this``.  With
+``--warm`` each side runs again in the same place from the results as cloned, with the numba cache its cold run
+filled: the wall and CPU seconds left when nothing is compiled (the difference is what compiling costs).
 """
 from __future__ import annotations
 
@@ -61,20 +63,39 @@ def job_seconds(bench_dir: Path) -> tuple[int, float, float]:
     return n, wall, cpu
 
 
-def cold_default_target(tree: Path, where: Path) -> dict:
-    """``snakemake --cores 2`` in ``tree`` with an empty numba cache under ``where``."""
-    env = os.environ | {"NUMBA_CACHE_DIR": str(where / "numba"), "PYTHONPATH": str(tree / "src")}
-    env.pop("VIRTUAL_ENV", None)
+def default_target(tree: Path, env: dict) -> tuple[float, int, float, float]:
+    """``snakemake --cores 2`` in ``tree``: its wall seconds, and the jobs, their wall and CPU seconds."""
     t0 = time.perf_counter()
     subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2"], cwd=tree, env=env, check=True,
                    capture_output=True)
-    wall = time.perf_counter() - t0
-    n, job_wall, job_cpu = job_seconds(tree / "benchmarks")
-    return {"wall seconds (cold)": wall, "benchmarked jobs": n, "jobs' wall seconds": job_wall,
-            "jobs' CPU seconds": job_cpu}
+    return time.perf_counter() - t0, *job_seconds(tree / "benchmarks")
 
 
-def main(baseline: str = "HEAD", rounds: int = 1, keep: str | None = None) -> pd.DataFrame:
+def cold_default_target(tree: Path, where: Path, warm: bool = False) -> dict:
+    """The default target in ``tree`` with an empty numba cache under ``where``; with ``warm``, then again from no
+    results with the cache that run filled (what compiling cost: the difference)."""
+    env = os.environ | {"NUMBA_CACHE_DIR": str(where / "numba"), "PYTHONPATH": str(tree / "src")}
+    env.pop("VIRTUAL_ENV", None)
+    if warm:
+        shutil.copytree(tree / "results", where / "results-as-cloned")
+    wall, n, job_wall, job_cpu = default_target(tree, env)
+    row = {"wall seconds (cold)": wall, "benchmarked jobs": n, "jobs' wall seconds": job_wall,
+           "jobs' CPU seconds": job_cpu}
+    if warm:  # the same paths (numba's cache is keyed by the source files' paths), the results as cloned
+        shutil.move(tree / "results", where / "results-cold")
+        shutil.copytree(where / "results-as-cloned", tree / "results")
+        fresh_mtimes(tree / "results")
+        shutil.rmtree(tree / ".snakemake")
+        for f in (tree / "benchmarks").rglob("*.tsv"):
+            f.unlink()
+        wall, _, _, job_cpu = default_target(tree, env)
+        row |= {"wall seconds (warm cache)": wall, "jobs' CPU seconds (warm cache)": job_cpu}
+        shutil.rmtree(tree / "results")
+        shutil.move(where / "results-cold", tree / "results")
+    return row
+
+
+def main(baseline: str = "HEAD", rounds: int = 1, keep: str | None = None, warm: bool = False) -> pd.DataFrame:
     sides = {f"baseline ({baseline})": lambda d: baseline_copy(baseline, d), "this tree": scratch_copy}
     runs = {name: [] for name in sides}
     with tempfile.TemporaryDirectory() as tmp:
@@ -82,7 +103,7 @@ def main(baseline: str = "HEAD", rounds: int = 1, keep: str | None = None) -> pd
             for name, copy in sides.items():
                 where = Path(tmp) / f"{k}-{len(runs[name])}-{name.split()[0]}"
                 (where / "tree").mkdir(parents=True)
-                runs[name].append(cold_default_target(fresh_mtimes(copy(where / "tree")), where))
+                runs[name].append(cold_default_target(fresh_mtimes(copy(where / "tree")), where, warm))
                 if keep and k == rounds - 1:  # the last round's results, to compare (tools/same_results.py)
                     shutil.copytree(where / "tree" / "results", Path(keep) / name.split()[0])
                 shutil.rmtree(where)
@@ -98,12 +119,13 @@ if __name__ == "__main__":
     ap.add_argument("--rounds", type=int, default=1)
     ap.add_argument("--out")
     ap.add_argument("--keep", help="copy each side's results of the last round to KEEP/baseline and KEEP/this")
+    ap.add_argument("--warm", action="store_true", help="also run each side again with the numba cache it filled")
     a = ap.parse_args()
-    table = main(a.baseline, a.rounds, a.keep).to_markdown(index=False)
+    table = main(a.baseline, a.rounds, a.keep, a.warm).to_markdown(index=False)
     cpu = os.cpu_count()
     text = (f"{table}\n\nMachine: {platform.machine()}, {cpu} cores, {platform.system()} {platform.release()}, "
             f"Python {platform.python_version()}. Command: `python benchmarks/bench_default_target.py "
-            f"{a.baseline} --rounds {a.rounds}` ({time.strftime('%Y-%m-%d', time.gmtime())}).\n")
+            f"{a.baseline} --rounds {a.rounds}{' --warm' * a.warm}` ({time.strftime('%Y-%m-%d', time.gmtime())}).\n")
     print(text)
     if a.out:
         Path(a.out).write_text(text)

@@ -340,7 +340,7 @@ def run_batch(batch, settings, pmax, out, ends):
     ``(m, n_events)``; ``ends`` (:data:`Ends`) arrays of length ``m``.
     """
     for k in prange(batch.d.shape[0]):
-        _batch_run(k, batch, settings, pmax, out, ends)
+        _batch_run(np.int64(k), batch, settings, pmax, out, ends)  # int64: one specialisation
 
 
 @njit(cache=True, error_model="numpy")
@@ -350,7 +350,8 @@ def _batch_run(k, batch, settings, pmax, out, ends):
     counts = np.zeros(pmax + 1, dtype=np.int64)
     d = batch.d[k]
     n, status, lag = advance(Model(d, batch.gbar[k], batch.r[k]),
-                             Start(0.0, batch.theta0[k], 0.5 * d, batch.v0[k], IMPACT, 1), 0, settings, counts,
+                             Start(0.0, batch.theta0[k], 0.5 * d, batch.v0[k], IMPACT, 1), np.int64(0),
+                             settings, counts,
                              EventBuffers(out.t[k], out.wall[k], out.v_minus[k], out.v_plus[k], out.phase[k],
                                           out.kind[k], out.z[k]))
     ends.n[k] = n
@@ -413,7 +414,8 @@ def run_window_from(model, start, limits, win):
     # a run-time flag, not the literal True: `advance` is then the very specialisation `simulate` calls,
     # compiled once, so the two give the same events to the last bit
     settings = Settings(t_end, v_chatter, tol == tol, tol)
-    n, status, lag = advance(model, start, 0, settings, counts, EventBuffers(bt, bw, bvm, bvp, bph, bk, bz))
+    n, status, lag = advance(model, start, np.int64(0), settings, counts,
+                             EventBuffers(bt, bw, bvm, bvp, bph, bk, bz))
     total = n
     while status == FULL and total < max_events:
         # slide: keep the last `keep` events (enough for the period test), continue after them
@@ -428,7 +430,7 @@ def run_window_from(model, start, limits, win):
             bz[j] = bz[j + shift]
         last = keep - 1
         room = min(cap, keep + max_events - total)
-        resume = Start(bt[last], bph[last], bz[last], bvp[last], resume_code(bk[last]), bw[last])
+        resume = Start(bt[last], bph[last], bz[last], bvp[last], resume_code(bk[last]), np.int64(bw[last]))
         n, status, lag = advance(model, resume, keep, settings, counts,
                                  EventBuffers(bt[:room], bw[:room], bvm[:room], bvp[:room], bph[:room], bk[:room],
                                               bz[:room]))
@@ -450,7 +452,7 @@ def window_batch(batch, limits, win, ends):
     ``limits`` (:data:`WindowSettings`) shared, ``win`` (:data:`Window`) arrays of shape (m, window), ``ends``
     (:data:`WindowEnds`) arrays of length m."""
     for k in prange(batch.d.shape[0]):
-        _window_run(k, batch, limits, win, ends)
+        _window_run(np.int64(k), batch, limits, win, ends)  # int64: one specialisation
 
 
 @njit(cache=True, error_model="numpy")
@@ -469,7 +471,7 @@ def flight_window_batch(batch, limits, win, ends):
     """:func:`window_batch` for runs each from a state in flight (``batch``, :data:`FlightBatch`): at ``t0``, forcing
     phase ``theta0``, ``Z = z0`` and ``Zdot = v0``; each lasts ``limits.t_end`` after its start."""
     for k in prange(batch.d.shape[0]):
-        _flight_window_run(k, batch, limits, win, ends)
+        _flight_window_run(np.int64(k), batch, limits, win, ends)  # int64: one specialisation
 
 
 @njit(cache=True, error_model="numpy")
@@ -498,7 +500,7 @@ def chain_windows(chain, span, limits, win, ends):
     whose window holds a bottom impact makes its last one the next start.  ``win`` (:data:`Window`) arrays of
     shape ``(chains, m, window)``, ``ends`` (:data:`WindowEnds`) of shape ``(chains, m)``."""
     for k in prange(chain.order.shape[0]):
-        _chain_run(k, chain, span, limits, win, ends)
+        _chain_run(np.int64(k), chain, span, limits, win, ends)  # int64: one specialisation
 
 
 @njit(cache=True, error_model="numpy")

@@ -168,7 +168,7 @@ def _event_loop(params, start, caps, settings, max_period_events):
         cap = new_cap
         j = n - 1
         start = K.Start(bufs.t[j], bufs.phase[j], bufs.z[j], bufs.v_plus[j], K.resume_code(int(bufs.kind[j])),
-                        bufs.wall[j])
+                        int(bufs.wall[j]))
         n, status, lag = K.advance(model, start, n, settings, counts, bufs)
     if status == K.STUCK_FOREVER:
         warnings.warn(

@@ -410,7 +410,8 @@ def layout_problems(fig, tolerance_pt: float = TOLERANCE_PT) -> list[str]:
     Parameters
     ----------
     fig : matplotlib.figure.Figure
-        The figure, drawn here with its canvas (its layout engine runs as it does when saved).
+        The figure, laid out here as when it is saved (:meth:`~matplotlib.figure.Figure.draw_without_rendering`:
+        its layout engine and every artist's draw run, nothing is rasterized).
     tolerance_pt : float
         The least distance between two texts and the most a text or legend may pass an edge (points):
         :data:`TOLERANCE_PT`.
@@ -423,7 +424,7 @@ def layout_problems(fig, tolerance_pt: float = TOLERANCE_PT) -> list[str]:
         ``text over data: ...`` (a text over markers), ``legend entry draws nothing: ...``.
     """
     with _drawn_texts() as drawn:
-        fig.canvas.draw()
+        fig.draw_without_rendering()
     renderer = fig.canvas.get_renderer()
     tol = tolerance_pt * fig.dpi / 72
     parent = _owners(fig)
@@ -510,7 +511,7 @@ def place_labels(fig, labels, gap_pt: float = 3.0) -> list:
     list of matplotlib.text.Annotation
     """
     with _drawn_texts() as drawn:
-        fig.canvas.draw()
+        fig.draw_without_rendering()
     renderer = fig.canvas.get_renderer()
     gap = gap_pt * fig.dpi / 72
     taken = [Text.get_window_extent(t, renderer) for t in drawn.values() if t.get_visible() and t.get_text().strip()]

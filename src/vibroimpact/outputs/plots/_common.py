@@ -536,7 +536,7 @@ def rows_of_names(fig, row_height=0.045, pad=3.0):
 
 def _place_names(fig, home, row_height, pad) -> bool:
     """One pass of :func:`rows_of_names` from the names' first places ``home``: whether a panel's top was raised."""
-    fig.canvas.draw()
+    fig.draw_without_rendering()
     renderer = fig.canvas.get_renderer()
     raised = False
     for ax in fig.axes:

@@ -17,6 +17,10 @@ def test_the_table_sums_each_file_and_lists_the_slowest_first(tmp_path):
     assert kept.read_text().startswith("# ") and "cores" in kept.read_text().splitlines()[0]
     page = tool.table(kept)
     assert "3 tests in 10.0 min" in page
+    # 17.5 s of tests on the record's processes, 10 s of them in the scratch clone's process
+    cores = int(kept.read_text().split(" cores")[0].rsplit(" ", 1)[1])
+    assert f"add up to 0.3 min, so that the {cores} processes" in page
+    assert f"less than {17.5 / cores / 60:.1f} min however" in page and "less than the 0.2 min of the tests" in page
     slowest = page.split("slowest tests")[1].split("By test file")[0]
     assert slowest.index("test_y") < slowest.index("test_z") < slowest.index("test_x")
     by_file = page.split("By test file")[1]

@@ -6,13 +6,15 @@
 A run of the whole suite (README's test command: no paths, no ``-m``, no ``-k``) leaves every test's seconds
 (setup, call and teardown summed) and the run's wall time in ``results/tests/durations.csv`` (tests/conftest.py).
 ``keep`` copies that record to ``reference/test_durations.csv`` with the machine it ran on; ``table`` writes the
-testing page's table from it (the docs build calls :func:`table`): the whole run, the share of the slow tests,
-the slowest tests, and the seconds of each test file.
+testing page's table from it (the docs build calls :func:`table`): the whole run, what bounds its wall time (the
+tests' seconds over the processes, and the tests that share README's scratch clone, in one process), the slowest
+tests, and the seconds of each test file.
 """
 from __future__ import annotations
 
 import os
 import platform
+import re
 import sys
 import time
 from pathlib import Path
@@ -26,6 +28,8 @@ KEPT = ROOT / "reference" / "test_durations.csv"
 WHOLE = "(the whole run, wall)"
 #: the slowest tests the table lists
 SLOWEST = 15
+#: the pytest-xdist group of the tests that share README's scratch clone (tests/conftest.py)
+CLONE_GROUP = "readme_clone"
 
 
 def keep(src: Path = RUN, dest: Path = KEPT) -> Path:
@@ -46,6 +50,7 @@ def table(src: Path = KEPT) -> str:
     df = pd.read_csv(src, comment="#")
     whole = float(df.loc[df.test == WHOLE, "seconds"].iloc[0])
     tests = df[df.test != WHOLE].copy()
+    clone = tests.test.str.endswith(f"@{CLONE_GROUP}")
     tests["test"] = tests.test.str.replace(r"@[\w-]+$", "", regex=True)  # pytest-xdist's group suffix
     tests["file"] = tests.test.str.split("::").str[0]
     slowest = tests.nlargest(SLOWEST, "seconds")[["test", "seconds"]]
@@ -53,9 +58,15 @@ def table(src: Path = KEPT) -> str:
     files = tests.groupby("file").seconds.agg(["count", "sum"]).sort_values("sum", ascending=False)
     files = files.rename(columns={"count": "tests", "sum": "seconds"}).reset_index()
     files["file"] = "`" + files.file + "`"
+    cores = int(re.search(r"(\d+) cores", head).group(1))
+    total, group = tests.seconds.sum(), tests.seconds[clone].sum()
     return (f"The whole suite: {len(tests)} tests in {whole / 60:.1f} min of wall time ({head}). "
             f"A test's seconds include its share of the fixtures it starts (a shared end-to-end run is counted "
-            f"at the first test that needs it).\n\nThe {SLOWEST} slowest tests:\n\n"
+            f"at the first test that needs it). What bounds the wall time: the tests' seconds add up to "
+            f"{total / 60:.1f} min, so that the {cores} processes of `-n auto` cannot end in less than "
+            f"{total / cores / 60:.1f} min however the tests are shared among them; nor in less than the "
+            f"{group / 60:.1f} min of the tests that share README's scratch clone, which run in one process."
+            f"\n\nThe {SLOWEST} slowest tests:\n\n"
             f"{slowest.round(1).to_markdown(index=False)}\n\nBy test file:\n\n"
             f"{files.round(1).to_markdown(index=False)}\n")
 

@@ -232,9 +232,9 @@ def test_a_knocks_config_that_makes_no_sense_is_refused(change, key):
                      vi.Device())
 
 
-def test_the_points_shared_among_processes_give_the_same_map(km):
-    """workers=2 (two processes of one thread each) gives every shock, reason and run count of one process, to
-    the last bit: each knocked run is independent of the others."""
+def test_the_points_shared_among_threads_give_the_same_map(km):
+    """workers=2 (two threads of one numba thread each: the serial kernel) gives every shock, reason and run count
+    of one thread (its kernels in parallel), to the last bit: each knocked run is independent of the others."""
     two = vi.knock_map(km, workers=2, **SHOCK)
     for v in ("shock", "shock_size", "shock_phase", "shock_reached_U_T", "shock_runs", "shock_direction"):
         assert np.array_equal(two[v].values, km[v].values, equal_nan=True), v

@@ -10,6 +10,8 @@ import pytest
 import vibroimpact as vi
 from vibroimpact.analysis import shocks
 from vibroimpact.analysis.shocks import critical_shock
+from vibroimpact.analysis.windows import empty_windows
+from vibroimpact.dynamics import kernels as K
 
 BETA = math.pi / 6
 GBAR = 0.12201  # the paper's incline pi/6 at 5 N
@@ -219,6 +221,112 @@ def test_two_cycles_are_one_only_event_by_event():
         for other in (moved("phase", j, 2 * tol), moved("v_minus", j, 2 * tol), moved("wall", j, -2 * cyc["wall"][j])):
             assert not shocks._same(other, cyc, tol) and not shocks._same(cyc, other, tol), j
 
+
+
+def _per_run(knocks, win, ends):
+    """The per-run reference of _Knocks.outcomes: each run's cycle (_window_cycle, cycle_class anew) and _same."""
+    cycles = [shocks._window_cycle(win, k, int(ends.n[k]), int(ends.status[k]), int(ends.lag[k]))
+              for k in range(ends.n.size)]
+    left = np.array([c is None or not shocks._same(c, knocks.cycle, knocks.match_tol) for c in cycles])
+    return left, [c for c, out in zip(cycles, left, strict=True) if out]
+
+
+def _assert_outcomes_are_per_run(knocks, win, ends):
+    left, reached = knocks.outcomes(win, ends)
+    ref_left, ref_reached = _per_run(knocks, win, ends)
+    assert np.array_equal(left, ref_left)
+    assert len(reached) == len(ref_reached)
+    for a, b in zip(reached, ref_reached, strict=True):
+        assert (a is None) == (b is None)
+        if a is not None:
+            assert a["motion"] == b["motion"] and a["span"] == b["span"]
+            for v in ("t", "wall", "v_minus", "phase", "kind"):
+                assert np.array_equal(a[v], b[v], equal_nan=True), v
+    return left, reached
+
+
+@pytest.mark.parametrize("max_periods, reached", [(200, "2:1 period-2"), (20, None)])
+def test_a_batch_of_knocked_runs_leaves_where_each_run_tested_alone_leaves(max_periods, reached):
+    """_Knocks.outcomes (the compiled test of all runs' events at once, the motion looked up) against each run's
+    cycle built and compared alone (_window_cycle, cycle_class, _same): the same runs leave, to the last bit, with
+    the same cycles reached, over knocks of the 3:1 motion of sizes up to half the largest admissible one at
+    times over its cycle (some return; some reach the 2:1, or no period within 20 forcing periods)."""
+    p = vi.Params(d=BISTABLE, gbar=GBAR)
+    phi, v0 = STARTS["3:1 period-2"]
+    ref = vi.simulate(p, phi, v0, stop_when_periodic=True, t_end=400.0)
+    cycle = shocks._cycle(ref)
+    knocks = shocks._Knocks(p, phi, max_periods, 1e-6, cycle)
+    times = shocks._knock_times(cycle, 8)
+    rays = shocks._rays(ref, times, "velocity", 2.0, p.d / 2, np.zeros(times.size, int))
+    sizes = np.geomspace(1e-4, 1.0, 12)
+    idx = np.repeat(np.arange(rays.t.size), sizes.size)
+    z, v = rays.knocked(idx, np.tile(sizes, rays.t.size))
+    left, cycles = _assert_outcomes_are_per_run(knocks, *knocks.runs(rays.t[idx], z, v))
+    assert 10 < left.sum() < left.size - 10
+    assert {None if c is None else c["motion"].label for c in cycles} == {reached}
+
+
+def _windows(cycles, spans, ends):
+    """A batch of windows whose runs end on ``cycles`` (dicts of events; each preceded by one event ``span``
+    earlier than its last) with ``ends``: (status, lag) per run."""
+    m, w = len(cycles), max(c["t"].size for c in cycles) + 2
+    win = empty_windows(m, w)
+    n = np.zeros(m, np.int64)
+    for k, (c, span) in enumerate(zip(cycles, spans, strict=True)):
+        n[k] = c["t"].size + 1
+        win.t[k, 0] = c["t"][-1] - span
+        for name, values in zip(("t", "wall", "v_minus", "phase", "kind"), (c[x] for x in
+                                ("t", "wall", "v_minus", "phase", "kind")), strict=True):
+            getattr(win, name)[k, 1:n[k]] = values
+    status, lag = (np.array(x) for x in zip(*ends, strict=True))
+    return win, K.WindowEnds(status.astype(np.int8), lag.astype(np.int64), n.copy(), n)
+
+
+def test_the_batch_test_of_cycles_is_the_per_run_test_event_by_event():
+    """The runs' cycles of test_two_cycles_are_one_only_event_by_event and more, in one batch: the same cycle, a
+    turn on, reordered, moved by half the tolerance (back), by twice it, with an event on the other wall or of
+    another kind, one event short, one more (a release: the same motion), over twice the span (another motion
+    from the same events), without a period, with a NaN pre-impact velocity where the motion has one and where
+    it has none: _Knocks.outcomes decides each as the per-run test does, and as stated."""
+    p, tol = vi.Params(d=BISTABLE, gbar=GBAR), 1e-6
+    cyc = shocks._cycle(vi.simulate(p, *STARTS["3:1 period-2"], stop_when_periodic=True, t_end=400.0))
+    span, lag = cyc["span"], cyc["t"].size
+
+    def moved(key, j, by, c=cyc):
+        values = c[key].copy()
+        values[j] = values[j] + by
+        return c | {key: values}
+
+    grazing = cyc["kind"].copy()
+    grazing[1] = K.GRAZING
+    nan_vm = moved("v_minus", 2, math.nan)
+    cases = [  # (cycle, span, status, lag, leaves)
+        (cyc, span, K.PERIODIC, lag, False),
+        (cyc | {"phase": cyc["phase"] + 2 * math.pi}, span, K.PERIODIC, lag, False),
+        ({k: cyc[k][::-1] if k in K.Window._fields else v for k, v in cyc.items()}, span, K.PERIODIC, lag,
+         False),
+        (moved("phase", 0, tol / 2), span, K.PERIODIC, lag, False),
+        (moved("v_minus", 3, -tol / 2), span, K.PERIODIC, lag, False),
+        (moved("phase", 1, 2 * tol), span, K.PERIODIC, lag, True),
+        (moved("v_minus", 2, 2 * tol), span, K.PERIODIC, lag, True),
+        (moved("wall", 0, -2 * cyc["wall"][0]), span, K.PERIODIC, lag, True),
+        (cyc | {"kind": grazing}, span, K.PERIODIC, lag, True),
+        ({k: cyc[k][1:] if k in K.Window._fields else v for k, v in cyc.items()}, span, K.PERIODIC, lag - 1,
+         True),
+        ({k: np.append(cyc[k], x) for k, x in zip(K.Window._fields, (cyc["t"][-1], 1, 0.0, cyc["phase"][-1],
+                                                                      K.RELEASE), strict=True)}, span, K.PERIODIC,
+         lag + 1, True),
+        (cyc, 2 * span, K.PERIODIC, lag, True),
+        (cyc, span, K.T_END, lag, True),
+        (cyc, span, K.PERIODIC, 0, True),
+        (nan_vm, span, K.PERIODIC, lag, True),
+    ]
+    knocks = shocks._Knocks(p, 1.645, 200, tol, cyc)
+    win, ends = _windows([c[0] for c in cases], [c[1] for c in cases], [c[2:4] for c in cases])
+    assert _assert_outcomes_are_per_run(knocks, win, ends)[0].tolist() == [c[4] for c in cases]
+    knocks = shocks._Knocks(p, 1.645, 200, tol, nan_vm)  # a motion with a NaN pre-impact velocity
+    win, ends = _windows([nan_vm, cyc], [span, span], [(K.PERIODIC, lag)] * 2)
+    assert _assert_outcomes_are_per_run(knocks, win, ends)[0].tolist() == [False, True]
 
 def test_the_refinement_scans_from_an_eighth_to_twice_the_best_knock_so_far(monkeypatch):
     """Each golden-section step scans its new times from an eighth of the smallest knock found so far, then a

@@ -20,7 +20,7 @@ phi, v0 = start_states(pre["starts"], distribution=st["distribution"], seed=st["
 dm = design_map(sp["x"], xs, sp["y"], ys, phi=phi, v0=v0, device=device, max_periods=snakemake.params.max_periods,
                 tol=snakemake.params.tol, window=snakemake.params.window, window_time=snakemake.params.window_time,
                 min_share=de["min_share"], confidence=de["confidence"], **{k: sp[k] for k in ("beta", "s", "F") if k in sp})
-# the points shared among the job's threads, one process each (the same shocks as in one process)
+# the points shared among the job's threads, one numba thread each (the same shocks as on one thread)
 workers = max(1, snakemake.threads)
 km = mark_choices(knock_map(dm, kind=kn["kind"], device=device, workers=workers), float(kn["knock"]))
 km.attrs.update(provenance(**dict(snakemake.params)), map=kn["map"],

@@ -12,9 +12,7 @@ motion's critical shock, the picture of what the knock crosses.
 from __future__ import annotations
 
 import math
-import multiprocessing
-import sys
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ThreadPoolExecutor
 
 import numba
 import numpy as np
@@ -67,7 +65,7 @@ def knock_map(dm: xr.Dataset, *, kind: str = "velocity", device: Device | None =
     device : Device, optional
         The harvester the map was made for (the paper's by default).
     workers : int
-        Processes the points are shared among (one thread each; 1: this process, its kernels in parallel).  The
+        Threads the points are shared among (one numba thread each; 1: this thread, its kernels in parallel).  The
         result does not depend on it.
     progress : bool, optional
         A progress bar over the points (default: only when run interactively).
@@ -149,22 +147,14 @@ def _one_thread():
 
 
 def _each_point(tasks, workers):
-    """:func:`_point_shocks` of every task, in order: in this process, or in ``workers`` processes of one thread
-    each (each shock is the same either way: the runs of a batch are independent)."""
+    """:func:`_point_shocks` of every task, in order: in this process, or on ``workers`` threads of one numba
+    thread each (each shock is the same either way: the runs of a batch are independent; on one numba thread
+    the knocked runs go through the serial kernel, which releases the GIL)."""
     if workers == 1:
         yield from map(_point_shocks, tasks)
         return
-    ctx = multiprocessing.get_context("spawn")  # numba's threads do not survive a fork
-    # a spawned worker re-runs the caller's script unless told it has none: everything a worker runs lives in
-    # this package, so the script (a Snakemake job's, a user's without a __main__ guard) is not run again
-    main = sys.modules["__main__"]
-    path = main.__dict__.pop("__file__", None) if getattr(main, "__spec__", None) is None else None
-    try:
-        with ProcessPoolExecutor(workers, mp_context=ctx, initializer=_one_thread) as pool:
-            yield from pool.map(_point_shocks, tasks, chunksize=1)
-    finally:
-        if path is not None:
-            main.__file__ = path
+    with ThreadPoolExecutor(workers, initializer=_one_thread) as pool:
+        yield from pool.map(_point_shocks, tasks)
 
 
 def _fill(fields, ints, reached, at, sh: Shock):

@@ -9,13 +9,15 @@ the cycle it was knocked off (same motion, every event of the cycle within ``mat
 otherwise (another periodic motion, or no period within ``max_periods``).
 
 The knocks are rays: a time over one period of the cycle and a direction (``+`` or ``-``).  All rays are
-knocked together, one batch of runs per size (one parallel kernel call), with sizes growing geometrically
-from below and each ray at its own offset within each step of the scan (neighbouring times together sample
-the sizes finely: the basins of impacting motions interleave in bands narrower than a step), until some
-leave; the boundaries of those that leave are bisected to a relative tolerance ``rtol``; the sizes over
-the factor :data:`FINE_SPAN` below the best are then stepped by ``scan_ratio`` for every ray, and the knock
-time is refined by golden-section searches around the smallest local minima.  This is the minimal critical
-shock of Klinshov et al. (2015) and Halekotte & Feudel (2020), for one component of the state at a time:
+knocked together, one batch of runs per size (one kernel call, parallel unless numba has one thread), with
+sizes growing geometrically from below and each ray at its own offset within each step of the scan
+(neighbouring times together sample the sizes finely: the basins of impacting motions interleave in bands
+narrower than a step), until some leave; the boundaries of those that leave are bisected to a relative
+tolerance ``rtol``; the sizes over the factor :data:`FINE_SPAN` below the best are then stepped by
+``scan_ratio`` for every ray, and the knock time is refined by golden-section searches around the smallest
+local minima.  Whether a knocked run returns is decided for the whole batch at once (a compiled test of its
+cycle's events, :func:`_same`'s to the last bit).  This is the minimal critical shock of Klinshov et al.
+(2015) and Halekotte & Feudel (2020), for one component of the state at a time:
 a search along rays with a bisected boundary, not a random one.
 """
 
@@ -24,7 +26,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
+from numba import njit
 
 from ..dynamics import kernels as K
 from ..dynamics.device import PAPER, Device
@@ -142,17 +146,20 @@ def _check(params, kind, phases, rtol, max_size, refine, scan_ratio):
 
 
 class _Knocks:
-    """The knocked runs of one motion, many at once (one parallel kernel call per batch of knocks): whether each
-    returns to the motion's cycle, counted."""
+    """The knocked runs of one motion, many at once (one kernel call per batch of knocks, parallel unless numba has
+    one thread): whether each returns to the motion's cycle, counted."""
 
-    def __init__(self, params, phi, max_periods, match_tol):
-        self.params, self.phi, self.match_tol = params, phi, match_tol
+    def __init__(self, params, phi, max_periods, match_tol, cycle):
+        self.params, self.phi, self.match_tol, self.cycle = params, phi, match_tol, cycle
         self.limits = window_limits(max_periods, MAX_EVENTS, PERIOD_TOL, PMAX)
         self.count = 0
-        self.cycle = None
+        # the motion's cycle as a K.Window of its events, for _events_return
+        self.events = K.Window(*(np.ascontiguousarray(cycle[v]) for v in ("t", "wall", "v_minus", "phase", "kind")))
+        self.motions = {}  # cycle_class by its arguments (walls, kinds, period): a few motions, met again and again
 
     def runs(self, t0, z, v):
-        """The cycle each run from ``(z, v)`` in flight at ``t0`` settles on (None without a period)."""
+        """The windows of the runs from ``(z, v)`` in flight at ``t0``: ``(win, ends)`` (:data:`K.Window`,
+        :data:`K.WindowEnds`)."""
         m = t0.size
         self.count += m
         p = self.params
@@ -160,26 +167,82 @@ class _Knocks:
         ends = K.WindowEnds(status=np.zeros(m, np.int8), lag=np.zeros(m, np.int64), total=np.zeros(m, np.int64),
                             n=np.zeros(m, np.int64))
         full = lambda x: np.full(m, float(x))
-        K.flight_window_batch(K.FlightBatch(full(p.d), full(p.gbar), full(p.r), np.ascontiguousarray(t0),
-                                            (math.pi * t0 + self.phi) % (2 * math.pi), np.ascontiguousarray(z),
-                                            np.ascontiguousarray(v)), self.limits, win, ends)
-        return [_window_cycle(win, k, int(ends.n[k]), int(ends.status[k]), int(ends.lag[k])) for k in range(m)]
+        # on one thread the serial kernel (the same runs, without the parallel launch; it releases the GIL for
+        # callers that run shocks on threads of their own)
+        kernel = K.flight_window_serial if numba.get_num_threads() == 1 else K.flight_window_batch
+        kernel(K.FlightBatch(full(p.d), full(p.gbar), full(p.r), np.ascontiguousarray(t0),
+                             (math.pi * t0 + self.phi) % (2 * math.pi), np.ascontiguousarray(z),
+                             np.ascontiguousarray(v)), self.limits, win, ends)
+        return win, ends
+
+    def classify(self, wall, kind, span):
+        """:func:`cycle_class` of a cycle, looked up where its walls, kinds and period were met before."""
+        key = (wall.tobytes(), kind.tobytes(), int(round(span / 2.0)))
+        if key not in self.motions:
+            self.motions[key] = cycle_class(wall, kind, span)
+        return self.motions[key]
 
     def leave(self, rays, idx, size):
-        """Whether each ray ``idx`` knocked by ``size`` leaves the basin, and the cycle it reaches."""
+        """Whether each ray ``idx`` knocked by ``size`` leaves the basin, and the cycles reached by those that leave,
+        in order (None: no period)."""
         z, v = rays.knocked(idx, size)
-        cycles = self.runs(rays.t[idx], z, v)
-        left = np.array([c is None or not _same(c, self.cycle, self.match_tol) for c in cycles], dtype=bool)
-        return left, cycles
+        return self.outcomes(*self.runs(rays.t[idx], z, v))
+
+    def outcomes(self, win, ends):
+        """Whether each run of a batch (:meth:`runs`) has left the motion's cycle (it does not settle on a cycle
+        :func:`_same` as it), and the cycles of those that left, in order (None: no period)."""
+        back = np.zeros(ends.n.size, dtype=bool)
+        _events_return(win, ends, self.events, self.match_tol, back)  # _same's test of the events, at once
+        for k in np.flatnonzero(back):  # and its test of the motion, where the events match
+            n, lag = int(ends.n[k]), int(ends.lag[k])
+            back[k] = self.classify(win.wall[k, n - lag:n], win.kind[k, n - lag:n],
+                                    float(win.t[k, n - 1] - win.t[k, n - 1 - lag])) == self.cycle["motion"]
+        left = ~back
+        return left, [_window_cycle(win, k, int(ends.n[k]), int(ends.status[k]), int(ends.lag[k]), self.classify)
+                      for k in np.flatnonzero(left)]
 
 
-def _window_cycle(win, k, n, status, lag):
-    """The last period of run ``k``'s window (a dict of its events and motion), or None without a period."""
+@njit(cache=True, error_model="numpy")
+def _events_return(win, ends, ref, tol, out):
+    """Where each run of a batch (``win``, ``ends``: :data:`K.Window`, :data:`K.WindowEnds`) ends on a period of as many
+    events as the cycle ``ref`` (a :data:`K.Window` of one period), each within ``tol`` of one of ``ref``'s events
+    (:func:`_same`'s test of the events, to the last bit; its test of the motion is left to the caller): ``out``."""
+    p = ref.t.shape[0]
+    for k in range(out.shape[0]):
+        n, lag = ends.n[k], ends.lag[k]
+        out[k] = ends.status[k] == K.PERIODIC and lag == p and 0 < lag < n and _all_within(win, k, n - lag, ref, tol)
+
+
+@njit(cache=True, error_model="numpy")
+def _all_within(win, k, first, ref, tol):
+    """Whether every event of run ``k`` from ``first`` on (one period) is within ``tol`` of one of ``ref``'s."""
+    for i in range(first, first + ref.t.shape[0]):
+        if not _within(win.wall[k, i], win.kind[k, i], win.v_minus[k, i], win.phase[k, i], ref, tol):
+            return False
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _within(wall, kind, vm, ph, ref, tol):
+    """Whether an event is within ``tol`` of one of ``ref``'s events (same wall and kind), as in :func:`_same`."""
+    for j in range(ref.t.shape[0]):
+        if ref.wall[j] == wall and ref.kind[j] == kind:
+            dph = abs((ref.phase[j] - ph + math.pi) % (2 * math.pi) - math.pi)
+            both_nan = math.isnan(ref.v_minus[j]) and math.isnan(vm)
+            dv = 0.0 if both_nan else abs(ref.v_minus[j] - vm)
+            if dph <= tol and dv <= tol:
+                return True
+    return False
+
+
+def _window_cycle(win, k, n, status, lag, classify=cycle_class):
+    """The last period of run ``k``'s window (a dict of its events and motion, by ``classify``), or None without a
+    period."""
     if status != K.PERIODIC or lag == 0 or lag >= n:
         return None
     ev = dict(zip(("t", "wall", "v_minus", "phase", "kind"), (w[k, n - lag:n] for w in win), strict=True))
     span = float(win.t[k, n - 1] - win.t[k, n - 1 - lag])
-    return ev | {"span": span, "motion": cycle_class(ev["wall"], ev["kind"], span)}
+    return ev | {"span": span, "motion": classify(ev["wall"], ev["kind"], span)}
 
 
 def _cycle(ds):
@@ -196,7 +259,8 @@ def _cycle(ds):
 
 def _same(a, b, tol):
     """Whether cycles ``a`` and ``b`` are one: the same motion, each event of ``a`` within ``tol`` of one of ``b``
-    (wall, kind, pre-impact velocity and phase)."""
+    (wall, kind, pre-impact velocity and phase).  The definition, one pair at a time; :meth:`_Knocks.outcomes`
+    decides a batch of runs the same way at once."""
     if a["motion"] != b["motion"] or a["t"].size != b["t"].size:
         return False
     for w, k, vm, ph in zip(a["wall"], a["kind"], a["v_minus"], a["phase"], strict=True):
@@ -262,11 +326,11 @@ def _rays(ref, times, kind, max_size, half, group):
 def _knock(knocks, rays, idx, size):
     """Knock the rays ``idx`` by ``size`` (each its own); record the size and the cycle reached where they leave
     (``hi``) and where they return (``lo``).  Returns which left."""
-    left, cycles = knocks.leave(rays, idx, size)
+    left, reached = knocks.leave(rays, idx, size)
     rays.lo[idx[~left]] = size[~left]
     rays.hi[idx[left]] = size[left]
-    for j in np.flatnonzero(left):
-        rays.reached[idx[j]] = cycles[j]
+    for j, c in zip(idx[left], reached, strict=True):
+        rays.reached[j] = c
     return left
 
 
@@ -316,11 +380,11 @@ def _thin_bands(knocks, rays, idx, ratio, rtol, floor):
             if not test.any():
                 break
             rest = mine[test]
-            left, cycles = knocks.leave(rays, rest, size[test])
+            left, reached = knocks.leave(rays, rest, size[test])
             if left.any():
                 hit = rest[left]
                 rays.lo[hit], rays.hi[hit] = below[test][left], size[test][left]
-                for j, c in zip(hit, (cycles[i] for i in np.flatnonzero(left)), strict=True):
+                for j, c in zip(hit, reached, strict=True):
                     rays.reached[j] = c
                 _bisect(knocks, rays, hit, rtol, floor)
                 best = rays.hi[mine].min()
@@ -415,8 +479,7 @@ def critical_shock(params: Params, phi: float, v0: float, *, kind: str = "veloci
     cycle = _cycle(ref)
     if cycle is None:
         _fail("(phi, v0)", (phi, v0), f"a start whose run repeats within max_periods = {max_periods!r}")
-    knocks = _Knocks(params, phi, max_periods, match_tol)
-    knocks.cycle = cycle
+    knocks = _Knocks(params, phi, max_periods, match_tol, cycle)
     if max_size is None and kind == "velocity":
         max_size = 2.0 * float(np.nanmax(np.abs(cycle["v_minus"]), initial=0.0)) or 1.0
     half = 0.5 * params.d

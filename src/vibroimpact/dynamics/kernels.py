@@ -474,6 +474,14 @@ def flight_window_batch(batch, limits, win, ends):
         _flight_window_run(np.int64(k), batch, limits, win, ends)  # int64: one specialisation
 
 
+@njit(cache=True, error_model="numpy", nogil=True)
+def flight_window_serial(batch, limits, win, ends):
+    """:func:`flight_window_batch` one run after the other in the calling thread, without the GIL: for callers that
+    share their work among threads of their own (each run is the same :func:`_flight_window_run`)."""
+    for k in range(batch.d.shape[0]):
+        _flight_window_run(k, batch, limits, win, ends)
+
+
 @njit(cache=True, error_model="numpy")
 def _flight_window_run(k, batch, limits, win, ends):
     """Run ``k`` of :func:`flight_window_batch`, in a call of its own as :func:`_batch_run`."""

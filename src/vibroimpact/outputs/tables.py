@@ -895,7 +895,7 @@ def knocks_markdown(df: pd.DataFrame, km: xr.Dataset, seconds: float | None = No
             "(Attractors.jl's MCSBruteForce default)")
     if seconds is not None:
         out += (f"; the whole job (its design map of {km['top'].size} designs included) took {seconds:.0f} s on "
-                f"{km.attrs.get('workers', 1)} processes")
+                f"{km.attrs.get('workers', 1)} threads")
     out += ".\n"
     for why, n in reasons.items():
         out += f"\n- no critical shock at {n} design(s): {why}"

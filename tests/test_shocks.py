@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+from conftest import gbar_of
 
 import vibroimpact as vi
 from vibroimpact.analysis import shocks
@@ -327,6 +328,70 @@ def test_the_batch_test_of_cycles_is_the_per_run_test_event_by_event():
     knocks = shocks._Knocks(p, 1.645, 200, tol, nan_vm)  # a motion with a NaN pre-impact velocity
     win, ends = _windows([nan_vm, cyc], [span, span], [(K.PERIODIC, lag)] * 2)
     assert _assert_outcomes_are_per_run(knocks, win, ends)[0].tolist() == [False, True]
+
+#: beta = pi/3, d = 0.235: the chaotic window between the 1:1 and the 2:1 (tests/test_attractor.py)
+CHAOTIC = vi.Params(d=0.235, gbar=gbar_of(math.pi / 3), r=0.5)
+
+
+@pytest.mark.parametrize("case", ["3:1 knocked", "chaotic, capped"])
+def test_each_knocked_run_is_attractor_batch_s_run_from_its_state_in_flight(case):
+    """The knocked runs are vi.attractor_batch's from the same states in flight, with its defaults (a period of at most
+    64 events, a window of 65, at most 200 000 events; docs/guide/robustness.md), to the last bit: windows, statuses,
+    periods and events simulated; over knocks of the 3:1 motion (some return, some reach the 2:1), and over runs in
+    the chaotic window at pi/3 given a million forcing periods, which the cap on events cuts."""
+    if case == "3:1 knocked":
+        p, max_periods = vi.Params(d=BISTABLE, gbar=GBAR), 200
+        phi, v0 = STARTS["3:1 period-2"]
+        ref = vi.simulate(p, phi, v0, stop_when_periodic=True, t_end=400.0)
+        cycle = shocks._cycle(ref)
+        times = shocks._knock_times(cycle, 8)
+        rays = shocks._rays(ref, times, "velocity", 2.0, p.d / 2, np.zeros(times.size, int))
+        sizes = np.geomspace(1e-3, 1.0, 6)
+        idx = np.repeat(np.arange(rays.t.size), sizes.size)
+        t0, (z, v) = rays.t[idx], rays.knocked(idx, np.tile(sizes, rays.t.size))
+    else:  # no motion to return to: the runs alone (runs() does not read the motion's cycle)
+        p, max_periods, phi = CHAOTIC, 1e6, 0.4
+        cycle = dict.fromkeys(K.Window._fields, np.zeros(0))
+        t0, z, v = np.array([0.3, 1.1]), np.array([0.0, 0.05]), np.array([0.6, -0.3])
+    win, ends = shocks._Knocks(p, phi, max_periods, 1e-6, cycle).runs(t0, z, v)
+    ab = vi.attractor_batch(p.d, p.gbar, p.r, phi, v, t0=t0, Z0=z, max_periods=max_periods)
+    for name in K.Window._fields:
+        assert np.array_equal(getattr(win, name), ab[name].values, equal_nan=True), name
+    assert np.array_equal(ends.status, ab.status.values) and np.array_equal(ends.total, ab.n_events.values)
+    assert np.array_equal(np.where(ends.status == K.PERIODIC, ends.lag, 0), ab.period_events.values)
+    if case == "3:1 knocked":
+        assert {"3:1 period-2", "2:1 period-2"} <= set(ab.label.values.tolist())
+    else:
+        assert ab.n_events.values.tolist() == [200_000] * 2 and ab.period.values.tolist() == [0, 0]
+
+
+@pytest.mark.parametrize("top, ratio", [(1.0, 1.1), (0.37, 1.5), (2.5e-3, 3.0)])
+def test_the_scan_doubles_from_a_ten_thousandth_of_the_largest_knock_then_steps_by_the_ratio(top, ratio):
+    """The scan's sizes as robustness.md states them: doubling from 1e-4 of the largest admissible knock (the first
+    of them within a factor 2 above it), then by ``scan_ratio`` from a quarter of it up to it, ending on it."""
+    sizes = np.array(shocks._scan_sizes(top, ratio))
+    assert 1e-4 * top <= sizes[0] < 2e-4 * top and sizes[-1] == top
+    coarse, fine = sizes[sizes < top / 4], sizes[sizes >= top / 4]
+    assert np.allclose(coarse[1:] / coarse[:-1], 2.0, rtol=1e-12, atol=0)
+    assert 2 * coarse[-1] == pytest.approx(top / 4, rel=1e-12) and fine[0] == pytest.approx(top / 4, rel=1e-12)
+    steps = fine[1:] / fine[:-1]
+    assert np.allclose(steps[:-1], ratio, rtol=1e-12, atol=0) and 1 < steps[-1] <= ratio * (1 + 1e-12)
+
+
+def test_the_local_minima_are_read_around_the_circle():
+    """The smallest local minima of the grid (no larger than either neighbour, the first and the last neighbours;
+    infinite values never), smallest first and ties in order: against a loop over random grids with ties and
+    infinities, and one by hand."""
+    rng = np.random.default_rng(3)
+    for _ in range(300):
+        n = int(rng.integers(2, 12))
+        v = rng.integers(0, 5, n).astype(float)
+        v[rng.random(n) < 0.2] = math.inf
+        minima = [i for i in range(n) if math.isfinite(v[i]) and v[i] <= v[i - 1] and v[i] <= v[(i + 1) % n]]
+        assert shocks._local_minima(v, 3) == sorted(minima, key=lambda i: v[i])[:3], v
+    assert shocks._local_minima([3.0, 1.0, 2.0, 0.0, 5.0], 3) == [3, 1]
+    assert shocks._local_minima([0.5, 2.0, math.inf, 1.0, 4.0, 0.2], 2) == [5, 3]
+
 
 def test_the_refinement_scans_from_an_eighth_to_twice_the_best_knock_so_far(monkeypatch):
     """Each golden-section step scans its new times from an eighth of the smallest knock found so far, then a

@@ -50,7 +50,7 @@ _WHERE = {
     "voltage_gain": "analysis.energy", "speed_si": "analysis.energy",
     "averages": "analysis.energy", "orbit_energy": "analysis.energy", "branch_energy": "analysis.energy",
     "sweep_energy": "analysis.energy", "delivered": "analysis.energy",
-    "design_map": "analysis.design", "start_states": "analysis.design", "tolerance_analysis": "analysis.design",
+    "design_map": "analysis.design", "start_states": "analysis.starts", "tolerance_analysis": "analysis.design",
     "best_designs": "analysis.design",
     "critical_shock": "analysis.shocks", "Shock": "analysis.shocks",
     "knock_map": "analysis.robust", "knock_section": "analysis.robust", "robust_choice": "analysis.robust",

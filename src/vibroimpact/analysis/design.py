@@ -41,79 +41,19 @@ from .energy import LONG_BATCHES, batch_averages, voltage_gain, window_averages
 from .grids import held_values, plane_params
 from .motions import APERIODIC, no_period
 from .settled import LONG_IMPACTS, STICK_REL, polish_cycle, split_no_period
+from .starts import DESIGN_AXES, DISTRIBUTIONS, MIN_STARTS, RELATIVE, start_states
+from .starts import fail as _fail
 from .windows import attractor_batch, last_bottom_impact
 
 __all__ = ["DISTRIBUTIONS", "MIN_STARTS", "AT_REST", "start_states", "design_map",
            "merge_chunks", "share_interval", "point_attractors", "table_designs", "tolerance_analysis", "curve_margin", "box_minimum", "best_designs"]
 
-#: start-state distributions: at rest on the bottom membrane (uniform phase), or a box of bottom impacts
-DISTRIBUTIONS = ("rest", "box")
-#: fewest starts per point: below this a share's confidence interval spans most of [0, 1]
-MIN_STARTS = 8
 #: label of a run that comes to rest on the bottom for good (gbar >= 1): no impact, no output
 AT_REST = "rests on the bottom"
-#: the axes a design map can have: the device's length, its forcing amplitude and its incline
-DESIGN_AXES = ("s", "F", "beta")
-#: tolerances relative to the nominal value (the others, beta, are absolute in radians)
-RELATIVE = ("s", "F")
 #: runs of one label whose U_T agree to this (relative) are one attractor.  Two runs of one periodic
 #: orbit agree to the periodicity tolerance (1e-9); distinct orbits of one n:m class differ far more.
 SAME_ORBIT = 1e-6
 _UNITS = {"s": ("m", "cylinder length s"), "F": ("N", "forcing amplitude ||F||"), "beta": ("rad", "incline beta")}
-
-
-def _fail(key, value, allowed):
-    raise ValueError(f"{key} = {value!r} is not allowed; allowed: {allowed}")
-
-
-def start_states(n, *, distribution: str = "rest", seed: int = 0, phi_range=(0.0, 2 * math.pi),
-                 v0_range=(0.02, 1.2)):
-    """``n`` start states: first bottom impacts at phase ``phi`` with pre-impact velocity ``v0``.
-
-    They are drawn with ``numpy.random.default_rng(seed)``: the same seed gives the same states.
-
-    Parameters
-    ----------
-    n : int
-        How many (at least :data:`~vibroimpact.analysis.design.MIN_STARTS`).
-    distribution : {"rest", "box"}
-        ``"rest"``: the ball at rest on the bottom membrane (``v0 = 0``; the kernel then sticks until the
-        forcing lifts it), ``phi`` uniform in ``[0, 2 pi)``.  ``"box"``: ``phi`` uniform in ``phi_range``
-        and ``v0`` uniform in ``v0_range``.
-    seed : int
-        Seed of the generator (recorded with the design map).
-    phi_range, v0_range : (float, float)
-        The box of ``"box"``.
-
-    Returns
-    -------
-    phi, v0 : numpy.ndarray
-        The start states.
-
-    Examples
-    --------
-    >>> import numpy as np, vibroimpact as vi
-    >>> phi, v0 = vi.start_states(8)                    # at rest on the bottom membrane
-    >>> phi.shape, bool(((0 <= phi) & (phi < 2 * np.pi)).all()), v0.tolist() == [0.0] * 8
-    ((8,), True, True)
-    >>> phi, v0 = vi.start_states(8, distribution="box", seed=1, v0_range=(0.1, 0.5))
-    >>> bool(((0.1 <= v0) & (v0 <= 0.5)).all()), bool((phi == vi.start_states(8, distribution="box", seed=1,
-    ...                                                   v0_range=(0.1, 0.5))[0]).all())
-    (True, True)
-    """
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < MIN_STARTS:
-        _fail("starts", n, f"an integer >= {MIN_STARTS}")
-    if distribution not in DISTRIBUTIONS:
-        _fail("distribution", distribution, " or ".join(DISTRIBUTIONS))
-    rng = np.random.default_rng(seed)
-    if distribution == "rest":
-        return rng.uniform(0.0, 2 * math.pi, n), np.zeros(n)
-    (p0, p1), (v0, v1) = phi_range, v0_range
-    if not p0 < p1:
-        _fail("phi_range", [p0, p1], "[lo, hi] with lo < hi (a box with some width)")
-    if not 0 <= v0 < v1:
-        _fail("v0_range", [v0, v1], "[lo, hi] with 0 <= lo < hi (a box with some width)")
-    return rng.uniform(p0, p1, n), rng.uniform(v0, v1, n)
 
 
 def grid_axes(spec: dict, grid, table_betas=()):

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from jsonschema import Draft202012Validator
 from jsonschema.exceptions import best_match, by_relevance
 
-from ..analysis.design import DESIGN_AXES, DISTRIBUTIONS, MIN_STARTS, RELATIVE, start_states
+from ..analysis.starts import DESIGN_AXES, DISTRIBUTIONS, MIN_STARTS, RELATIVE, start_states
 from ..analysis.shocks import KINDS
 from ..dynamics.device import Device
 from .checks import item_names

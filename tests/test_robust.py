@@ -108,6 +108,21 @@ def test_a_point_with_no_output_has_no_top_and_the_shock_names_its_component(km,
     assert f"the ball's {component} that drops" in two["shock"].attrs["long_name"]
 
 
+def test_the_top_is_among_the_motions_reached_by_at_least_min_share_of_the_starts(km):
+    """A point with two motions without a period (no shock computed): the higher output reached by exactly
+    ``min_share`` of the starts is the top (at least, as the top's description says); just below it, the other."""
+    dm = km.isel(s=[0], beta=[0]).copy(deep=True)
+    dm["label"].values[...] = ""
+    dm["label"].values[0, 0, :2] = ["unsettled", "chaotic"]
+    dm["share"].values[...] = 0.0
+    dm["U_T"].values[...] = np.nan
+    dm["U_T"].values[0, 0, :2] = [1000.0, 10.0]
+    dm.attrs["min_share"] = 0.25
+    for share, top in ((0.25, 0), (np.nextafter(0.25, 0.0), 1)):
+        dm["share"].values[0, 0, :2] = [share, 1.0 - share]
+        assert vi.knock_map(dm, **SHOCK)["top"].values.tolist() == [[top]], share
+
+
 def test_the_pareto_front_is_what_no_design_beats():
     """On random designs (ties and infinite shocks included): no front point is beaten on both by any design,
     and every design off the front is beaten on both, or equalled, by a front point."""
@@ -192,8 +207,9 @@ def test_the_section_is_what_single_runs_reach(km):
     for j, k in ((0, 0), (2, 3), (4, 6), (1, 5)):
         assert sec.label.values[j, k] == reached(zs[k], vs[j])
     assert sec.attrs["phase"] == pytest.approx(sh.phase, abs=1e-12)
-    with pytest.raises(ValueError, match=r"zs = .*allowed: \|Z\| <= d/2"):
+    with pytest.raises(ValueError, match=r"zs = .*allowed: \|Z\| <= d/2 = (\S+)$") as refused:
         vi.knock_section(p, sh, phi, [0.0, p.d], vs)
+    assert float(refused.value.args[0].rsplit("= ", 1)[1]) == p.d / 2  # the bound it states is the wall's
 
 
 def test_a_section_without_a_knock_is_at_the_start_s_phase_and_says_why():

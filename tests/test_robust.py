@@ -3,6 +3,7 @@ against the single-motion call and the map's own outputs, the Pareto front and t
 definitions, the basins a knock crosses against single runs, and the knocks config refused where it makes no
 sense."""
 
+import inspect
 import math
 
 import numpy as np
@@ -207,6 +208,8 @@ def test_the_section_is_what_single_runs_reach(km):
     for j, k in ((0, 0), (2, 3), (4, 6), (1, 5)):
         assert sec.label.values[j, k] == reached(zs[k], vs[j])
     assert sec.attrs["phase"] == pytest.approx(sh.phase, abs=1e-12)
+    # its runs are capped where the critical shock's knocked runs are, so that a state reaches what a knock to it does
+    assert sec.attrs["max_periods"] == inspect.signature(vi.critical_shock).parameters["max_periods"].default
     with pytest.raises(ValueError, match=r"zs = .*allowed: \|Z\| <= d/2 = (\S+)$") as refused:
         vi.knock_section(p, sh, phi, [0.0, p.d], vs)
     assert float(refused.value.args[0].rsplit("= ", 1)[1]) == p.d / 2  # the bound it states is the wall's

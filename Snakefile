@@ -102,3 +102,7 @@ rule all:
 if CFG.paper_device:
 
     include: "workflow/rules/docs.smk"
+
+
+# last: one job for every branch the rules above name
+include: "workflow/rules/branch_batch.smk"

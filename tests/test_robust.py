@@ -185,6 +185,9 @@ def test_the_table_says_both_designs(km):
         assert float(surv.U_T.iloc[0]) <= float(best.U_T.iloc[0])
     md = knocks_markdown(df, km)
     assert "The knock: 0.01 m/s" in md and "| beta = π/6" in md and "∞" in md and "runs per motion" in md
+    # the cost line: the job's seconds and its threads, one or more
+    assert "took 12 s on 1 thread." in knocks_markdown(df, km.assign_attrs(workers=1), seconds=12.4)
+    assert "took 7 s on 2 threads." in knocks_markdown(df, km.assign_attrs(workers=2), seconds=7.2)
 
 
 def test_the_section_is_what_single_runs_reach(km):

@@ -94,8 +94,32 @@ def beta_value(key):
     )
 
 
+#: every branch a rule names (its incline, word and parameter varied -> whether its simulated attractors are
+#: named too), in the order named: computed together by one job (rule branches, workflow/rules/branch_batch.smk)
+NAMED_BRANCHES = {}
+
+
+def branch_job(beta, r, word, vary):
+    """What the branch job of an incline, restitution (path forms), word and parameter varied computes."""
+    b, rr = beta_value(beta), r_value(r)
+    return dict(
+        beta=b,
+        device=DEVICE_SPEC,
+        r=rr,
+        word=word,
+        vary=vary,
+        spec=WORDS[word],
+        # branches.d_range and .force, widened to the d every figure draws these branches over
+        d_range=CFG.branch_d_range(b, rr),
+        force=CFG.branch_force(b),
+        step=RESOLUTION["branch_step"],
+    )
+
+
 def branch_path(kind, beta, word, vary="s"):
     r = fmt(config["physics"]["r"])
+    key = (fmt(beta), word, vary)
+    NAMED_BRANCHES[key] = NAMED_BRANCHES.get(key, False) or kind == "sim"
     return f"results/branches/beta-{fmt(beta)}_r-{r}/{kind}-{word}_vary-{vary}.nc"
 
 
@@ -134,6 +158,8 @@ D_GRAZ_SWEEPS = list(d_graz_sweeps(config))
 # ---- energy ------------------------------------------------------------------------------------
 def energy_path(kind, beta, name, vary=None):
     r = fmt(config["physics"]["r"])
+    if kind == "branch":  # a branch's energy is written by the branch's job
+        NAMED_BRANCHES.setdefault((fmt(beta), name, vary), False)
     stem = f"orbit-{name}_vary-{vary}" if kind == "branch" else name
     return f"results/energy/beta-{fmt(beta)}_r-{r}/{stem}.nc"
 

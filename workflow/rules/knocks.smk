@@ -14,7 +14,9 @@ rule knock_map:
     priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
-    threads: 2
+    # parallel inside, but seconds long at the draft preset: two such jobs side by side use 2 cores better than
+    # one on both (--set-threads gives it more; the SLURM profile does)
+    threads: 1
     params:
         spec=config["maps"][KNOCKS["map"]],
         knocks=KNOCKS,
@@ -40,7 +42,9 @@ rule knock_section:
     priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
-    threads: 2
+    # parallel inside, but seconds long at the draft preset: two such jobs side by side use 2 cores better than
+    # one on both (--set-threads gives it more; the SLURM profile does)
+    threads: 1
     params:
         knocks=KNOCKS,
         device=DEVICE_SPEC,

@@ -3,10 +3,10 @@
 
 rule branch:
     output:
-        orbit="results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
+        orbits="results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
         # its output voltages and averages (vibroimpact.analysis.energy), in the same job: a second job would
         # cost more in start-up than the computation
-        energy="results/energy/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
+        energies="results/energy/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
     log:
         "logs/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.log",
     benchmark:
@@ -14,38 +14,10 @@ rule branch:
     conda:
         "../envs/vibroimpact.yaml"
     params:
-        beta=lambda wc: beta_value(wc.beta),
-        device=DEVICE_SPEC,
-        r=lambda wc: r_value(wc.r),
-        word=lambda wc: wc.word,
-        vary=lambda wc: wc.vary,
-        spec=lambda wc: WORDS[wc.word],
-        # branches.d_range and .force, widened to the d every figure draws these branches over
-        d_range=lambda wc: CFG.branch_d_range(beta_value(wc.beta), r_value(wc.r)),
-        force=lambda wc: CFG.branch_force(beta_value(wc.beta)),
-        step=RESOLUTION["branch_step"],
+        jobs=lambda wc: [branch_job(wc.beta, wc.r, wc.word, wc.vary)],
         code=code("branch.py"),
     script:
         "../scripts/branch.py"
-
-
-rule branch_simulated:
-    input:
-        "results/branches/beta-{beta}_r-{r}/orbit-{word}_vary-{vary}.nc",
-    output:
-        "results/branches/beta-{beta}_r-{r}/sim-{word}_vary-{vary}.nc",
-    log:
-        "logs/branches/beta-{beta}_r-{r}/sim-{word}_vary-{vary}.log",
-    benchmark:
-        "benchmarks/branches/beta-{beta}_r-{r}/sim-{word}_vary-{vary}.tsv"
-    conda:
-        "../envs/vibroimpact.yaml"
-    params:
-        n=config["branches"]["simulated_points"],
-        tol=config["attractor"]["tol"],
-        code=code("branch_simulated.py"),
-    script:
-        "../scripts/branch_simulated.py"
 
 
 rule table1:

@@ -41,7 +41,9 @@ rule basins:
     priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
-    threads: 2
+    # parallel inside, but seconds long at the draft preset: two such jobs side by side use 2 cores better than
+    # one on both (--set-threads gives it more; the SLURM profile does)
+    threads: 1
     params:
         spec=lambda wc: config["basins"][wc.basin],
         device=DEVICE_SPEC,
@@ -62,7 +64,9 @@ rule regime_map:
     priority: 10  # a long chain: started early, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
-    threads: 2
+    # parallel inside, but seconds long at the draft preset: two such jobs side by side use 2 cores better than
+    # one on both (--set-threads gives it more; the SLURM profile does)
+    threads: 1
     params:
         # a non-dimensional plane's fixed parameter at the bifurcation set's incline
         spec=lambda wc: (

@@ -18,8 +18,8 @@ from conftest import _copy_workflow
 
 pytestmark = pytest.mark.slurm
 
-#: a slice of the workflow: one branch (with its energy), one sweep (with transitions and energy, and the branches
-#: along its line it reads) and one chunk of a design map (a 2-thread job)
+#: a slice of the workflow: a branch (the job of every branch the rules name, with their energies), one sweep (with
+#: transitions and energy) and one chunk of a design map (a 2-thread job)
 TARGETS = ["results/branches/beta-1.0472_r-0.5000/orbit-BBT_vary-s.nc",
            "results/sweeps/beta-0.5236_r-0.5000/figBiS.nc",
            "results/design/s_F/chunk-1.nc"]

@@ -18,7 +18,7 @@ from conftest import _copy_workflow
 
 pytestmark = pytest.mark.slurm
 
-#: a slice of the workflow: a branch (the job of every branch the rules name, with their energies), one sweep (with
+#: a slice of the workflow: a branch (the job of the branches at its incline, with their energies), one sweep (with
 #: transitions and energy) and one chunk of a design map (a 2-thread job)
 TARGETS = ["results/branches/beta-1.0472_r-0.5000/orbit-BBT_vary-s.nc",
            "results/sweeps/beta-0.5236_r-0.5000/figBiS.nc",
@@ -125,11 +125,11 @@ def test_a_job_cancelled_with_scancel_fails_the_run_and_a_rerun_completes(tmp_pa
 def test_a_job_asking_more_than_the_node_has_is_refused_with_sbatch_s_reason(tmp_path):
     """The profile's 16 cores for the grids do not fit a 2-CPU node: with EnforcePartLimits (set by
     setup_slurm.sh) sbatch refuses such a job, and the run ends at once with its reason, not PENDING
-    forever.  Here the branch rule asks for 64."""
+    forever.  Here the job of the branches at pi/3 asks for 64."""
     _small_config(tmp_path)
     t0 = time.monotonic()
-    res = subprocess.run(_slurm_args(tmp_path, TARGETS[0], extra=("--set-threads", "branch=64", "--set-resources",
-                                                                  "branch:cpus_per_task=64")),
+    res = subprocess.run(_slurm_args(tmp_path, TARGETS[0], extra=("--set-threads", "branches_1_0472=64",
+                                                                  "--set-resources", "branches_1_0472:cpus_per_task=64")),
                          cwd=tmp_path, capture_output=True, text=True, timeout=300)
     out = res.stdout + res.stderr
     assert res.returncode != 0

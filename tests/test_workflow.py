@@ -141,9 +141,9 @@ def test_a_dry_run_creates_no_folder(tmp_path):
     assert res.returncode == 0, res.stderr[-2000:]
     assert _tree(tmp_path) == before
     # 17 branches: those the figures draw, and the 1:1 and 2:1 along every sweep's line (its period doublings; where
-    # the d_graz table reads d_graz), all in one job and none in a job of its own
+    # the d_graz table reads d_graz), one job per incline (4) and none in a job of its own
     out = res.stdout
-    assert re.search(r"^branches\s+1$", out, re.M) and re.search(r"^all\s+1$", out, re.M), out[-3000:]
+    assert len(set(re.findall(r"^(branches_\w+)\s+1$", out, re.M))) == 4 and re.search(r"^all\s+1$", out, re.M), out[-3000:]
     assert not re.search(r"^branch\s+\d+$", out, re.M), out[-3000:]
     assert len(set(re.findall(r"results/branches/beta-[0-9.]+_r-[0-9.]+/orbit-\w+_vary-[sF]\.nc", out))) == 17
     res = _snakemake(tmp_path, "-n")
@@ -285,8 +285,9 @@ def test_the_bifurcation_target_plans_its_rules_from_the_branches(tmp_path):
     res = _snakemake(tmp_path, "-n", "bifurcation")
     assert res.returncode == 0, res.stderr[-2000:]
     out = res.stdout + res.stderr
-    for rule in ("bifurcation_set", "fig_bifurcation_set", "branches", "regime_map"):
+    for rule in ("bifurcation_set", "fig_bifurcation_set", "regime_map"):
         assert f"rule {rule}:" in out or f"\n{rule} " in out or f" {rule} " in out, rule
+    assert re.search(r"^branches_\w+\s+1$", out, re.M)  # the branches at the bifurcation set's incline
     assert "results/bifurcation/s_beta.nc" in out and "results/figures/bifurcation_set_s_F.png" in out
 
 

@@ -82,6 +82,19 @@ def test_workflow_cost_reads_benchmark_files(tmp_path):
     assert float(per_fig.set_index("figure").loc["regime_map", "seconds"]) == 1.5
 
 
+def test_workflow_cost_counts_an_incline_s_branches_for_the_figures_that_draw_that_incline(tmp_path):
+    """The job of the branches at pi/6 (benchmarks/branches/beta-0.5236_r-0.5000/batch.tsv) is rule `branches`, and
+    counts for Figures 5, 6 (fig2, fig3), 8 (figBiS) and 9 (fig5), not for Figure 2 (fig0: pi/3 only)."""
+    where = tmp_path / "branches" / "beta-0.5236_r-0.5000"
+    where.mkdir(parents=True)
+    (where / "batch.tsv").write_text("s\th:m:s\tmax_rss\n4.0\t0:00:04\t100\n")
+    jobs, per_fig = workflow_cost(tmp_path)
+    assert list(jobs.rule) == ["branches"]
+    seconds = per_fig.set_index("figure").seconds
+    assert seconds["figBiS"] == seconds["fig5"] == seconds["fig2, fig3, table1 (2:1 branches)"] == 4.0
+    assert seconds["fig0"] == 0.0
+
+
 def _wp(err, cost, family, setting):
     import xarray as xr
 

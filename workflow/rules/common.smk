@@ -116,6 +116,11 @@ def branch_job(beta, r, word, vary):
     )
 
 
+def batch_rule(beta_key):
+    """The name of the rule of an incline's branches (workflow/rules/branch_batch.smk), e.g. branches_1_0472."""
+    return f"branches_{beta_key.replace('.', '_')}"
+
+
 def branch_path(kind, beta, word, vary="s"):
     r = fmt(config["physics"]["r"])
     key = (fmt(beta), word, vary)

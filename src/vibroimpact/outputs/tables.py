@@ -528,10 +528,10 @@ def lyapunov_precision_markdown(ds: xr.Dataset) -> str:
 #: Benchmark files (globs under benchmarks/) behind each figure, for the workflow-cost summary.
 FIGURE_SOURCES = {
     "fig0b, fig4, figFN2 (caption orbits)": ["orbits/*.tsv"],
-    "fig2, fig3, table1 (2:1 branches)": ["branches/*/orbit-BBT_vary-s.tsv", "branches/batch.tsv"],
-    "figBiS": ["sweeps/*/figBiS*.tsv", "branches/beta-0.5236*/orbit-BBBT_vary-s.tsv", "branches/batch.tsv"],
-    "fig0": ["sweeps/*/fig0_*.tsv", "branches/beta-1.0472*/orbit-B*T_vary-*.tsv", "branches/batch.tsv"],
-    "fig5": ["sweeps/*/fig5_*.tsv", "branches/*/orbit-BT_vary-*.tsv", "branches/batch.tsv"],
+    "fig2, fig3, table1 (2:1 branches)": ["branches/*/orbit-BBT_vary-s.tsv", "branches/*/batch.tsv"],
+    "figBiS": ["sweeps/*/figBiS*.tsv", "branches/beta-0.5236*/orbit-BBBT_vary-s.tsv", "branches/beta-0.5236*/batch.tsv"],
+    "fig0": ["sweeps/*/fig0_*.tsv", "branches/beta-1.0472*/orbit-B*T_vary-*.tsv", "branches/beta-1.0472*/batch.tsv"],
+    "fig5": ["sweeps/*/fig5_*.tsv", "branches/*/orbit-BT_vary-*.tsv", "branches/*/batch.tsv"],
     "design": ["sweeps/*/design_*.tsv"],
     "basins": ["basins/*/*.tsv"],
     "regime_map": ["maps/*.tsv"],
@@ -546,7 +546,7 @@ FIGURE_SOURCES = {
 #: the rule that wrote a benchmark file, from its path under ``benchmarks/`` (first match; else the
 #: path's first directory, which is the rule's name for the rules that draw and tabulate)
 RULE_OF_BENCHMARK = (
-    (r"^orbits/caption-orbits", "caption_orbits"), (r"^branches/batch", "branches"), (r"^branches/.*/orbit-", "branch"),
+    (r"^orbits/caption-orbits", "caption_orbits"), (r"^branches/.*batch\.tsv$", "branches"), (r"^branches/.*/orbit-", "branch"),
     (r"^sweeps/", "sweep"), (r"^basins/", "basins"), (r"^maps/", "regime_map"),
     (r"^bench/simulator", "bench_simulator"), (r"^bench/(\w+)\.tsv$", None),
 )

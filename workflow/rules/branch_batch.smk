@@ -15,18 +15,17 @@ BATCH = [key for key in NAMED_BRANCHES if key[1] in WORDS]
 
 for _beta in dict.fromkeys(b for b, _, _ in BATCH):
     _keys = [key for key in BATCH if key[0] == _beta]
-    _stems = [f"beta-{_beta}_r-{R_KEY}/orbit-{w}_vary-{v}.nc" for _, w, v in _keys]
 
     rule:
         name:
             batch_rule(_beta)
         output:
-            orbits=[f"results/branches/{stem}" for stem in _stems],
-            energies=[f"results/energy/{stem}" for stem in _stems],
+            orbits=[branch_path("orbit", float(b), w, v) for b, w, v in _keys],
+            energies=[energy_path("branch", float(b), w, v) for b, w, v in _keys],
             sims=[
-                f"results/branches/beta-{_beta}_r-{R_KEY}/sim-{w}_vary-{v}.nc"
-                for _, w, v in _keys
-                if NAMED_BRANCHES[(_beta, w, v)]
+                branch_path("sim", float(b), w, v)
+                for b, w, v in _keys
+                if NAMED_BRANCHES[(b, w, v)]
             ],
         log:
             f"logs/branches/beta-{_beta}_r-{R_KEY}/batch.log",

@@ -95,7 +95,7 @@ def beta_value(key):
 
 
 #: every branch a rule names (its incline, word and parameter varied -> whether its simulated attractors are
-#: named too), in the order named: computed together by one job (rule branches, workflow/rules/branch_batch.smk)
+#: named too), in the order named: an incline's computed together by one job (workflow/rules/branch_batch.smk)
 NAMED_BRANCHES = {}
 
 

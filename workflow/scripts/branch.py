@@ -1,7 +1,7 @@
 """Continue periodic orbits in the cylinder length s (fixed force) or in the force F (fixed s), each with its
 output voltages and averages, then simulate attractors along the stable part of the branches asked for (the
-figures' open circles).  One branch per job (rule branch) or every branch the workflow names in one job (rule
-branches): the same datasets."""
+figures' open circles).  One branch per job (rule branch) or the branches the workflow names at an incline in
+one job (rules branches_<incline>): the same datasets."""
 import logging
 
 import xarray as xr

@@ -546,7 +546,7 @@ FIGURE_SOURCES = {
 #: the rule that wrote a benchmark file, from its path under ``benchmarks/`` (first match; else the
 #: path's first directory, which is the rule's name for the rules that draw and tabulate)
 RULE_OF_BENCHMARK = (
-    (r"^orbits/caption-orbits", "caption_orbits"), (r"^branches/.*batch\.tsv$", "branches"), (r"^branches/.*/orbit-", "branch"),
+    (r"^orbits/caption-orbits", "caption_orbits"), (r"^branches/.*/orbit-", "branch"),
     (r"^sweeps/", "sweep"), (r"^basins/", "basins"), (r"^maps/", "regime_map"),
     (r"^bench/simulator", "bench_simulator"), (r"^bench/(\w+)\.tsv$", None),
 )

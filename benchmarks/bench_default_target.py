@@ -5,10 +5,11 @@
 Each run starts from nothing, as a fresh clone does: a scratch copy of the files (the baseline commit's, from
 `git archive`, or this working tree's: the files git tracks and new ones it does not ignore), no results,
 numba's cache empty (a directory of its own), the same Python environment; then `snakemake --cores 2` (the
-default target at the configured preset).  With ``--rounds N`` the two alternate N times (baseline first) and
+default target at the configured preset).  Per run: the wall seconds, the CPU seconds of all its processes as the
+operating system counts them (Snakemake's and every job's, user and system), the jobs run, and from the jobs' own
+benchmark files (sampled) the sum of their wall and CPU seconds.  With ``--rounds N`` the two alternate N times (baseline first) and
 each side's fastest run is reported, so that a noisy stretch of a shared machine slows one round of each.  The
-baseline defaults to ``HEAD`` (the last commit, against the uncommitted tree).  Per run: the wall seconds, the
-jobs run, and from the jobs' own benchmark files the sum of their wall and CPU seconds.  Prints a Markdown table
+baseline defaults to ``HEAD`` (the last commit, against the uncommitted tree).  Prints a Markdown table
 with the machine and the command; ``--out`` also writes it to a file; ``--keep DIR`` keeps both sides' results of
 the last round (``DIR/baseline``, ``DIR/this``), for ``tools/same_results.py DIR/baseline DIR/this``.  With
 ``--warm`` each side runs again in the same place from the results as cloned, with the numba cache its cold run
@@ -21,6 +22,7 @@ import csv
 import io
 import os
 import platform
+import resource
 import shutil
 import subprocess
 import sys
@@ -63,12 +65,20 @@ def job_seconds(bench_dir: Path) -> tuple[int, float, float]:
     return n, wall, cpu
 
 
-def default_target(tree: Path, env: dict) -> tuple[float, int, float, float]:
-    """``snakemake --cores 2`` in ``tree``: its wall seconds, and the jobs, their wall and CPU seconds."""
-    t0 = time.perf_counter()
+def children_cpu() -> float:
+    """User and system CPU seconds of every process this one started and waited for (and of theirs, down the tree
+    whose parents waited for them), as the operating system counts them."""
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def default_target(tree: Path, env: dict) -> tuple[float, float, int, float, float]:
+    """``snakemake --cores 2`` in ``tree``: its wall seconds, the CPU seconds of all its processes (Snakemake and
+    every job), and the jobs, their wall and CPU seconds."""
+    cpu0, t0 = children_cpu(), time.perf_counter()
     subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2"], cwd=tree, env=env, check=True,
                    capture_output=True)
-    return time.perf_counter() - t0, *job_seconds(tree / "benchmarks")
+    return time.perf_counter() - t0, children_cpu() - cpu0, *job_seconds(tree / "benchmarks")
 
 
 def cold_default_target(tree: Path, where: Path, warm: bool = False) -> dict:
@@ -78,9 +88,9 @@ def cold_default_target(tree: Path, where: Path, warm: bool = False) -> dict:
     env.pop("VIRTUAL_ENV", None)
     if warm:
         shutil.copytree(tree / "results", where / "results-as-cloned")
-    wall, n, job_wall, job_cpu = default_target(tree, env)
-    row = {"wall seconds (cold)": wall, "benchmarked jobs": n, "jobs' wall seconds": job_wall,
-           "jobs' CPU seconds": job_cpu}
+    wall, cpu, n, job_wall, job_cpu = default_target(tree, env)
+    row = {"wall seconds (cold)": wall, "CPU seconds (cold)": cpu, "benchmarked jobs": n,
+           "jobs' wall seconds": job_wall, "jobs' CPU seconds": job_cpu}
     if warm:  # the same paths (numba's cache is keyed by the source files' paths), the results as cloned
         shutil.move(tree / "results", where / "results-cold")
         shutil.copytree(where / "results-as-cloned", tree / "results")
@@ -88,8 +98,9 @@ def cold_default_target(tree: Path, where: Path, warm: bool = False) -> dict:
         shutil.rmtree(tree / ".snakemake")
         for f in (tree / "benchmarks").rglob("*.tsv"):
             f.unlink()
-        wall, _, _, job_cpu = default_target(tree, env)
-        row |= {"wall seconds (warm cache)": wall, "jobs' CPU seconds (warm cache)": job_cpu}
+        wall, cpu, _, _, job_cpu = default_target(tree, env)
+        row |= {"wall seconds (warm cache)": wall, "CPU seconds (warm cache)": cpu,
+                "jobs' CPU seconds (warm cache)": job_cpu}
         shutil.rmtree(tree / "results")
         shutil.move(where / "results-cold", tree / "results")
     return row

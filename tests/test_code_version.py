@@ -46,6 +46,23 @@ def test_a_sweep_script_depends_on_the_dynamics_it_imports_and_not_on_the_plots(
     assert "analysis/design.py" not in found
 
 
+def test_an_import_in_any_block_is_a_dependency(tmp_path):
+    """An import counts wherever a statement can hold it: a function's body, a class's, a loop's, a ``with``, a
+    ``try`` and its ``except`` and ``finally`` clauses, a ``match`` case (the analysis visits the statements, not
+    the expressions within them)."""
+    blocks = {
+        "dynamics/params.py": "def f():\n    from vibroimpact.dynamics.params import Params\n",
+        "analysis/grids.py": "class C:\n    import vibroimpact.analysis.grids\n",
+        "analysis/d_graz.py": "for _ in ():\n    from vibroimpact.analysis import d_graz\n",
+        "analysis/energy.py": "with open(__file__):\n    from vibroimpact.analysis.energy import delivered\n",
+        "analysis/motions.py": "try:\n    pass\nexcept ImportError:\n    from vibroimpact.analysis.motions import Motion\n",
+        "analysis/starts.py": "try:\n    pass\nfinally:\n    from vibroimpact.analysis.starts import MIN_STARTS\n",
+        "analysis/shocks.py": "match 1:\n    case 1:\n        from vibroimpact.analysis.shocks import KINDS\n",
+    }
+    for module, source in blocks.items():
+        assert module in deps(tmp_path, source), (module, source)
+
+
 def test_the_package_s_public_names_resolve_to_the_modules_behind_them(tmp_path):
     """``vibroimpact/__init__.py`` resolves its public names on first use (``_WHERE``): a script depends
     on the module behind each name it uses, on a whole layer it uses as an attribute, and on the whole

@@ -453,7 +453,7 @@ def test_unrefined_critical_point_is_kept_with_a_linear_estimate(monkeypatch):
     p = vi.Params.from_physical(s=0.14 / vi.Params.from_physical(s=1.0, beta=math.pi / 6).d, beta=math.pi / 6)
     o = find_orbit(p, "BBT", 5.855, 0.4185)
     ref = continue_orbit(o, vary="s", d_range=(0.13, 0.16), step=1e-3)
-    monkeypatch.setattr(continuation, "brentq", failing)
+    monkeypatch.setattr("scipy.optimize.brentq", failing)  # the continuation imports it where it refines
     br = continue_orbit(o, vary="s", d_range=(0.13, 0.16), step=1e-3)
     assert br.sizes["critical"] == ref.sizes["critical"] > 0
     assert not br.critical_refined.values.any() and ref.critical_refined.values.all()

@@ -140,6 +140,7 @@ LAZY_IMPORTS = {
     "imagehash": "the image check only", "PIL": "the image check only",
     "yaml": "the perturbed regeneration only (a Snakemake config)",
     "tqdm": "a progress bar, only when one is shown",
+    "scipy": "its solvers and statistics where they are called (test_a_figure_job_s_imports_load_no_scipy)",
 }
 
 
@@ -165,6 +166,22 @@ def test_no_import_hides_in_a_function():
                 if any(t not in LAZY_IMPORTS for t in tops):
                     bad.append(f"{f.relative_to(pkg)}:{node.lineno} ({fn.name}): {ast.unparse(node)}")
     assert not bad, bad
+
+
+def test_a_figure_job_s_imports_load_no_scipy():
+    """What a job that reads datasets and draws imports (the plots, the tables, the design and knock analyses, the
+    simulator's benchmarks) loads none of scipy's solvers and statistics: scipy.integrate, .optimize, .special and
+    .stats cost 0.3-0.6 s a process, paid by every such job of the workflow; the functions that call them import
+    them."""
+    code = ("import sys\n"
+            "import vibroimpact.outputs.plots, vibroimpact.outputs.tables, vibroimpact.analysis.design\n"
+            "import vibroimpact.analysis.continuation, vibroimpact.benchmarks.workprecision, vibroimpact.analysis.robust\n"
+            "heavy = ('integrate', 'optimize', 'special', 'stats', 'linalg', 'sparse')\n"
+            "print(sorted(m for m in sys.modules if m.split('.')[:2] in [['scipy', h] for h in heavy]))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env={**os.environ,
+                         "MPLBACKEND": "Agg"})
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.strip() == "[]", out.stdout
 
 
 def test_every_module_imports_alone_in_a_fresh_interpreter():

@@ -206,7 +206,10 @@ def _imports(source: bytes, name: str | None, is_package: bool, top: str) -> _Fo
     found = _Found()
     here = (name if is_package else name.rpartition(".")[0]).split(".") if name else []
     aliases = set()  # names bound to the package itself
-    for node in ast.walk(tree):
+    # an import is a statement: only the statements are visited (most nodes are expressions, whose walk took most
+    # of the time of every Snakemake command); a call importing by name is looked for where the source names one
+    dynamic = b"import_module" in source or b"__import__" in source
+    for node in (ast.walk(tree) if dynamic else _statements(tree)):
         if isinstance(node, ast.Import):
             for a in node.names:
                 if a.name == top or a.name.startswith(top + "."):
@@ -243,6 +246,17 @@ def _imports(source: bytes, name: str | None, is_package: bool, top: str) -> _Fo
             if isinstance(node, ast.Name) and node.id in aliases and id(node) not in chained:
                 found.opaque = True
     return found
+
+
+def _statements(tree: ast.AST):
+    """The statements of ``tree`` (and the clauses holding them: ``except`` handlers, ``case`` blocks), without
+    descending into expressions."""
+    todo = [tree]
+    while todo:
+        node = todo.pop()
+        yield node
+        todo.extend(c for c in ast.iter_child_nodes(node)
+                    if isinstance(c, (ast.stmt, ast.excepthandler, ast.match_case)))
 
 
 def _public_names(init: bytes) -> dict[str, str] | None:

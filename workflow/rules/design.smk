@@ -22,7 +22,9 @@ rule design_chunk:
         "benchmarks/design_chunk/{dmap}-{chunk}.tsv"
     conda:
         "../envs/vibroimpact.yaml"
-    threads: 2
+    # parallel inside, but with 2 threads a chunk kept ~1.1 cores busy: two chunks side by side use 2 cores better
+    # (--set-threads gives more; the SLURM profile gives 2)
+    threads: 1
     params:
         spec=lambda wc: config["maps"][wc.dmap],
         device=DEVICE_SPEC,

@@ -24,7 +24,6 @@ import math
 
 import numpy as np
 import xarray as xr
-from scipy.optimize import brentq
 
 from .._progress import Progress
 from ..datasets import VARIABLES, annotate
@@ -431,6 +430,8 @@ def _lam_range(pm: ParameterMap, orbit: Orbit, d_range, value_range):
 
 def _locate(Ys, orbits, template, walls, r, k, xtol, pm):
     """Zeros of the test functions between consecutive branch points, refined on the arclength."""
+    from scipy.optimize import brentq  # here, not at the top: the jobs that only read branches do not import scipy
+
     vals = [bifurcation_functions(o) for o in orbits]
     found = []
     for i in range(len(Ys) - 1):

@@ -32,7 +32,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
-from scipy.special import stdtrit
 
 from ..dynamics import impact as law
 from ..dynamics import kernels as K
@@ -196,7 +195,9 @@ class Lyapunov:  # numpydoc ignore=PR01
 
 def t_quantile(p: float, df: int) -> float:
     """Student's t quantile ``p`` with ``df`` degrees of freedom, for the batch-means intervals: scipy's
-    ``stdtrit``, which ``scipy.stats.t.ppf`` calls (importing ``scipy.stats`` costs about a second a process)."""
+    ``stdtrit``, which ``scipy.stats.t.ppf`` calls (importing ``scipy.stats`` costs about a second a process;
+    ``scipy.special`` is imported here, where it is needed, so that a job that only reads datasets does not pay it)."""
+    from scipy.special import stdtrit
 
     return float(stdtrit(df, p))
 

@@ -25,7 +25,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
-from scipy.integrate import solve_ivp
 
 from ..dynamics import impact as law
 from ..dynamics import kernels as K
@@ -99,6 +98,8 @@ def _python_worker(args):
 def ivp_flight(theta, z0, u, d, gbar, rtol, atol, method="DOP853", horizon=50.0, evals=None):
     """Next impact by solve_ivp with terminal events on both walls: (tau, wall, Zdot-) or (inf, 0, nan).
     ``evals``: a one-element list that counts the right-hand side's evaluations."""
+    from scipy.integrate import solve_ivp  # here: importing scipy.integrate costs the figure jobs 0.2 s each
+
 
     def rhs(t, y):
         if evals is not None:

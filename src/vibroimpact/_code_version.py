@@ -206,8 +206,8 @@ def _imports(source: bytes, name: str | None, is_package: bool, top: str) -> _Fo
     found = _Found()
     here = (name if is_package else name.rpartition(".")[0]).split(".") if name else []
     aliases = set()  # names bound to the package itself
-    # an import is a statement: only the statements are visited (most nodes are expressions, whose walk took most
-    # of the time of every Snakemake command); a call importing by name is looked for where the source names one
+    # an import is a statement: only the statements are visited (most nodes are expressions, and every Snakemake
+    # command reads every module this way); a call importing by name is looked for where the source names one
     dynamic = b"import_module" in source or b"__import__" in source
     for node in (ast.walk(tree) if dynamic else _statements(tree)):
         if isinstance(node, ast.Import):

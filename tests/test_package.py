@@ -168,6 +168,14 @@ def test_no_import_hides_in_a_function():
     assert not bad, bad
 
 
+def fresh_python(code: str) -> subprocess.CompletedProcess:
+    """``code`` run in a fresh interpreter (matplotlib on Agg), which must succeed: its result."""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env={**os.environ, "MPLBACKEND": "Agg"})
+    assert out.returncode == 0, out.stderr[-2000:]
+    return out
+
+
 def test_a_figure_job_s_imports_load_no_scipy():
     """What a job that reads datasets and draws imports (the plots, the tables, the design and knock analyses, the
     simulator's benchmarks) loads none of scipy's solvers and statistics: scipy.integrate, .optimize, .special and
@@ -178,9 +186,7 @@ def test_a_figure_job_s_imports_load_no_scipy():
             "import vibroimpact.analysis.continuation, vibroimpact.benchmarks.workprecision, vibroimpact.analysis.robust\n"
             "heavy = ('integrate', 'optimize', 'special', 'stats', 'linalg', 'sparse')\n"
             "print(sorted(m for m in sys.modules if m.split('.')[:2] in [['scipy', h] for h in heavy]))\n")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env={**os.environ,
-                         "MPLBACKEND": "Agg"})
-    assert out.returncode == 0, out.stderr[-2000:]
+    out = fresh_python(code)
     assert out.stdout.strip() == "[]", out.stdout
 
 
@@ -197,9 +203,7 @@ def test_every_module_imports_alone_in_a_fresh_interpreter():
             "    except ImportError as e:\n"
             "        bad.append(f'{m}: {e}')\n"
             "print(len(mods)); print(bad)\n")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env={**os.environ,
-                         "MPLBACKEND": "Agg"})
-    assert out.returncode == 0, out.stderr[-2000:]
+    out = fresh_python(code)
     n, bad = out.stdout.split("\n")[:2]
     assert int(n) > 50 and bad == "[]", out.stdout
 
@@ -345,7 +349,5 @@ def test_every_public_name_is_what_it_names_after_every_module_is_imported():
             "    importlib.import_module(m.name)\n"
             "print([n for n in vi.__all__ if inspect.ismodule(getattr(vi, n))])\n"
             "print(vi.simulate.__module__, vi.identify_attractor.__module__)\n")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         env={**os.environ, "MPLBACKEND": "Agg"})
-    assert out.returncode == 0, out.stderr[-2000:]
+    out = fresh_python(code)
     assert out.stdout.split("\n")[:2] == ["[]", "vibroimpact.dynamics.runs vibroimpact.analysis.motions"], out.stdout

@@ -98,7 +98,7 @@ def _python_worker(args):
 def ivp_flight(theta, z0, u, d, gbar, rtol, atol, method="DOP853", horizon=50.0, evals=None):
     """Next impact by solve_ivp with terminal events on both walls: (tau, wall, Zdot-) or (inf, 0, nan).
     ``evals``: a one-element list that counts the right-hand side's evaluations."""
-    from scipy.integrate import solve_ivp  # here: importing scipy.integrate costs the figure jobs 0.2 s each
+    from scipy.integrate import solve_ivp  # here, not at the top: the jobs that only read datasets do not import it
 
 
     def rhs(t, y):

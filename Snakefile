@@ -35,7 +35,10 @@ configfile: "config/config.yaml"
 try:
     config["studies"] = coerce_studies(config.get("studies"))
     with open(os.path.join(workflow.basedir, "config", "schema.yaml")) as f:
-        validate_schema(config, yaml.safe_load(f))
+        # libyaml's parser where PyYAML has it (the same objects, parsed ten times faster)
+        validate_schema(
+            config, yaml.load(f, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
+        )
     CFG = check(config)
 except ConfigError as refusal:
     sys.exit(str(refusal))

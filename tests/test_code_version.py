@@ -159,3 +159,40 @@ def test_every_rule_with_a_script_carries_the_hash_of_its_script_s_package_code(
             params = re.search(r"^    params:\n((?:        .*\n|\s*\n)+)", m.group(2), re.M)
             assert params and want in params.group(1), f"{smk.name}: rule {m.group(1)} lacks {want}"
     assert rules >= 35
+
+
+def test_what_each_source_imports_is_kept_between_commands_by_content(tmp_path):
+    """Every Snakemake command hashes every script's dependencies: a second process reads what each source imports
+    from the kept entries (here with the syntax-tree reading made to fail: the same hash, read from the cache alone),
+    a source whose bytes changed is read again, and a cache written by another reading of sources, or unreadable,
+    is read around."""
+    script = ROOT / "workflow" / "scripts" / "sweep.py"
+    cache = tmp_path / "vibroimpact" / "imports.json"
+
+    def run(prelude=""):
+        code = (f"import vibroimpact._code_version as cv\n{prelude}\n"
+                f"print(cv.code_version({str(script)!r}))\n")
+        res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                             env={**__import__("os").environ, "XDG_CACHE_HOME": str(tmp_path)})
+        return res.stdout.strip(), res.returncode, res.stderr
+
+    first, rc, err = run()
+    assert rc == 0 and first == code_version(script), err
+    kept = json.loads(cache.read_text())
+    assert len(kept["entries"]) > 10  # the script and every module it reaches
+    unread = "def fail(*a):\n    raise RuntimeError('read again')\ncv._read_imports = fail"
+    assert run(unread)[:2] == (first, 0)  # every source found in the cache
+    # an entry whose source changed is not found: the changed script is read again
+    key = next(k for k in kept["entries"] if k.split()[1] == "None")
+    kept["entries"] = {k: v for k, v in kept["entries"].items() if k != key}
+    cache.write_text(json.dumps(kept))
+    out, rc, err = run(unread)
+    assert rc != 0 and "read again" in err
+    assert run()[:2] == (first, 0) and run(unread)[:2] == (first, 0)  # read, kept again
+    # another reader's cache (every entry there, but another reading wrote it), or a broken file: read around (and
+    # written anew)
+    kept = json.loads(cache.read_text())
+    for broken in (json.dumps({**kept, "reader": "another"}), "{not json", "[]"):
+        cache.write_text(broken)
+        assert run()[:2] == (first, 0)
+        assert json.loads(cache.read_text())["reader"] == kept["reader"]

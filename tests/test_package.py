@@ -1,6 +1,7 @@
 """The package as users get it: a wheel that works outside the repository, its version, and the
 command that says where the workflow is and what it needs."""
 
+import ast
 import os
 import re
 import shutil
@@ -188,6 +189,24 @@ def test_a_figure_job_s_imports_load_no_scipy():
             "print(sorted(m for m in sys.modules if m.split('.')[:2] in [['scipy', h] for h in heavy]))\n")
     out = fresh_python(code)
     assert out.stdout.strip() == "[]", out.stdout
+
+
+def test_reading_the_workflow_loads_neither_numba_nor_xarray():
+    """What every Snakemake command runs before any job (the package modules the Snakefile and the rule files import
+    at their top: the configuration's check, the code hash, the registry) loads neither numba nor xarray, scipy or
+    matplotlib (0.4-0.6 s a command); nor does the figure check's job (one per figure) load numba."""
+    files = [ROOT / "Snakefile", *sorted((ROOT / "workflow" / "rules").glob("*.smk"))]
+    mods = sorted({m for f in files for m in re.findall(r"^from (vibroimpact[\w.]*) import", f.read_text(), re.M)})
+    assert "vibroimpact.outputs.workflow_config" in mods, mods
+    script = ast.parse((ROOT / "workflow" / "scripts" / "check_figure.py").read_text())
+    job = sorted({n.module for n in script.body if isinstance(n, ast.ImportFrom) and n.module.startswith("vibroimpact")})
+    code = ("import importlib, sys\n"
+            f"for m in {mods!r}: importlib.import_module(m)\n"
+            "print(sorted(m for m in ('numba', 'xarray', 'scipy', 'matplotlib') if m in sys.modules))\n"
+            f"for m in {job!r}: importlib.import_module(m)\n"
+            "print('numba' in sys.modules)\n")
+    reading, figure_check = fresh_python(code).stdout.split("\n")[:2]
+    assert reading == "[]" and figure_check == "False", (reading, figure_check)
 
 
 def test_every_module_imports_alone_in_a_fresh_interpreter():

@@ -24,12 +24,19 @@ The dependencies are found statically, from the sources' syntax trees, without i
 The precision is the module (a change anywhere in a module reruns every job that imports it, even when
 the function it changed is not called); every approximation errs towards rerunning more.
 :func:`source_digest` is also the numba cache's key (:mod:`vibroimpact._numba_cache`).
+
+Every Snakemake command reads every module this way; what each source imports is kept between commands in
+``$XDG_CACHE_HOME/vibroimpact/imports.json`` (``~/.cache`` by default), keyed by the source's bytes and by this
+module's own (never stale: a changed source, or a changed reading of sources, is read again); a cache that cannot
+be read or written is read around.
 """
 
 from __future__ import annotations
 
 import ast
+import atexit
 import hashlib
+import json
 import os
 from functools import cache
 from pathlib import Path
@@ -184,6 +191,46 @@ class _Tree:
         return out
 
 
+#: this module's own digest: what a source imports is kept (:func:`_imports`) for this reading of sources only
+_READER = hashlib.sha1(Path(__file__).read_bytes()).hexdigest()[:16]
+#: the kept entries (loaded on first use), and whether this process added any (written at exit)
+_kept: dict[str, list] | None = None
+_added = False
+#: at most this many entries are kept, the latest added (a source's entry is added when it is first read)
+KEPT = 2000
+
+
+def _cache_file() -> Path:
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "vibroimpact" / "imports.json"
+
+
+def _kept_entries() -> dict[str, list]:
+    global _kept
+    if _kept is None:
+        try:
+            stored = json.loads(_cache_file().read_text())
+            _kept = stored["entries"] if stored.get("reader") == _READER else {}
+        except (OSError, ValueError, KeyError, TypeError, AttributeError):
+            _kept = {}
+    return _kept
+
+
+@atexit.register
+def _keep() -> None:
+    """Write the entries (once, at exit, where this process added some): to a temporary file renamed over the
+    cache, so that a command reading it at the same time reads the old one or the new one, whole."""
+    if not _added:
+        return
+    f = _cache_file()
+    tmp = f.with_name(f"{f.name}.{os.getpid()}")
+    try:
+        f.parent.mkdir(parents=True, exist_ok=True)
+        tmp.write_text(json.dumps({"reader": _READER, "entries": dict(list(_kept.items())[-KEPT:])}))
+        os.replace(tmp, f)
+    except OSError:
+        tmp.unlink(missing_ok=True)
+
+
 class _Found:
     """What one source imports: ``(module, names)`` pairs (``names`` None for ``import module``); the
     first attribute of each chain read from a name bound to the package itself (``vi.sweep`` and
@@ -196,11 +243,37 @@ class _Found:
         self.dynamic = False
         self.opaque = False
 
+    def to_list(self) -> list:
+        return [[[m, list(n) if n is not None else None] for m, n in self.imports], sorted(self.attributes),
+                self.dynamic, self.opaque]
+
+    @classmethod
+    def from_list(cls, kept: list) -> _Found:
+        found = cls()
+        found.imports = [(m, tuple(n) if n is not None else None) for m, n in kept[0]]
+        found.attributes, found.dynamic, found.opaque = set(kept[1]), bool(kept[2]), bool(kept[3])
+        return found
+
 
 @cache
 def _imports(source: bytes, name: str | None, is_package: bool, top: str) -> _Found:
     """The imports of one source (module ``name`` of package ``top``, or a script when None), cached by
-    content."""
+    content, in this process and between processes (the module's docstring)."""
+    global _added
+    key = f"{hashlib.sha1(source).hexdigest()} {name} {is_package} {top}"
+    kept = _kept_entries()
+    if key in kept:
+        try:
+            return _Found.from_list(kept[key])
+        except (TypeError, ValueError, IndexError):
+            pass  # an entry not as written here: read the source again
+    found = _read_imports(source, name, is_package, top)
+    kept[key], _added = found.to_list(), True
+    return found
+
+
+def _read_imports(source: bytes, name: str | None, is_package: bool, top: str) -> _Found:
+    """The imports of one source, from its syntax tree (:func:`_imports`)."""
 
     tree = ast.parse(source)
     found = _Found()

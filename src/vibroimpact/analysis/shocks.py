@@ -37,11 +37,13 @@ from ..dynamics.runs import simulate, trajectory
 from .windows import empty_windows, window_limits
 from .energy import voltage_gain
 from .motions import APERIODIC, cycle_class
+from .starts import KNOCK_KINDS
 
 __all__ = ["Shock", "critical_shock", "KINDS", "SCAN_FLOOR", "SCAN_RATIO", "FINE_SPAN", "LOCAL_MINIMA", "AFTER_IMPACT"]
 
-#: what a knock changes: the velocity ``Zdot`` or the position ``Z``
-KINDS = ("velocity", "position")
+#: what a knock changes: the velocity ``Zdot`` or the position ``Z`` (defined beside the start states, which the
+#: workflow's configuration check reads without loading this module)
+KINDS = KNOCK_KINDS
 #: the scan's smallest size, as a share of the largest admissible one
 SCAN_FLOOR = 1e-4
 #: the scan doubles its size up to the ceiling over this factor, then steps by ``scan_ratio``

@@ -1,8 +1,9 @@
 """Start states of the design maps and the names their configuration allows: the same states at every point of a
-map, so that neighbouring points are compared on the same starts (:mod:`vibroimpact.analysis.design`).
+map, so that neighbouring points are compared on the same starts (:mod:`vibroimpact.analysis.design`); and the
+kinds of knock the critical shock can give (:mod:`vibroimpact.analysis.shocks`).
 
 A module of its own, on numpy alone: the workflow's check of its configuration reads it before any job, without
-loading what a design map computes with (scipy's statistics among it).
+loading what a design map or a knock computes with (scipy's statistics, numba and xarray among it).
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ import math
 
 import numpy as np
 
-__all__ = ["DISTRIBUTIONS", "MIN_STARTS", "DESIGN_AXES", "RELATIVE", "start_states"]
+__all__ = ["DISTRIBUTIONS", "MIN_STARTS", "DESIGN_AXES", "RELATIVE", "KNOCK_KINDS", "start_states"]
 
 #: start-state distributions: at rest on the bottom membrane (uniform phase), or a box of bottom impacts
 DISTRIBUTIONS = ("rest", "box")
@@ -21,6 +22,8 @@ MIN_STARTS = 8
 DESIGN_AXES = ("s", "F", "beta")
 #: tolerances relative to the nominal value (the others, beta, are absolute in radians)
 RELATIVE = ("s", "F")
+#: what a knock changes: the velocity ``Zdot`` or the position ``Z`` (:data:`vibroimpact.analysis.shocks.KINDS`)
+KNOCK_KINDS = ("velocity", "position")
 
 
 def fail(key, value, allowed):

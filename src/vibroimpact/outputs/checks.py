@@ -14,7 +14,18 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from ..analysis.motions import ONE_ONE, THREE_ONE, TWO_ONE
+from ..analysis.motion_names import ONE_ONE, THREE_ONE, TWO_ONE
+from .check_items import (  # noqa: F401  (the items' names, defined without pandas or xarray, are this module's too)
+    BETA_NAMES,
+    D_GRAZ_ITEMS,
+    ENERGY_ITEMS,
+    beta_name,
+    curve_order_item,
+    printed_figure,
+    caption_item,
+    identity_item,
+    item_names,
+)
 from .figcheck import PROVENANCE
 from .paper import (
     CURVE_ORDER,
@@ -26,16 +37,8 @@ from .paper import (
     STABLE_2TO1,
     agreement_tolerance,
     caption_figure,
-    figure_name,
     printed_unit,
 )
-
-BETA_NAMES = {90.0: "pi/2", 60.0: "pi/3", 45.0: "pi/4", 30.0: "pi/6"}
-
-
-def _beta_name(beta):
-    return BETA_NAMES.get(round(math.degrees(beta), 6), f"{beta:.4f}")
-
 
 def _row(item, where, paper, computed, tol, ok, note=""):
     return {"item": item, "where": where, "paper": paper, "computed": computed, "tolerance": tol,
@@ -59,21 +62,9 @@ def _rounding_note(printed, span, d):
     return f"over the printed d's rounding ({d} +- {h:.0e}) the orbit's value spans [{lo:.5g}, {hi:.5g}], which {inside} the caption's"
 
 
-def _printed(stem):
-    """``"Figure 5"`` for ``"fig2"``: the check table names a figure by its printed number."""
-    return figure_name(stem, label=False)
-
-
-def caption_item(name: str, what: str) -> str:
-    """The check's item for a caption orbit's ``what``: ``"Figure 3 (a) (figFN2_a): motion"``, the printed
-    figure and panel with the caption's config key (the key alone where it names no panel of a paper figure)."""
-    fig = caption_figure(name)
-    return f"{fig} ({name}): {what}" if fig else f"{name}: {what}"
-
-
 def _caption_where(name):
     stem = name.partition("_")[0]
-    return f"{_printed(stem)} caption" if caption_figure(name) else "caption"
+    return f"{printed_figure(stem)} caption" if caption_figure(name) else "caption"
 
 
 def caption_rows(captions: xr.Dataset) -> list[dict]:
@@ -117,7 +108,7 @@ def stability_rows(table1: pd.DataFrame) -> list[dict]:
                 paper = v
         if paper is None:
             continue
-        name = _beta_name(r.beta)
+        name = beta_name(r.beta)
         for end, p_val, c_val, cause in (("lower", paper[0], r.stable_from, r.lower_cause),
                                           ("upper", paper[1], r.stable_to, r.upper_cause)):
             if name == "pi/6" and end == "lower":
@@ -147,25 +138,12 @@ def grazing_rows(bis: xr.Dataset) -> list[dict]:
     ]
 
 
-#: the rows of :func:`d_graz_rows` that every configuration has
-D_GRAZ_ITEMS = [f"d_graz, beta=pi/6 ({figure_name('figFN2', 'f', label=False)}: the 1:1 motion grazes at d_graz)",
-                f"d_graz rises with beta: the largest d of {TWO_ONE.label} (its fold)",
-                "1:1 exit rises with beta (d_graz read as where the 1:1 motion leaves its family)",
-                "1:1 period doubling rises with beta"]
-
-
-def identity_item(name: str, scene: dict) -> str:
-    """The check's item on the paper's identity along sweep ``name`` (its ``scene``: ``beta``, ``vary``)."""
-    return (f"d_graz: the 1:1 motion grazes where 2:1 begins, beta={_beta_name(float(scene['beta']))}, "
-            f"{'length' if scene['vary'] == 's' else 'force'} sweep ({name})")
-
-
 def _rises(values: dict[float, float]) -> tuple[str, bool]:
     """``"beta1: v1 < beta2: v2 ..."`` by increasing beta, and whether the values increase."""
     betas = sorted(values)
     v = [values[b] for b in betas]
     ok = len(v) > 1 and all(np.isfinite(v)) and bool(np.all(np.diff(v) > 0))
-    return ", ".join(f"{_beta_name(b)}: {values[b]:.6g}" for b in betas), ok
+    return ", ".join(f"{beta_name(b)}: {values[b]:.6g}" for b in betas), ok
 
 
 def d_graz_rows(readings: pd.DataFrame, bt_branches: list[xr.Dataset],
@@ -186,7 +164,7 @@ def d_graz_rows(readings: pd.DataFrame, bt_branches: list[xr.Dataset],
     if b6 is not None:
         r = by_beta[b6]
         tol = agreement_tolerance(PI6_D_GRAZ)
-        rows.append(_row(D_GRAZ_ITEMS[0], _printed("figFN2"), PI6_D_GRAZ, float(r.d_graz), tol,
+        rows.append(_row(D_GRAZ_ITEMS[0], printed_figure("figFN2"), PI6_D_GRAZ, float(r.d_graz), tol,
                          abs(float(r.d_graz) - PI6_D_GRAZ) <= tol,
                          f"d_graz, the 2:1 fold: {r.d_graz:.6f} ({r.sweep}: the up sweep's {TWO_ONE.label} ends at "
                          f"{r.up_end_d:.6f}, the down sweep enters it at {r.entry_d:.4f}); 1:1 exit: {r.exit_kind} at "
@@ -196,7 +174,7 @@ def d_graz_rows(readings: pd.DataFrame, bt_branches: list[xr.Dataset],
                      "the 2:1 branch's fold (analytic), along the length sweeps"))
     text, ok = _rises({b: float(r.exit_d) for b, r in by_beta.items()})
     rows.append(_row(D_GRAZ_ITEMS[2], "section 5", "rises", text, "", ok, "; ".join(
-        f"{_beta_name(b)}: {r.exit_kind} (clearance {r.exit_clearance:.1e})" for b, r in sorted(by_beta.items()))
+        f"{beta_name(b)}: {r.exit_kind} (clearance {r.exit_clearance:.1e})" for b, r in sorted(by_beta.items()))
         + " (length sweeps)"))
     first_b = {}
     for br in bt_branches:
@@ -303,26 +281,21 @@ def energy_rows(branches_s: list[xr.Dataset], branches_F: list[xr.Dataset], swee
     return rows
 
 
-ENERGY_ITEMS = [f"U_I = U_T for {ONE_ONE.label} motion", "1:1 -> 2:1: U_I drops", "1:1 -> 2:1: U_T rises",
-                "2:1 -> 3:1: U_I drops", "2:1 -> 3:1: U_T rises", "2:1 -> 3:1 at the same d: U_T rises", "1:1 output grows with s at fixed force",
-                "1:1 output grows with F at fixed length", "max 1:1 output changes < 1 % with beta"]
-
-
 def simulation_rows(sims: list[xr.Dataset]) -> list[dict]:
     """The figures' simulated points along the branches: each attractor started on the analytic
     orbit must equal it to ``ORBIT_AGREEMENT``; points not compared are listed with their reason."""
     rows = []
     for sim in sims:
         if sim.attrs.get("status") == "failed":
-            rows.append(_row("simulated points on the branch", _printed("fig2"), "on the branch", "no branch", ORBIT_AGREEMENT,
+            rows.append(_row("simulated points on the branch", printed_figure("fig2"), "on the branch", "no branch", ORBIT_AGREEMENT,
                              False, f"{NOTHING_COMPARED}: no branch ({sim.attrs.get('reason', '')})"))
             continue
-        where = f"{sim.attrs['word']}, beta={_beta_name(float(sim.attrs['beta']))}"
+        where = f"{sim.attrs['word']}, beta={beta_name(float(sim.attrs['beta']))}"
         status = sim.status.values.astype(str) if sim.sizes.get("sim") else np.array([], str)
         done = status == "compared"
         dev = float(np.max(sim.max_dev.values[done])) if done.any() else math.nan
         skipped = "; ".join(f"d = {float(sim.d[k]):.6g}: {status[k]}" for k in np.flatnonzero(~done))
-        rows.append(_row(f"simulated points on the {where} branch", _printed("fig2"), "on the branch",
+        rows.append(_row(f"simulated points on the {where} branch", printed_figure("fig2"), "on the branch",
                          f"{int(done.sum())} of {status.size} compared, max |difference| {dev:.1e}",
                          ORBIT_AGREEMENT, bool(done.any()) and dev <= ORBIT_AGREEMENT,
                          ("" if done.any() else f"{NOTHING_COMPARED}; ") + (f"not compared: {skipped}" if skipped
@@ -342,10 +315,6 @@ def transition_name(walls, j, *, into=True) -> str:
     return {(1, 1): "P1", (1, -1): "P2", (-1, 1): "P3", (-1, -1): "P4"}[(int(a), int(b))]
 
 
-def _order_item(fig, what, beta):
-    return f"{_printed(fig)}: {what} curves top to bottom, beta={_beta_name(beta)}"
-
-
 def curve_order_rows(orbit_branches: list[xr.Dataset], energy_branches: list[xr.Dataset]) -> list[dict]:
     """The order of the 2:1 curves from top to bottom that the captions state (``paper.CURVE_ORDER``),
     against the continued 2:1 branches.  On the branch's longest stable, admissible stretch the impacts
@@ -362,9 +331,9 @@ def curve_order_rows(orbit_branches: list[xr.Dataset], energy_branches: list[xr.
             br = by_beta["energy" if var == "gain" else "orbit"].get(round(beta, 9))
             if br is None:
                 continue
-            item = _order_item(fig, what, beta)
+            item = curve_order_item(fig, what, beta)
             if br.attrs.get("status") == "failed" or not br.sizes.get("point", 0):
-                rows.append(_row(item, _printed(fig), stated, "no branch", "", False, str(br.attrs.get("reason", ""))))
+                rows.append(_row(item, printed_figure(fig), stated, "no branch", "", False, str(br.attrs.get("reason", ""))))
                 continue
             ok = (br.stable & br.admissible).values
             edges = np.flatnonzero(np.diff(np.concatenate([[0], ok.astype(int), [0]]))).reshape(-1, 2)
@@ -377,25 +346,9 @@ def curve_order_rows(orbit_branches: list[xr.Dataset], energy_branches: list[xr.
             mid = orders[np.argmin(np.abs(d - 0.5 * (d.min() + d.max())))]
             note = "; ".join(f"{o} for d in [{d[orders == o].min():.4f}, {d[orders == o].max():.4f}]"
                              for o in dict.fromkeys(orders[np.argsort(d)]))
-            rows.append(_row(item, _printed(fig), stated, str(mid), "order at the middle of the stable stretch", mid == stated,
+            rows.append(_row(item, printed_figure(fig), stated, str(mid), "order at the middle of the stable stretch", mid == stated,
                              note))
     return rows
-
-
-def item_names(captions, betas, sweeps: dict[str, dict] | None = None) -> list[str]:
-    """Every item the check produces for these caption names, inclines (rad) and the sweeps d_graz is read along
-    (their scenes by name): what ``checks.known`` may name, known before any job runs."""
-    names = [caption_item(c, what) for c in captions for what in ("motion", "Zdot(t0)", "phi")]
-    for b in betas:
-        if any(abs(b - pb) < 1e-9 for pb in STABLE_2TO1):
-            name = _beta_name(b)
-            names += [f"2:1 stable interval, {end} end, beta={name}" for end in ("lower", "upper")
-                      if not (name == "pi/6" and end == "lower")]
-            if name == "pi/6":
-                names.append("lambda_1 < -1 for d < 0.133 (d_B), beta=pi/6")
-    names += ["G1: 2:1 -> 3:1 grazing, d decreasing, beta=pi/6", "G2: 3:1 -> 2:1, d increasing, beta=pi/6"]
-    names += [_order_item(fig, what, beta) for (fig, what), per_beta in CURVE_ORDER.items() for beta in per_beta]
-    return names + ENERGY_ITEMS + D_GRAZ_ITEMS + [identity_item(n, sc) for n, sc in (sweeps or {}).items()]
 
 
 def apply_known(df: pd.DataFrame, known: dict[str, str]) -> pd.DataFrame:
@@ -470,15 +423,15 @@ def markdown(df: pd.DataFrame, device: str | None = None) -> str:
 
 #: the figures each published item is drawn in, by the check table's "where" column (a caption orbit's,
 #: "Figure 3 caption", is its own figure's)
-WHERE_FIGURES = {_printed("fig2"): ("fig2",), _printed("fig0"): ("fig0",), _printed("fig5"): ("fig5",),
-                 _printed("figFN2"): ("figFN2", "fig5", "lyapunov"), "section 3": ("fig2", "fig3"),
+WHERE_FIGURES = {printed_figure("fig2"): ("fig2",), printed_figure("fig0"): ("fig0",), printed_figure("fig5"): ("fig5",),
+                 printed_figure("figFN2"): ("figFN2", "fig5", "lyapunov"), "section 3": ("fig2", "fig3"),
                  "section 4": ("fig3",), "section 4.2": ("figBiS",), "section 5": ("fig0", "fig5", "design"),
                  "sections 2, 5": ("fig0", "fig5", "lyapunov")}
 
 
 def figures_of_item(item: str, where: str) -> tuple[str, ...]:
     """The figures a row of the paper-value check belongs to."""
-    stem = {f"{_printed(s)} caption": s for s in FIGURE_NUMBERS}.get(where)
+    stem = {f"{printed_figure(s)} caption": s for s in FIGURE_NUMBERS}.get(where)
     return (stem,) if stem else WHERE_FIGURES.get(where, ())
 
 

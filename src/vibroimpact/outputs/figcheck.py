@@ -59,7 +59,7 @@ import math
 
 import numpy as np
 
-from ..analysis.motions import no_period
+from ..analysis.motion_names import no_period
 
 __all__ = ["PROVENANCE", "NOT_POINTWISE", "DEFAULT_PROVENANCE", "Z_CRIT", "MAGNITUDE_DECADES", "RULES", "judge",
            "motion_flips", "strict_close", "artist_base"]

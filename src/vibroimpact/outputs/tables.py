@@ -12,7 +12,7 @@ import xarray as xr
 
 from ..analysis.energy import delivered
 from ..analysis.lyapunov import t_quantile
-from ..analysis.motions import CHAOTIC, ONE_ONE, TWO_ONE
+from ..analysis.motion_names import CHAOTIC, ONE_ONE, TWO_ONE
 from ..analysis.settled import LONG_BATCHES
 from ..analysis.transitions import PERIOD_DOUBLING
 from ..benchmarks.lyapunov_precision import summarise

@@ -20,10 +20,9 @@ from dataclasses import dataclass, field
 from jsonschema import Draft202012Validator
 from jsonschema.exceptions import best_match, by_relevance
 
-from ..analysis.starts import DESIGN_AXES, DISTRIBUTIONS, MIN_STARTS, RELATIVE, start_states
-from ..analysis.shocks import KINDS
+from ..analysis.starts import DESIGN_AXES, DISTRIBUTIONS, KNOCK_KINDS, MIN_STARTS, RELATIVE, start_states
 from ..dynamics.device import Device
-from .checks import item_names
+from .check_items import item_names
 from .registry import REGISTRY, figures
 
 __all__ = ["STUDY_NUMBERS", "ConfigError", "WorkflowConfig", "check", "check_design", "check_knocks", "coerce_studies", "figure_names",
@@ -678,8 +677,8 @@ def check_knocks(knocks: dict, maps: dict, device: Device) -> None:
     axes = (maps[name]["x"], maps[name]["y"])
     if not set(axes) <= set(DESIGN_AXES):
         raise ConfigError(f"knocks.map ({name})", list(axes), f"a plane of two of {', '.join(DESIGN_AXES)} (physical axes)")
-    if knocks["kind"] not in KINDS:
-        raise ConfigError("knocks.kind", knocks["kind"], " or ".join(KINDS))
+    if knocks["kind"] not in KNOCK_KINDS:
+        raise ConfigError("knocks.kind", knocks["kind"], " or ".join(KNOCK_KINDS))
     if not (isinstance(knocks["knock"], (int, float)) and 0 < knocks["knock"] < math.inf):
         raise ConfigError("knocks.knock", knocks["knock"], "a finite knock > 0 (m/s for velocity, m for position)")
     try:

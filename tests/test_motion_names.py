@@ -89,3 +89,24 @@ def test_a_ball_bouncing_once_per_forcing_period_is_a_motion_of_one_event():
     a = vi.identify_attractor(vi.simulate(vi.Params(d=10.0, gbar=0.8, r=0.5), 2.5, 1.3, n_impacts=400))
     assert (a.label, a.events, a.period) == ("1:0 period-2", 1, 1)
     assert a.cycle.v_minus.values[0] == pytest.approx(2 * 0.8 / 1.5, abs=2e-9)
+
+
+def test_the_paper_s_motions_and_an_orbit_s_word_are_named_as_the_paper_names_them():
+    """The paper's names: 1:1, 2:1 and 3:1 impacts per forcing period, each of period 2 in t (one forcing period);
+    an orbit's word counts its bottom (B) and top (T) impacts over one forcing period unless told more; prose
+    names are found where they are written; a motion with no period named without its count of stickings is named
+    by its exponent's interval alone."""
+    from vibroimpact.analysis.motion_names import (
+        ONE_ONE,
+        THREE_ONE,
+        TWO_ONE,
+        no_period_label,
+        orbit_motion,
+        periodic_names_in,
+    )
+
+    assert [m.label for m in (ONE_ONE, TWO_ONE, THREE_ONE)] == ["1:1 period-2", "2:1 period-2", "3:1 period-2"]
+    assert orbit_motion("BBT") == TWO_ONE and orbit_motion("BT", k=2).label == "1:1 over 2 forcing periods"
+    assert periodic_names_in("from 2:1 period-2 to 3:1 T=2 and 1:0 over 2 forcing periods with sticking") == [
+        "2:1 period-2", "3:1 T=2", "1:0 over 2 forcing periods with sticking"]
+    assert no_period_label("aperiodic", 0.01, 0.3) == "chaotic"

@@ -68,7 +68,8 @@ SAMPLES = os.path.join(REPO, "tools", "mutation_samples")
 #: the layer of the package each module lives in
 LAYER = {**{m: "dynamics" for m in ("params", "flight", "events", "kernels", "runs", "reference", "device")},
          **{m: "analysis" for m in ("orbits", "grazing", "continuation", "bifurcation", "settled", "sweeps", "energy",
-                                    "design", "lyapunov", "family_exit", "d_graz", "motions", "windows", "transitions",
+                                    "design", "lyapunov", "family_exit", "d_graz", "motions", "motion_names", "windows",
+                                    "transitions",
                                     "bistability", "grids", "basins", "regime_maps", "shocks",
                                     "basin_stability", "robust")},
          **{m: "benchmarks" for m in ("methods", "peer_heyoka", "peer_siconos", "workprecision", "bench")},
@@ -121,6 +122,9 @@ TESTS = {
     "orbits": ["tests/test_orbits.py", "tests/test_captions.py", "tests/test_impact_law.py"],
     "continuation": ["tests/test_orbits.py"],
     "motions": ["tests/test_motion_names.py", "tests/test_sweeps.py", "tests/test_attractor.py"],
+    # with the module's own examples (its doctests)
+    "motion_names": ["tests/test_motion_names.py", "tests/test_sweeps.py", "tests/test_attractor.py",
+                     "src/vibroimpact/analysis/motion_names.py"],
     "windows": ["tests/test_sweeps.py", "tests/test_kernels.py", "tests/test_progress.py"],
     "transitions": ["tests/test_sweeps.py", "tests/test_period_doublings.py"],
     "bistability": ["tests/test_sweeps.py"],

@@ -151,11 +151,28 @@ def pytest_collection_modifyitems(config, items):
         from _pytest.nodeid import coerce_node_id
     except ImportError:  # pytest 8: pytest-xdist adds the suffix of the marker itself
         coerce_node_id = None
+    if getattr(config.option, "dist", "no") != "no":  # spread over processes: the slowest first (below)
+        seconds = _recorded_seconds()
+        items.sort(key=lambda item: -seconds.get(item.nodeid.partition("@")[0], 0.0))
     for item in items:
         if CLONE_FIXTURES & set(getattr(item, "fixturenames", ())) or item.get_closest_marker("xdist_group"):
             item.add_marker(pytest.mark.xdist_group("readme_clone"))
             if coerce_node_id is not None and getattr(config.option, "loadgroup", False) and "@" not in item.nodeid:
                 item._id = coerce_node_id(f"{item.nodeid}@readme_clone")
+
+
+def _recorded_seconds() -> dict[str, float]:
+    """Each test's seconds in the kept record of a whole run (reference/test_durations.csv, without the group
+    suffix): the processes take the tests slowest first, so that the last tests to finish are short ones and no
+    process waits long for another at the end (tests the record does not hold keep their order, after the
+    others)."""
+    import csv
+
+    path = ROOT / "reference" / "test_durations.csv"
+    if not path.exists():
+        return {}
+    rows = csv.reader(line for line in path.read_text().splitlines() if not line.startswith("#"))
+    return {test.partition("@")[0]: float(sec) for test, sec in rows if test != "test" and sec.replace(".", "").isdigit()}
 
 
 @pytest.fixture(scope="session")

@@ -200,8 +200,14 @@ _added = False
 KEPT = 2000
 
 
+def cache_home() -> Path:
+    """This package's cache directory: ``$XDG_CACHE_HOME/vibroimpact`` (``~/.cache`` by default), where the
+    imports read here and numba's compiled code (:mod:`vibroimpact._numba_cache`) are kept."""
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "vibroimpact"
+
+
 def _cache_file() -> Path:
-    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "vibroimpact" / "imports.json"
+    return cache_home() / "imports.json"
 
 
 def _kept_entries() -> dict[str, list]:

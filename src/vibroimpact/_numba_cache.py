@@ -12,7 +12,7 @@ import os
 import sys
 from pathlib import Path
 
-from ._code_version import source_digest
+from ._code_version import cache_home, source_digest
 
 
 def cache_dir() -> str:
@@ -21,8 +21,7 @@ def cache_dir() -> str:
     package = Path(__file__).resolve().parent
     compiled = [f for f in package.rglob("*.py")  # the modules with compiled code
                 if b"numba" in f.read_bytes() and f.name not in ("_numba_cache.py", "_code_version.py")]
-    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return str(base / "vibroimpact" / "numba" / source_digest(compiled, package))
+    return str(cache_home() / "numba" / source_digest(compiled, package))
 
 
 if not os.environ.get("NUMBA_CACHE_DIR"):

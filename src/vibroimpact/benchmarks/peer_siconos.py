@@ -37,6 +37,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .._code_version import cache_home
 from ..dynamics import impact as law
 from ..dynamics.params import Params
 from .methods import CRASHED, STALLED, Run
@@ -133,7 +134,7 @@ def plugin_path() -> tuple[str | None, str]:
     try:
         src = PLUGIN_SOURCE.read_bytes()
         tag = hashlib.sha256(src + cc.encode()).hexdigest()[:12]
-        cache = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "vibroimpact"
+        cache = cache_home()
         out = cache / f"siconos_force-{tag}.so"
         if not out.is_file():
             if shutil.which(cc) is None:

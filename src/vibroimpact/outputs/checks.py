@@ -20,11 +20,11 @@ from .check_items import (  # noqa: F401  (the items' names, defined without pan
     D_GRAZ_ITEMS,
     ENERGY_ITEMS,
     beta_name,
-    curve_order_item,
-    printed_figure,
     caption_item,
+    curve_order_item,
     identity_item,
     item_names,
+    printed_figure,
 )
 from .figcheck import PROVENANCE
 from .paper import (

@@ -15,7 +15,7 @@ import math
 from numba import njit
 
 from ..dynamics import impact as law
-from ..dynamics.events import next_accel_zero, next_impact, rtsafe
+from ..dynamics.events import ROOT_VELOCITY, next_accel_zero, next_impact, rtsafe
 from ..dynamics.flight import PI, TWO_PI, displacement, velocity
 
 
@@ -40,7 +40,7 @@ def interior_clearance(theta, z0, u, d, gbar, tau_end):
             tb = tau_end
         vb = velocity(tb, c, s, u, gbar)
         if (va < 0.0 and vb > 0.0) or (va > 0.0 and vb < 0.0):
-            te = rtsafe(0, ta, tb, va, vb, math.nan, math.nan, c, s, 0.0, u, gbar)[0]
+            te = rtsafe(ROOT_VELOCITY, ta, tb, va, vb, math.nan, math.nan, c, s, 0.0, u, gbar)[0]
             if 0.0 < te < tau_end:
                 ze = z0 + displacement(te, c, s, u, gbar)
                 gap = 0.5 * d - ze if va > 0.0 else ze + 0.5 * d

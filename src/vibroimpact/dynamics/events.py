@@ -34,6 +34,7 @@ division (every divisor here is nonzero by construction or tested first).
 
 import math
 
+import numpy as np
 from numba import njit
 
 from .flight import (
@@ -78,7 +79,7 @@ def next_accel_zero(tau, theta, alpha):
     return accel_zero(tau, theta, alpha)[0]
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _hermite_start(lo, hi, flo, fhi, dflo, dfhi):
     """Start for a root search on [lo, hi]: one Newton step on the cubic Hermite interpolant of f
     (values and slopes at both ends, all known there) from the secant point; the secant point when
@@ -102,7 +103,7 @@ def _hermite_start(lo, hi, flo, fhi, dflo, dfhi):
     return lo + x * h
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _done(step, x, df, d2f, d3f):
     """Is the root within rounding of ``x - step``?  Halley's error after the step would be about
     ``K step^3`` with ``K = (f''/2f')^2 + |f'''/6f'|``; stop when that is below 1e-17 of ``|x|``.
@@ -115,11 +116,18 @@ def _done(step, x, df, d2f, d3f):
     return (0.25 * d2f * d2f + abs(d3f * df) * (1.0 / 6.0)) * step * step * abs(step) <= 1e-17 * max(abs(x), 1e-300) * df * df
 
 
+#: :func:`rtsafe`'s ``which``: the root of the velocity, of the gap to a wall, of the chord slope of a flight that
+#: returns to the wall it left.  NumPy integers, not Python ones: numba types a Python integer passed to a call (written
+#: out or named as a global) as a literal and compiles the callee once per value; each copy of the search cost about a
+#: second of a first run's compile, for no measurable speed.
+ROOT_VELOCITY, ROOT_GAP, ROOT_CHORD = np.int64(0), np.int64(1), np.int64(2)
+
+
 @njit(cache=True, error_model="numpy")
 def rtsafe(which, lo, hi, flo, fhi, dflo, dfhi, c, s, z0w, u, gbar):
     """Root of a monotone function on [lo, hi] with f(lo), f(hi) of opposite sign (or zero):
-    ``which=0`` Zdot, ``which=1`` the gap ``Z - wall`` (``z0w`` its value at the flight's start),
-    ``which=2`` the slope ``(Z(x) - Z(0)) / x`` of a flight that starts on the wall it returns to;
+    ``which`` :data:`ROOT_VELOCITY` Zdot, :data:`ROOT_GAP` the gap ``Z - wall`` (``z0w`` its value at the flight's
+    start), :data:`ROOT_CHORD` the slope ``(Z(x) - Z(0)) / x`` of a flight that starts on the wall it returns to;
     ``dflo``, ``dfhi`` its slopes at the ends (NaN if unknown: the search starts at the midpoint).
 
     Householder's third-order method (fourth-order convergence: the second and third derivatives
@@ -340,12 +348,12 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
                 # root at 0, so its chord slope from 0 is monotone, and its one root is the impact
                 if -sg1 * db >= 0.0:
                     g1 = db / tb
-                    t, _, v = rtsafe(2, 0.0, tb, u, g1, 0.5 * (c + gbar), (vb - g1) / tb, c, s, 0.0, u, gbar)
+                    t, _, v = rtsafe(ROOT_CHORD, 0.0, tb, u, g1, 0.5 * (c + gbar), (vb - g1) / tb, c, s, 0.0, u, gbar)
                     return _finish_hit(t, v, ta, tb, theta, c, s, z0w2, u, gbar, -sg1)
             elif skip and sg1 * (z0w2 + da) > 0.0:
                 # a convex or concave gap of opposite signs at the ends has one root between them
                 if -sg1 * (z0w2 + db) >= 0.0:
-                    t, _, v = rtsafe(1, ta, tb, z0w2 + da, z0w2 + db, va, vb, c, s, z0w2, u, gbar)
+                    t, _, v = rtsafe(ROOT_GAP, ta, tb, z0w2 + da, z0w2 + db, va, vb, c, s, z0w2, u, gbar)
                     return _finish_hit(t, v, ta, tb, theta, c, s, z0w2, u, gbar, -sg1)
             else:
                 skip = False
@@ -354,12 +362,12 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
                     # the gap (convex or concave, of opposite signs at ta and ts) has one root between
                     ds_, vs_, _, _ = kinematics(ts, c, s, u, gbar)
                     if sg1 * (z0w1 + ds_) > DD_MARGIN:
-                        t, _, v = rtsafe(1, ta, ts, z0w1 + da, z0w1 + ds_, va, vs_, c, s, z0w1, u, gbar)
+                        t, _, v = rtsafe(ROOT_GAP, ta, ts, z0w1 + da, z0w1 + ds_, va, vs_, c, s, z0w1, u, gbar)
                         return _finish_hit(t, v, ta, ts, theta, c, s, z0w1, u, gbar, sg1)
             if skip:
                 n_sub = 0  # no piece can reach a wall: on to the next one
             else:
-                te, de, ve = rtsafe(0, ta, tb, va, vb, aa, ab, c, s, 0.0, u, gbar)
+                te, de, ve = rtsafe(ROOT_VELOCITY, ta, tb, va, vb, aa, ab, c, s, 0.0, u, gbar)
                 n_sub = 2
         p = ta
         vp = va
@@ -386,7 +394,7 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
                     gp = z0w + dp if p > 0.0 else z0w
                     if sgn * gp > 0.0:
                         gp = 0.0
-                    t, _, v = rtsafe(1, p, q, gp, gq, vp, vq, c, s, z0w, u, gbar)
+                    t, _, v = rtsafe(ROOT_GAP, p, q, gp, gq, vp, vq, c, s, z0w, u, gbar)
                     return _finish_hit(t, v, p, q, theta, c, s, z0w, u, gbar, sgn)
             p = q
             vp = vq

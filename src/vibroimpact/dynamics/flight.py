@@ -27,21 +27,21 @@ INV_PI2 = 1.0 / (math.pi * math.pi)
 TWO_PI = 2.0 * math.pi
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def one_minus_cos(x):
     """1 - cos x without cancellation."""
     s = math.sin(0.5 * x)
     return 2.0 * s * s
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def x_minus_sin_series(x, x2):
     """``x - sin x`` by its Taylor series to the x^11 term, ``x2 = x * x`` (relative truncation below 3e-18
     for ``|x| < 0.25``); the one series the flights use, for ``sin x - x`` with its sign changed (exact)."""
     return x * x2 * (1.0 / 6.0) * (1.0 - x2 * (1.0 / 20.0) * (1.0 - x2 * (1.0 / 42.0) * (1.0 - x2 * (1.0 / 72.0) * (1.0 - x2 * (1.0 / 110.0)))))
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def sin_minus_x(x):
     """sin x - x without cancellation (Taylor series for |x| < 0.25)."""
     if abs(x) < 0.25:
@@ -49,7 +49,7 @@ def sin_minus_x(x):
     return math.sin(x) - x
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _theta_partials(c, s, omc, smx, sx):
     """d/dtheta of the displacement and of the velocity, from the flight's trigonometric terms."""
     return (-s * omc + c * smx) * INV_PI2, (-s * sx - c * omc) * INV_PI
@@ -92,28 +92,28 @@ def step_jacobian(tau, theta, v, v_next, acc_next, r):
     return 1.0 + dtau_dt, dtau_dv, acc_next * dtau_dt + PI * vel_th, acc_next * dtau_dv + k
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def displacement(tau, c, s, u, gbar):
     """Z(tau) - Z(0) for a flight with cos/sin of the start phase ``c``, ``s``."""
     x = PI * tau
     return u * tau + 0.5 * gbar * tau * tau + (c * one_minus_cos(x) + s * sin_minus_x(x)) * INV_PI2
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def velocity(tau, c, s, u, gbar):
     """Zdot(tau)."""
     x = PI * tau
     return u + gbar * tau + (c * math.sin(x) - s * one_minus_cos(x)) * INV_PI
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def acceleration(tau, c, s, gbar):
     """Z''(tau) = cos(theta + pi tau) + gbar."""
     x = PI * tau
     return c * math.cos(x) - s * math.sin(x) + gbar
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def state_from_sc(tau, sx, omc, c, s, u, gbar):
     """Displacement ``Z(tau) - Z(0)``, velocity, acceleration and jerk of a flight from ``sin x`` and
     ``1 - cos x`` of the forcing angle travelled, ``x = pi tau``."""
@@ -130,14 +130,14 @@ def state_from_sc(tau, sx, omc, c, s, u, gbar):
     return disp, vel, acc, jerk
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def state_from_half(tau, sh, ch, c, s, u, gbar):
     """:func:`state_from_sc` from the sine ``sh`` and cosine ``ch`` of half the angle travelled
     (``sin x = 2 sh ch``, ``1 - cos x = 2 sh^2``: no cancellation however short the flight)."""
     return state_from_sc(tau, 2.0 * sh * ch, 2.0 * sh * sh, c, s, u, gbar)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def kinematics(tau, c, s, u, gbar):
     """Displacement, velocity, acceleration and jerk at ``tau`` (:func:`state_from_half`) for one
     sine and one cosine, where separate formulas would take four to six trigonometric calls."""
@@ -149,7 +149,7 @@ def kinematics(tau, c, s, u, gbar):
 NEAR_STEP = 0.1
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def state_step(h, disp, vel, acc, jerk, gbar):
     """Displacement, velocity, acceleration and jerk at ``tau + h`` from their values at ``tau``, for
     a step with ``|pi h| < NEAR_STEP``: the acceleration less ``gbar`` is a pure harmonic, so
@@ -182,20 +182,20 @@ def state_step(h, disp, vel, acc, jerk, gbar):
 _SPLIT = 134217729.0  # 2^27 + 1
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _two_sum(a, b):
     s = a + b
     bb = s - a
     return s, (a - (s - bb)) + (b - bb)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _quick_two_sum(a, b):
     s = a + b
     return s, b - (s - a)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _two_prod(a, b):
     p = a * b
     t = _SPLIT * a
@@ -207,7 +207,7 @@ def _two_prod(a, b):
     return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def dd_add(ah, al, bh, bl):
     s, e = _two_sum(ah, bh)
     t, f = _two_sum(al, bl)
@@ -217,7 +217,7 @@ def dd_add(ah, al, bh, bl):
     return _quick_two_sum(s, e)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def dd_mul(ah, al, bh, bl):
     p, e = _two_prod(ah, bh)
     e += ah * bl + al * bh
@@ -233,7 +233,7 @@ HALF_PI_HI = 1.5707963267948966
 HALF_PI_LO = 6.123233995736766e-17
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def dd_div_int(ah, al, n):
     """Double-double divided by an integer-valued double."""
     q = ah / n

@@ -39,8 +39,8 @@ def test_every_compiled_entry_point_takes_at_most_six_parameters():
 
 @njit
 def both(c, s):
-    """A search for a velocity root and one for a gap root, each named as the event finder names them (a global
-    name, which numba types by its value: a Python integer there would be a literal)."""
+    """A search for a velocity root and one for a gap root, each named as the event finder names them (a
+    global name, which numba types by its value: a Python integer there would be a literal)."""
     v = rtsafe(ROOT_VELOCITY, 0.0, 1.0, -0.5, 0.5, math.nan, math.nan, c, s, 0.0, -0.5, 0.1)
     g = rtsafe(ROOT_GAP, 0.0, 1.0, -0.5, 0.5, math.nan, math.nan, c, s, -0.5, 0.0, 0.1)
     return v[0], g[0]
@@ -49,14 +49,16 @@ def both(c, s):
 def test_the_event_finder_s_root_search_is_compiled_once_for_all_its_uses():
     """Every call of ``rtsafe`` names what it solves by one of ``events.ROOT_*``, NumPy integers: numba then
     compiles one copy of the search for all of them, where a literal ``0``, ``1`` or ``2`` (or a global Python
-    integer) compiles one copy per value, each about a second of the first run's compile for no measurable speed."""
+    integer) compiles one copy per value, each about a second of the first run's compile for no measurable
+    speed."""
     names = {"ROOT_VELOCITY", "ROOT_GAP", "ROOT_CHORD"}
     calls = []
     for mod in (events, grazing):
         for node in ast.walk(ast.parse(Path(mod.__file__).read_text())):
             if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "rtsafe":
                 first = node.args[0]
-                calls.append((mod.__name__, node.lineno, first.id if isinstance(first, ast.Name) else ast.unparse(first)))
+                name = first.id if isinstance(first, ast.Name) else ast.unparse(first)
+                calls.append((mod.__name__, node.lineno, name))
     assert len(calls) >= 6, calls  # the five searches of the event finder and grazing's
     assert all(name in names for *_, name in calls), calls
 

@@ -116,18 +116,19 @@ def _done(step, x, df, d2f, d3f):
     return (0.25 * d2f * d2f + abs(d3f * df) * (1.0 / 6.0)) * step * step * abs(step) <= 1e-17 * max(abs(x), 1e-300) * df * df
 
 
-#: :func:`rtsafe`'s ``which``: the root of the velocity, of the gap to a wall, of the chord slope of a flight that
-#: returns to the wall it left.  NumPy integers, not Python ones: numba types a Python integer passed to a call (written
-#: out or named as a global) as a literal and compiles the callee once per value; each copy of the search cost about a
-#: second of a first run's compile, for no measurable speed.
+#: :func:`rtsafe`'s ``which``: the root of the velocity, of the gap to a wall, of the chord slope of a
+#: flight that returns to the wall it left. NumPy integers, not Python ones: numba types a Python integer
+#: passed to a call (written out or named as a global) as a literal and compiles the callee once per value;
+#: each copy of the search cost about a second of a first run's compile, for no measurable speed.
 ROOT_VELOCITY, ROOT_GAP, ROOT_CHORD = np.int64(0), np.int64(1), np.int64(2)
 
 
 @njit(cache=True, error_model="numpy")
 def rtsafe(which, lo, hi, flo, fhi, dflo, dfhi, c, s, z0w, u, gbar):
     """Root of a monotone function on [lo, hi] with f(lo), f(hi) of opposite sign (or zero):
-    ``which`` :data:`ROOT_VELOCITY` Zdot, :data:`ROOT_GAP` the gap ``Z - wall`` (``z0w`` its value at the flight's
-    start), :data:`ROOT_CHORD` the slope ``(Z(x) - Z(0)) / x`` of a flight that starts on the wall it returns to;
+    ``which`` :data:`ROOT_VELOCITY` Zdot, :data:`ROOT_GAP` the gap ``Z - wall`` (``z0w`` its value at the
+    flight's start), :data:`ROOT_CHORD` the slope ``(Z(x) - Z(0)) / x`` of a flight that starts on the wall it
+    returns to;
     ``dflo``, ``dfhi`` its slopes at the ends (NaN if unknown: the search starts at the midpoint).
 
     Householder's third-order method (fourth-order convergence: the second and third derivatives
@@ -348,7 +349,8 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
                 # root at 0, so its chord slope from 0 is monotone, and its one root is the impact
                 if -sg1 * db >= 0.0:
                     g1 = db / tb
-                    t, _, v = rtsafe(ROOT_CHORD, 0.0, tb, u, g1, 0.5 * (c + gbar), (vb - g1) / tb, c, s, 0.0, u, gbar)
+                    t, _, v = rtsafe(ROOT_CHORD, 0.0, tb, u, g1, 0.5 * (c + gbar), (vb - g1) / tb, c, s, 0.0,
+                                     u, gbar)
                     return _finish_hit(t, v, ta, tb, theta, c, s, z0w2, u, gbar, -sg1)
             elif skip and sg1 * (z0w2 + da) > 0.0:
                 # a convex or concave gap of opposite signs at the ends has one root between them
@@ -362,7 +364,8 @@ def flight_impact(theta, c, s, alpha, z0, u, d, gbar, tau_max):
                     # the gap (convex or concave, of opposite signs at ta and ts) has one root between
                     ds_, vs_, _, _ = kinematics(ts, c, s, u, gbar)
                     if sg1 * (z0w1 + ds_) > DD_MARGIN:
-                        t, _, v = rtsafe(ROOT_GAP, ta, ts, z0w1 + da, z0w1 + ds_, va, vs_, c, s, z0w1, u, gbar)
+                        t, _, v = rtsafe(ROOT_GAP, ta, ts, z0w1 + da, z0w1 + ds_, va, vs_, c, s, z0w1, u,
+                                         gbar)
                         return _finish_hit(t, v, ta, ts, theta, c, s, z0w1, u, gbar, sg1)
             if skip:
                 n_sub = 0  # no piece can reach a wall: on to the next one

@@ -13,6 +13,11 @@ impact instead of absolute time, which keeps ``pi t + phi`` exact to rounding on
 
 ``*_dd`` functions evaluate the gap to a wall in double-double arithmetic (about 32 digits); they
 polish impact times where a near-grazing impact makes the time ill-conditioned (|Zdot-| small).
+
+Every function here is an ordinary compiled function: LLVM inlines it into the kernels that call it when it
+optimizes their linked code, with the same results to the last bit. numba's own inlining (``inline="always"``)
+would type it again at every call site: the first ``vi.simulate`` on an empty cache compiled in about 12 s
+with it and 7 s without, and ran no faster.
 """
 
 import math

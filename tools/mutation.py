@@ -69,8 +69,7 @@ SAMPLES = os.path.join(REPO, "tools", "mutation_samples")
 LAYER = {**{m: "dynamics" for m in ("params", "flight", "events", "kernels", "runs", "reference", "device")},
          **{m: "analysis" for m in ("orbits", "grazing", "continuation", "bifurcation", "settled", "sweeps", "energy",
                                     "design", "lyapunov", "family_exit", "d_graz", "motions", "motion_names", "windows",
-                                    "transitions",
-                                    "bistability", "grids", "basins", "regime_maps", "shocks",
+                                    "transitions", "bistability", "grids", "basins", "regime_maps", "shocks",
                                     "basin_stability", "robust")},
          **{m: "benchmarks" for m in ("methods", "peer_heyoka", "peer_siconos", "workprecision", "bench")},
          **{m: "outputs" for m in ("tables", "checks", "paper", "portraits", "figdata", "figcheck", "conditioning")}}

@@ -9,7 +9,7 @@ table's must lie); where it has none (no physical bound exists for a mass, a for
 radius or a voltage on its own), within a factor of 10 of the paper's, the membrane's radius above the ball's.
 Two draws, the same on every run (derandomized, not shrunk: a failing draw is reported as drawn): the first
 (hypothesis' simplest: a 1 kg cylinder at 1 N) is refused, the second runs end to end, ~2 min on 2 cores.
-The example device (config/example_device.yaml) runs the whole default target at the draft preset in
+The example device (config/example_device.yaml) runs the whole default target at the smoke preset in
 tests/test_readme.py, by README's line for a device of one's own.
 """
 

@@ -1,0 +1,65 @@
+"""Numba's compiled code is kept by the package's sources, wherever a copy of them lies
+(vibroimpact._numba_cache, vibroimpact._numba_locator): a second copy of the same sources loads what the
+first compiled, a copy with one compiled module changed compiles afresh, and a function outside the package is
+still cached where numba puts it."""
+
+import os
+import shutil
+import subprocess
+import sys
+import textwrap
+
+from vibroimpact._code_version import PACKAGE
+
+#: one of the package's cached kernels (numba writes "[cache] data saved/loaded" for it with NUMBA_DEBUG_CACHE)
+CALL = "from vibroimpact.dynamics.flight import one_minus_cos; print(one_minus_cos(0.5))"
+
+
+def run(code, *, src, home, extra=None):
+    env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")}
+    env |= {"PYTHONPATH": str(src), "XDG_CACHE_HOME": str(home), "NUMBA_DEBUG_CACHE": "1", **(extra or {})}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300,
+                         cwd=src)
+    assert out.returncode == 0, out.stderr[-2000:]
+    return out.stdout
+
+
+def copy(where):
+    shutil.copytree(PACKAGE, where / "vibroimpact", ignore=shutil.ignore_patterns("__pycache__"))
+    return where
+
+
+def test_a_copy_of_the_sources_elsewhere_loads_what_another_copy_compiled(tmp_path):
+    home = tmp_path / "cache"
+    first, second = copy(tmp_path / "a"), copy(tmp_path / "elsewhere" / "b")
+    compiled = run(CALL, src=first, home=home)
+    assert "data saved" in compiled and "data loaded" not in compiled, compiled
+    loaded = run(CALL, src=second, home=home)
+    assert "data loaded" in loaded and "data saved" not in loaded, loaded
+    assert loaded.splitlines()[-1] == compiled.splitlines()[-1]
+    # the same kernel changed in a third copy: another cache, compiled afresh
+    third = copy(tmp_path / "c")
+    flight = third / "vibroimpact" / "dynamics" / "flight.py"
+    flight.write_text(flight.read_text() + "\n# changed\n")
+    changed = run(CALL, src=third, home=home)
+    assert "data saved" in changed and "data loaded" not in changed, changed
+
+
+def test_a_function_outside_the_package_is_cached_by_numba_s_own_locator(tmp_path):
+    home, src = tmp_path / "cache", copy(tmp_path / "a")
+    (src / "mine.py").write_text(textwrap.dedent("""
+        import vibroimpact
+        from numba import njit
+
+        @njit(cache=True)
+        def twice(x):
+            return 2 * x
+    """))
+    code = "import mine; print(mine.twice(21))"
+    assert "data saved" in run(code, src=src, home=home)
+    out = run(code, src=src, home=home)
+    assert "data loaded" in out and out.splitlines()[-1] == "42"
+    # a user's own locator setting is kept (numba's in-tree locator: beside the module)
+    (src / "__pycache__").mkdir(exist_ok=True)
+    out = run(code, src=src, home=home, extra={"NUMBA_CACHE_LOCATOR_CLASSES": "InTreeCacheLocator"})
+    assert any(f.suffix == ".nbi" for f in (src / "__pycache__").iterdir()), out

@@ -1,5 +1,5 @@
 """Numba's compiled code is kept by the package's sources, wherever a copy of them lies
-(vibroimpact._numba_cache, vibroimpact._numba_locator): a second copy of the same sources loads what the
+(vibroimpact._numba_cache): a second copy of the same sources loads what the
 first compiled, a copy with one compiled module changed compiles afresh, and a function outside the package is
 still cached where numba puts it."""
 

@@ -143,6 +143,9 @@ LAZY_IMPORTS = {
     "tqdm": "a progress bar, only when one is shown",
     "scipy": "its solvers and statistics where they are called (test_a_figure_job_s_imports_load_no_scipy)",
 }
+#: the one function that imports a required package late, and why
+LATE_IMPORTERS = {("_numba_cache.py", "_locator_class"): "numba's cache locator, built when numba asks for it: the "
+                                                          "module sets numba's environment before numba is imported"}
 
 
 def test_no_import_hides_in_a_function():
@@ -164,7 +167,7 @@ def test_no_import_hides_in_a_function():
                     tops = ["." * node.level + (node.module or "")] if node.level else [node.module.split(".")[0]]
                 else:
                     continue
-                if any(t not in LAZY_IMPORTS for t in tops):
+                if any(t not in LAZY_IMPORTS for t in tops) and (f.name, fn.name) not in LATE_IMPORTERS:
                     bad.append(f"{f.relative_to(pkg)}:{node.lineno} ({fn.name}): {ast.unparse(node)}")
     assert not bad, bad
 

@@ -20,7 +20,8 @@ does not ignore: what a clone holds, so the tests find the pages, examples and c
 ``results/mutation/tree``, made on first use; ``--fresh`` remakes it), never in the working tree.  For each mutant: write the mutated file, delete
 its __pycache__, use a fresh
 NUMBA_CACHE_DIR (numba modules) or a private warm copy of the clean cache (pure-Python modules,
-whose numba dependencies are unchanged), run the module's test files with
+whose numba dependencies are unchanged; the clean cache starts as a copy of the package's own numba cache
+of the same sources, where there is one), run the module's test files with
 `pytest -x -q -p no:cacheprovider --hypothesis-seed=0` under a timeout (5x the clean run, min 60 s),
 restore the file bytes and mtime.  Exit status 0 -> survived, timeout -> timed out (counted as
 killed), anything else -> killed.  Results are appended to results/mutation/results_<module>.jsonl
@@ -300,6 +301,15 @@ def diff(src, m):
 CLEAN_CACHE = os.path.join(OUT, "numba_cache_clean")
 
 
+def package_cache():
+    """The numba cache of the private copy's sources (as yet unmutated) outside this tool: the package's own, which
+    every copy of the same sources shares (vibroimpact._numba_cache); None where it cannot be named."""
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"} | {"PYTHONPATH": os.path.join(ROOT, "src")}
+    out = subprocess.run([PY, "-c", "from vibroimpact._numba_cache import cache_dir; print(cache_dir())"], env=env,
+                         capture_output=True, text=True)
+    return out.stdout.strip() if out.returncode == 0 else None
+
+
 def run_tests(module, timeout, cache=None):
     env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "src"), NUMBA_NUM_THREADS="1", OMP_NUM_THREADS="1",
                OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1", PYTHONDONTWRITEBYTECODE="1")
@@ -557,9 +567,14 @@ def main():
     if not done:
         with open(res_path, "a") as f:
             f.write(json.dumps(head) + "\n")
-    # warm shared cache for pure-Python modules (their numba dependencies are never mutated here)
+    # warm shared cache for pure-Python modules (their numba dependencies are never mutated here): the package's
+    # own cache of the same sources where it has one (numba checks every function it loads against its source),
+    # then filled by a clean run
     if a.module not in NUMBA_MODULES and not os.path.isdir(CLEAN_CACHE):
-        os.makedirs(CLEAN_CACHE)
+        own = package_cache()
+        if own and os.path.isdir(own):
+            shutil.copytree(own, CLEAN_CACHE)
+        os.makedirs(CLEAN_CACHE, exist_ok=True)
         run_tests(a.module, 3600, cache=CLEAN_CACHE)
     # baseline timing (unmutated, same protocol as the mutants) decides the timeout
     st, base, failed, out, rc = run_tests(a.module, 3600)

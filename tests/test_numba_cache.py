@@ -24,14 +24,19 @@ def run(code, *, src, home, extra=None):
     return out.stdout
 
 
-def copy(where):
+def copy(where, mtime=None):
+    """A copy of the package's sources under ``where`` (its files' modification time ``mtime`` where given, as a
+    clone made at another time has them)."""
     shutil.copytree(PACKAGE, where / "vibroimpact", ignore=shutil.ignore_patterns("__pycache__"))
+    if mtime is not None:
+        for f in (where / "vibroimpact").rglob("*.py"):
+            os.utime(f, (mtime, mtime))
     return where
 
 
 def test_a_copy_of_the_sources_elsewhere_loads_what_another_copy_compiled(tmp_path):
     home = tmp_path / "cache"
-    first, second = copy(tmp_path / "a"), copy(tmp_path / "elsewhere" / "b")
+    first, second = copy(tmp_path / "a", 1.7e9), copy(tmp_path / "elsewhere" / "b", 1.8e9)
     compiled = run(CALL, src=first, home=home)
     assert "data saved" in compiled and "data loaded" not in compiled, compiled
     loaded = run(CALL, src=second, home=home)

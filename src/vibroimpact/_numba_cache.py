@@ -8,8 +8,8 @@ user set ``NUMBA_CACHE_DIR``.
 
 Within it, each function is filed by its module's place in the package (``vibroimpact/dynamics``), not
 by its absolute path as numba's own locator files it, so that every copy of the same sources (another
-checkout, a clone, an installed wheel) loads one compilation; numba still checks each function against
-a hash of its file's bytes and of its bytecode.  Numba takes the locator by name
+checkout, a clone, an installed wheel) loads one compilation; each function is still checked against a
+hash of its file's bytes (whatever numba's version stamps) and of its bytecode.  Numba takes the locator by name
 (``NUMBA_CACHE_LOCATOR_CLASSES``, set here unless the user set it) and asks this module for
 :class:`PackageCacheLocator` when it first caches a function.
 
@@ -17,6 +17,8 @@ Imported first by :mod:`vibroimpact`, before any decorated function; it does not
 slow to import) but sets ``NUMBA_CACHE_DIR``, read when numba is first imported.
 """
 
+import functools
+import hashlib
 import os
 import sys
 from pathlib import Path
@@ -51,6 +53,10 @@ def _locator_class():
             relative = Path(py_file).resolve().parent.relative_to(PACKAGE)
             self._cache_path = os.path.join(config.CACHE_DIR, PACKAGE.name, *relative.parts)
 
+        def get_source_stamp(self):  # the file's bytes, as numba >= 0.68 stamps it (0.62-0.67: its time and size)
+            st = os.stat(self._py_file)
+            return _source_hash(self._py_file, st.st_mtime_ns, st.st_size)
+
         @classmethod
         def from_function(cls, py_func, py_file):
             if config.CACHE_DIR and Path(py_file).resolve().is_relative_to(PACKAGE):
@@ -62,6 +68,11 @@ def _locator_class():
             return None
 
     return PackageCacheLocator
+
+
+@functools.lru_cache(maxsize=None)
+def _source_hash(path, mtime_ns, size):  # read again when the file changes
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
 def __getattr__(name):  # numba asks for the locator once it is imported (PEP 562)

@@ -49,6 +49,7 @@ import argparse
 import ast
 import datetime
 import difflib
+import functools
 import hashlib
 import json
 import os
@@ -301,13 +302,16 @@ def diff(src, m):
 CLEAN_CACHE = os.path.join(OUT, "numba_cache_clean")
 
 
-def package_cache():
-    """The numba cache of the private copy's sources (as yet unmutated) outside this tool: the package's own, which
-    every copy of the same sources shares (vibroimpact._numba_cache); None where it cannot be named."""
+@functools.cache
+def package_numba():
+    """The private copy's (as yet unmutated) numba cache outside this tool and the locator that files it: the
+    package's own, which every copy of the same sources shares (vibroimpact._numba_cache), as
+    ``(directory, locator)``; ``(None, None)`` where the package cannot name them."""
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"} | {"PYTHONPATH": os.path.join(ROOT, "src")}
-    out = subprocess.run([PY, "-c", "from vibroimpact._numba_cache import cache_dir; print(cache_dir())"], env=env,
-                         capture_output=True, text=True)
-    return out.stdout.strip() if out.returncode == 0 else None
+    out = subprocess.run([PY, "-c", "from vibroimpact._numba_cache import LOCATOR, cache_dir; print(cache_dir()); "
+                                    "print(LOCATOR)"], env=env, capture_output=True, text=True)
+    lines = out.stdout.split()
+    return (lines[0], lines[1]) if out.returncode == 0 and len(lines) == 2 else (None, None)
 
 
 def run_tests(module, timeout, cache=None):
@@ -325,7 +329,8 @@ def run_tests(module, timeout, cache=None):
     env["NUMBA_CACHE_DIR"] = cache
     # numba files the package's functions by their place in the package (vibroimpact._numba_cache), as in the
     # package's own cache the clean cache starts from, unless the user named another locator
-    env.setdefault("NUMBA_CACHE_LOCATOR_CLASSES", "vibroimpact._numba_cache.PackageCacheLocator")
+    if package_numba()[1]:
+        env.setdefault("NUMBA_CACHE_LOCATOR_CLASSES", package_numba()[1])
     cmd = [PY, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "--hypothesis-seed=0", *TESTS[module]]
     t0 = time.time()
     proc = subprocess.Popen(cmd, cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
@@ -574,7 +579,7 @@ def main():
     # own cache of the same sources where it has one (numba checks every function it loads against its source),
     # then filled by a clean run
     if a.module not in NUMBA_MODULES and not os.path.isdir(CLEAN_CACHE):
-        own = package_cache()
+        own = package_numba()[0]
         if own and os.path.isdir(own):
             shutil.copytree(own, CLEAN_CACHE)
         os.makedirs(CLEAN_CACHE, exist_ok=True)

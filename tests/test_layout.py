@@ -46,6 +46,35 @@ def test_overlapping_texts_are_named(fig):
     assert len(problems) == 1 and problems[0].startswith("overlap: 'A2' (text of axes a0 '(a) a panel') and 'F'"), problems
 
 
+def _kinds(problems):
+    """The problems without their measures (in pixels, which differ with the resolution drawn at)."""
+    return sorted(p.split(" (")[0] if p.startswith("overlap") else p.split(" by ")[0] for p in problems)
+
+
+def test_the_verdict_found_while_a_png_is_saved_is_the_verdict_of_a_draw_of_its_own(fig, tmp_path):
+    """save() judges the layout of the PNG it writes while writing it (no draw of its own): the same problems as
+    layout_problems() finds by drawing, at the resolution the PNG is saved at; none where there are none."""
+    ax = fig.axes[0]
+    ax.annotate("A2", (0.9, 0.9))
+    ax.annotate("F", (0.91, 0.9))
+    ax.text(1.02, 0.5, "a note running past the figure's right edge", transform=ax.transAxes)
+    drawn = layout.layout_problems(fig)
+    with layout.problems_of_the_draw(fig) as found:
+        fig.savefig(tmp_path / "f.png")
+    assert len(drawn) == 2 and _kinds(found) == _kinds(drawn), (found, drawn)
+    for t in ax.texts:
+        t.set_visible(False)
+    with layout.problems_of_the_draw(fig) as found:
+        fig.savefig(tmp_path / "g.png")
+    assert found == [] and layout.layout_problems(fig) == []
+
+
+def test_a_verdict_with_no_draw_is_refused(fig):
+    with pytest.raises(RuntimeError, match="not drawn"):
+        with layout.problems_of_the_draw(fig):
+            pass
+
+
 @pytest.mark.parametrize("gap_pt, reported", [(0.0, True), (0.5, True), (2.0, False)])
 def test_texts_set_flush_read_as_one_word(fig, gap_pt, reported):
     """Two labels less than TOLERANCE_PT apart (paper units: points) are reported ("h=0.02h=0.01"), two

@@ -50,7 +50,7 @@ from .figdata import record_wellposed
 #: texts closer than this (points) overprint: an extent is the box of a text's advance and line height,
 #: so two labels set less than a point apart read as one word ("h=0.02h=0.01"); a text crosses an edge,
 #: or a legend covers something, only by more than this: extents are rounded out to whole pixels (a
-#: point is 1.5 pixels at the 110 dpi figures are drawn at)
+#: point is 1.5 to 2 pixels at the 110 to 150 dpi figures are drawn and saved at)
 TOLERANCE_PT = 1.0
 
 #: the attribute of a figure's saved data (:func:`vibroimpact.outputs.plots._common.save`) with its verdict
@@ -135,6 +135,14 @@ def _legend_name(leg, parent) -> str:
 def _overlap(a, b):
     """Width and height of the intersection of two extents (negative where they are apart)."""
     return min(a.x1, b.x1) - max(a.x0, b.x0), min(a.y1, b.y1) - max(a.y0, b.y0)
+
+
+def _overlaps(boxes, others=None):
+    """:func:`_overlap`'s smaller side for every pair of extents: ``boxes`` (n, 4) and ``others`` (m, 4), rows
+    ``x0, y0, x1, y1`` (by default ``boxes`` itself); an (n, m) array."""
+    others = boxes if others is None else others
+    (x0, y0, x1, y1), (u0, v0, u1, v1) = boxes.T[:, :, None], others.T[:, None, :]
+    return np.minimum(np.minimum(x1, u1) - np.maximum(x0, u0), np.minimum(y1, v1) - np.maximum(y0, v0))
 
 
 def _corners(box):
@@ -425,7 +433,33 @@ def layout_problems(fig, tolerance_pt: float = TOLERANCE_PT) -> list[str]:
     """
     with _drawn_texts() as drawn:
         fig.draw_without_rendering()
-    renderer = fig.canvas.get_renderer()
+    return _verdict(fig, drawn, fig.canvas.get_renderer(), tolerance_pt)
+
+
+@contextmanager
+def problems_of_the_draw(fig, tolerance_pt: float = TOLERANCE_PT):
+    """:func:`layout_problems` of the first draw of ``fig`` made inside the context, found while it is drawn:
+    around a ``savefig``, the layout of the image written, at the resolution it is written at, without a draw
+    of its own.  Yields a list, filled by that draw; raises ``RuntimeError`` if the context drew nothing."""
+    found, seen = [], []
+
+    def on_draw(event):
+        if not seen:  # the first draw lays the figure out (a savefig's second only renders it)
+            seen.append(True)
+            found.extend(_verdict(fig, dict(drawn), event.renderer, tolerance_pt))
+
+    with _drawn_texts() as drawn:
+        cid = fig.canvas.mpl_connect("draw_event", on_draw)
+        try:
+            yield found
+        finally:
+            fig.canvas.mpl_disconnect(cid)
+    if not seen:
+        raise RuntimeError("problems_of_the_draw: the figure was not drawn inside the context")
+
+
+def _verdict(fig, drawn, renderer, tolerance_pt):
+    """The problems of the texts ``drawn`` (:func:`_drawn_texts`) as ``renderer`` laid them out."""
     tol = tolerance_pt * fig.dpi / 72
     parent = _owners(fig)
     texts = []
@@ -441,9 +475,10 @@ def layout_problems(fig, tolerance_pt: float = TOLERANCE_PT) -> list[str]:
 def _text_problems(fig, texts, parent, tol):
     problems = []
     free = [(t, b, poly) for t, b, leg, poly in texts if leg is None]  # a legend's texts: checked through its box
-    for i, (t, b, p) in enumerate(free):
-        for u, c, q in free[i + 1:]:
-            if min(_overlap(b, c)) > -tol and (sep := _separation(p, q)) < tol:
+    near = _overlaps(np.array([[b.x0, b.y0, b.x1, b.y1] for _, b, _ in free]).reshape(-1, 4)) > -tol
+    for i, j in zip(*np.nonzero(np.triu(near, 1)), strict=True):  # each pair once, in the texts' order
+        (t, b, p), (u, c, q) = free[i], free[j]
+        if (sep := _separation(p, q)) < tol:
                 size = f"{-sep:.1f} px deep" if sep < 0 else f"less than {tol:.1f} px apart"
                 problems.append(f"overlap: {_describe(t, parent)} and {_describe(u, parent)} ({size})")
     page = fig.bbox
@@ -516,6 +551,7 @@ def place_labels(fig, labels, gap_pt: float = 3.0) -> list:
     gap = gap_pt * fig.dpi / 72
     taken = [Text.get_window_extent(t, renderer) for t in drawn.values() if t.get_visible() and t.get_text().strip()]
     taken += [leg.get_window_extent(renderer) for leg in fig.findobj(Legend) if leg.get_visible()]
+    taken = np.array([[c.x0, c.y0, c.x1, c.y1] for c in taken]).reshape(-1, 4)  # extents, rows x0, y0, x1, y1
     drawn_lines = {}
     placed = []
     for ax, text, candidates, style in labels:
@@ -538,7 +574,7 @@ def place_labels(fig, labels, gap_pt: float = 3.0) -> list:
             ann.update_positions(renderer)
             b = Text.get_window_extent(ann, renderer)  # the text, without its leader
             frame = ax.bbox
-            clash = (sum(min(_overlap(b, c)) > -gap for c in taken)
+            clash = (int(np.count_nonzero(_overlaps(np.array([[b.x0, b.y0, b.x1, b.y1]]), taken) > -gap))
                      + (b.x0 < frame.x0 or b.x1 > frame.x1 or b.y0 < frame.y0 or b.y1 > frame.y1))
             # a name next to another point's marker reads as that point's: count the markers near the text
             near = b.expanded(1.0, 1.0).padded(gap)
@@ -553,7 +589,7 @@ def place_labels(fig, labels, gap_pt: float = 3.0) -> list:
                 ann.remove()
             if not any(score):
                 break
-        taken.append(best[2])
+        taken = np.vstack([taken, [[best[2].x0, best[2].y0, best[2].x1, best[2].y1]]])
         placed.append(best[1])
         # where the candidates' anchors differ, the one taken is the layout's choice, which moves with what is
         # drawn: the figure check compares the other coordinate only

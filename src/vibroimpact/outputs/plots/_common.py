@@ -75,13 +75,15 @@ def save(fig, stem, *, data=None, attrs=None, formats=("png", "pdf")) -> list[Pa
     stem = Path(stem)
     stem.parent.mkdir(parents=True, exist_ok=True)
     paths = [stem.with_suffix(".png")] + [stem.with_suffix(f".{f}") for f in formats if f != "png"]
-    for p in paths:
+    # the PNG's layout verdict is found while the PNG is drawn (the layout of the image written)
+    with layout.problems_of_the_draw(fig) as problems:
+        fig.savefig(paths[0])
+    for p in paths[1:]:
         fig.savefig(p)
     keep_committed_png(paths[0])
     if data is not None:
         ds = figure_data(fig, attrs)
         ds.attrs["png_phash"] = image_hash(paths[0])  # the image layer of the regeneration check
-        problems = layout.layout_problems(fig)
         ds.attrs[layout.ATTRIBUTE] = layout.to_attribute(problems)
         for p in problems:
             logging.getLogger(__name__).warning("%s: %s", stem.name, p)
@@ -331,22 +333,29 @@ def last_events(ds, var, direction="down", labels=False, info=False):
     s = ds.sel(direction=direction)
     cyc = _CYCLE.get(var)
     have = cyc is not None and cyc in s
+    # the arrays once, as numpy's (indexing xarray's point by point costs a figure seconds)
+    cycles = s[cyc].values if have else None
+    period = s["period"].values if "period" in s else None
+    times = s["t"].values if "t" in s else None
+    values = s[var].values if var in s else None
+    period_events = s["period_events"].values if "period_events" in s else None
+    d = s.d.values
     xs, ys, pts = [], [], []
     for i in range(s.sizes["point"]):
-        c = s[cyc].values[i] if have else None
-        if have and np.isfinite(c).any() and (var != "dt" or "period" in s):
+        c = cycles[i] if have else None
+        if have and np.isfinite(c).any() and (var != "dt" or period is not None):
             if var == "dt":
                 tt = c[np.isfinite(c)]
-                v = np.diff(np.concatenate([[tt[-1] - 2.0 * float(s["period"].values[i])], tt]))
+                v = np.diff(np.concatenate([[tt[-1] - 2.0 * float(period[i])], tt]))
             else:
                 v = c[np.isfinite(c)]
         else:
-            t = s["t"].values[i] if "t" in s else s[var].values[i]
+            t = times[i] if times is not None else values[i]
             m = int(np.isfinite(t).sum())
-            n = (int(s["period_events"].values[i]) if "period_events" in s else 0) or min(m, 24)
-            v = np.diff(t[max(m - n - 1, 0):m]) if var == "dt" else s[var].values[i, m - n:m]
+            n = (int(period_events[i]) if period_events is not None else 0) or min(m, 24)
+            v = np.diff(t[max(m - n - 1, 0):m]) if var == "dt" else values[i, m - n:m]
             v = v[np.isfinite(v)]
-        xs.append(np.full(v.size, float(s.d[i])))
+        xs.append(np.full(v.size, float(d[i])))
         ys.append(v)
         pts.append(np.full(v.size, i))
     x, y, pts = np.concatenate(xs), np.concatenate(ys), np.concatenate(pts)
@@ -545,7 +554,7 @@ def _place_names(fig, home, row_height, pad) -> bool:
             t.set_position(home[t])
         frame = ax.get_window_extent(renderer)
         to_px = ax.transData.transform
-        placed = []
+        placed, placed_boxes = [], []
         for text in names:
             box = text.get_window_extent(renderer)
             span = [to_px((x, 0.0))[0] for x in RUN_SPANS.get(text, (text.get_position()[0],) * 2)]
@@ -559,13 +568,14 @@ def _place_names(fig, home, row_height, pad) -> bool:
             for row in range(len(names) + 1):
                 here = [box.translated(dx, -row * row_height * frame.height) for dx in ok]
                 free = [dx for dx, c in zip(ok, here, strict=True)
-                        if not any(c.padded(pad).overlaps(q.get_window_extent(renderer)) for q in placed)]
+                        if not any(c.padded(pad).overlaps(q) for q in placed_boxes)]
                 if free:
                     break
             x_px = to_px((x0, 0.0))[0] + free[0]
             text.set_x(ax.transData.inverted().transform((x_px, 0.0))[0])
             text.set_y(y0 - row_height * row)
             placed.append(text)
+            placed_boxes.append(text.get_window_extent(renderer))
         # room for the names: the axis' top raised until no name covers a marker (the names stay where they are, at
         # fractions of the axes' height; the data move down)
         for _ in range(MAX_RAISE):

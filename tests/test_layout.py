@@ -69,6 +69,21 @@ def test_the_verdict_found_while_a_png_is_saved_is_the_verdict_of_a_draw_of_its_
     assert found == [] and layout.layout_problems(fig) == []
 
 
+def test_the_overlaps_of_many_extents_are_each_pair_s_overlap():
+    """_overlaps (every pair at once, as the verdict and the label placement use it) against _overlap (one pair),
+    on extents that overlap, touch, lie apart along one axis only or both, and are flipped."""
+    from matplotlib.transforms import Bbox
+
+    rng = np.random.default_rng(20261128)
+    corners = np.round(rng.uniform(0, 10, size=(40, 4)), 0)  # whole numbers: touching and shared edges occur
+    boxes = [Bbox.from_extents(*c) for c in corners]
+    many = layout._overlaps(corners, corners[:25])
+    assert many.shape == (40, 25)
+    expect = np.array([[min(layout._overlap(a, b)) for b in boxes[:25]] for a in boxes])
+    np.testing.assert_array_equal(many, expect)
+    assert (many > 0).any() and (many < 0).any() and (many == 0).any()
+
+
 def test_a_verdict_with_no_draw_is_refused(fig):
     with pytest.raises(RuntimeError, match="not drawn"):
         with layout.problems_of_the_draw(fig):

@@ -1,6 +1,7 @@
 """What a referee sees first: texts that overprint, texts cut off, legends over data.
 
-:func:`layout_problems` draws a figure and reads the window extent of every artist it drew:
+:func:`layout_problems` draws a figure and reads the window extent of every artist it drew
+(:func:`problems_of_the_draw` reads them from a draw made anyway, a ``savefig``'s):
 
 * two texts (titles, axis and tick labels, annotations, suptitles, ...) whose extents overlap or come
   closer than :data:`TOLERANCE_PT`;

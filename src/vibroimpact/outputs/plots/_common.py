@@ -66,8 +66,9 @@ def save(fig, stem, *, data=None, attrs=None, formats=("png", "pdf")) -> list[Pa
     """Save ``stem.png`` (the committed file kept where the image is the same, :func:`keep_committed_png`) and
     ``stem.<f>`` for the other ``formats`` and, with ``data``, the arrays the
     figure draws (netCDF, :func:`vibroimpact.outputs.figdata.figure_data`, with ``attrs`` such as the config)
-    and its layout verdict (attribute ``layout_problems``, :mod:`vibroimpact.outputs.layout`: recorded and
-    logged, never fatal, so the figure is always written; the tests fail on it); returns the paths."""
+    and its layout verdict (attribute ``layout_problems``, :mod:`vibroimpact.outputs.layout`, of the PNG as
+    drawn when saved: recorded and logged, never fatal, so the figure is always written; the tests fail on it);
+    returns the paths."""
 
     bad = [f for f in formats if f not in FORMATS]
     if bad or "png" not in formats:

@@ -212,6 +212,16 @@ def test_reading_the_workflow_loads_neither_numba_nor_xarray():
     assert reading == "[]" and figure_check == "False", (reading, figure_check)
 
 
+def test_drawing_and_tabulating_load_none_of_the_benchmarked_methods():
+    """A figure or table job (the plots and tables modules) reads the benchmarks' datasets and their names only: it
+    loads neither the module that makes them (work-precision, the failure map) nor the high-precision reference
+    (mpmath): 0.1 s a job."""
+    code = ("import sys, vibroimpact.outputs.plots, vibroimpact.outputs.tables\n"
+            "print(sorted(m for m in ('mpmath', 'vibroimpact.benchmarks.workprecision', 'vibroimpact.dynamics.reference')"
+            " if m in sys.modules))\n")
+    assert fresh_python(code).stdout.strip() == "[]"
+
+
 def test_every_module_imports_alone_in_a_fresh_interpreter():
     """No import cycle: each module of the package imports first, alone, with nothing of the package loaded."""
     code = ("import importlib, pkgutil, sys, vibroimpact\n"

@@ -29,6 +29,7 @@ from ..dynamics.params import Params
 from ..dynamics.reference import bounce_by_bounce, first_impact, grazing_state, trajectory
 from ..dynamics.runs import simulate
 from . import methods as M
+from .outcomes import OUTCOMES  # noqa: F401  (defined on the standard library alone; this module's name too)
 from . import peer_heyoka, peer_siconos
 
 #: Scenes from the paper's captions and its chaotic window: (beta, d, phi, v0)
@@ -226,7 +227,6 @@ def matched_accuracy(wp: xr.Dataset, target: float = MATCHED_ACCURACY) -> xr.Dat
 # Failure map
 # ---------------------------------------------------------------------------------------------
 
-OUTCOMES = ("correct", "wrong time", "missed impact", "spurious impact", "wrong sequence", "stalled", "crashed")
 
 
 def _flight(family, setting, theta, z0, u, d, gbar):

@@ -16,7 +16,7 @@ from ..analysis.motion_names import CHAOTIC, ONE_ONE, TWO_ONE
 from ..analysis.settled import LONG_BATCHES
 from ..analysis.transitions import PERIOD_DOUBLING
 from ..benchmarks.lyapunov_precision import summarise
-from ..benchmarks.workprecision import OUTCOMES
+from ..benchmarks.outcomes import OUTCOMES
 from .paper import paper_stable, pi_tex
 
 

@@ -14,7 +14,7 @@ from matplotlib.ticker import NullFormatter
 
 from ...analysis.motions import no_period
 from ...benchmarks.lyapunov_precision import summarise
-from ...benchmarks.workprecision import OUTCOMES
+from ...benchmarks.outcomes import OUTCOMES
 from ..layout import AROUND, place_labels
 from ._common import use_style, wellposed
 
@@ -44,7 +44,7 @@ def _peers_note(ds):
                                  for k, v in ast.literal_eval(peers).items())
 
 #: Okabe & Ito's colour-blind-safe palette, one colour per outcome of the failure map, with a glyph
-#: printed in each cell as a second cue (outcomes in the order of ``workprecision.OUTCOMES``)
+#: printed in each cell as a second cue (outcomes in the order of ``outcomes.OUTCOMES``)
 OUTCOME_STYLE = {
     "correct": ("#009E73", ""),
     "wrong time": ("#F0E442", "t"),

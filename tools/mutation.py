@@ -329,8 +329,9 @@ def run_tests(module, timeout, cache=None):
     env["NUMBA_CACHE_DIR"] = cache
     # numba files the package's functions by their place in the package (vibroimpact._numba_cache), as in the
     # package's own cache the clean cache starts from, unless the user named another locator
-    if package_numba()[1]:
-        env.setdefault("NUMBA_CACHE_LOCATOR_CLASSES", package_numba()[1])
+    locator = package_numba()[1]
+    if locator:
+        env.setdefault("NUMBA_CACHE_LOCATOR_CLASSES", locator)
     cmd = [PY, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "--hypothesis-seed=0", *TESTS[module]]
     t0 = time.time()
     proc = subprocess.Popen(cmd, cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,

@@ -138,6 +138,11 @@ def _overlap(a, b):
     return min(a.x1, b.x1) - max(a.x0, b.x0), min(a.y1, b.y1) - max(a.y0, b.y0)
 
 
+def _extents(boxes):
+    """Extents (``Bbox``) as rows ``x0, y0, x1, y1`` of an (n, 4) array, for :func:`_overlaps`."""
+    return np.array([[b.x0, b.y0, b.x1, b.y1] for b in boxes], dtype=float).reshape(-1, 4)
+
+
 def _overlaps(boxes, others=None):
     """:func:`_overlap`'s smaller side for every pair of extents: ``boxes`` (n, 4) and ``others`` (m, 4), rows
     ``x0, y0, x1, y1`` (by default ``boxes`` itself); an (n, m) array."""
@@ -476,7 +481,7 @@ def _verdict(fig, drawn, renderer, tolerance_pt):
 def _text_problems(fig, texts, parent, tol):
     problems = []
     free = [(t, b, poly) for t, b, leg, poly in texts if leg is None]  # a legend's texts: checked through its box
-    near = _overlaps(np.array([[b.x0, b.y0, b.x1, b.y1] for _, b, _ in free]).reshape(-1, 4)) > -tol
+    near = _overlaps(_extents(b for _, b, _ in free)) > -tol
     for i, j in zip(*np.nonzero(np.triu(near, 1)), strict=True):  # each pair once, in the texts' order
         (t, b, p), (u, c, q) = free[i], free[j]
         if (sep := _separation(p, q)) < tol:
@@ -552,7 +557,7 @@ def place_labels(fig, labels, gap_pt: float = 3.0) -> list:
     gap = gap_pt * fig.dpi / 72
     taken = [Text.get_window_extent(t, renderer) for t in drawn.values() if t.get_visible() and t.get_text().strip()]
     taken += [leg.get_window_extent(renderer) for leg in fig.findobj(Legend) if leg.get_visible()]
-    taken = np.array([[c.x0, c.y0, c.x1, c.y1] for c in taken]).reshape(-1, 4)  # extents, rows x0, y0, x1, y1
+    taken = _extents(taken)
     drawn_lines = {}
     placed = []
     for ax, text, candidates, style in labels:
@@ -575,7 +580,7 @@ def place_labels(fig, labels, gap_pt: float = 3.0) -> list:
             ann.update_positions(renderer)
             b = Text.get_window_extent(ann, renderer)  # the text, without its leader
             frame = ax.bbox
-            clash = (int(np.count_nonzero(_overlaps(np.array([[b.x0, b.y0, b.x1, b.y1]]), taken) > -gap))
+            clash = (int(np.count_nonzero(_overlaps(_extents([b]), taken) > -gap))
                      + (b.x0 < frame.x0 or b.x1 > frame.x1 or b.y0 < frame.y0 or b.y1 > frame.y1))
             # a name next to another point's marker reads as that point's: count the markers near the text
             near = b.expanded(1.0, 1.0).padded(gap)
@@ -590,7 +595,7 @@ def place_labels(fig, labels, gap_pt: float = 3.0) -> list:
                 ann.remove()
             if not any(score):
                 break
-        taken = np.vstack([taken, [[best[2].x0, best[2].y0, best[2].x1, best[2].y1]]])
+        taken = np.vstack([taken, _extents([best[2]])])
         placed.append(best[1])
         # where the candidates' anchors differ, the one taken is the layout's choice, which moves with what is
         # drawn: the figure check compares the other coordinate only

@@ -334,7 +334,7 @@ def last_events(ds, var, direction="down", labels=False, info=False):
     s = ds.sel(direction=direction)
     cyc = _CYCLE.get(var)
     have = cyc is not None and cyc in s
-    # the arrays once, as numpy's (indexing xarray's point by point costs a figure seconds)
+    # the arrays once, as numpy's (indexing xarray point by point costs a figure seconds)
     cycles = s[cyc].values if have else None
     period = s["period"].values if "period" in s else None
     times = s["t"].values if "t" in s else None
@@ -555,7 +555,7 @@ def _place_names(fig, home, row_height, pad) -> bool:
             t.set_position(home[t])
         frame = ax.get_window_extent(renderer)
         to_px = ax.transData.transform
-        placed, placed_boxes = [], []
+        placed = []  # the extents of the names placed
         for text in names:
             box = text.get_window_extent(renderer)
             span = [to_px((x, 0.0))[0] for x in RUN_SPANS.get(text, (text.get_position()[0],) * 2)]
@@ -569,18 +569,17 @@ def _place_names(fig, home, row_height, pad) -> bool:
             for row in range(len(names) + 1):
                 here = [box.translated(dx, -row * row_height * frame.height) for dx in ok]
                 free = [dx for dx, c in zip(ok, here, strict=True)
-                        if not any(c.padded(pad).overlaps(q) for q in placed_boxes)]
+                        if not any(c.padded(pad).overlaps(q) for q in placed)]
                 if free:
                     break
             x_px = to_px((x0, 0.0))[0] + free[0]
             text.set_x(ax.transData.inverted().transform((x_px, 0.0))[0])
             text.set_y(y0 - row_height * row)
-            placed.append(text)
-            placed_boxes.append(text.get_window_extent(renderer))
+            placed.append(text.get_window_extent(renderer))
         # room for the names: the axis' top raised until no name covers a marker (the names stay where they are, at
-        # fractions of the axes' height; the data move down)
+        # fractions of the axes' height, so their extents too; the data move down)
         for _ in range(MAX_RAISE):
-            if not any(layout.markers_under(ax, t.get_window_extent(renderer)) for t in placed):
+            if not any(layout.markers_under(ax, box) for box in placed):
                 break
             lo_y, hi_y = ax.get_ylim()
             ax.set_ylim(lo_y, hi_y + RAISE * (hi_y - lo_y))

@@ -324,6 +324,57 @@ def test_branch_equations_derivative_in_d_agrees_with_finite_differences(vary):
     assert np.max(np.abs(J - fd)) < FD_TOL
 
 
+def _random_orbit_states(rng, count):
+    """``count`` random words of 1-13 walls with unknown vectors, lengths, inclines' gbar and restitutions."""
+    for _ in range(count):
+        n = int(rng.integers(1, 14))
+        walls = rng.choice([1, -1], n).astype(np.int64)
+        z = np.concatenate([[rng.uniform(0, 7)], rng.uniform(1e-6, 2, n), rng.uniform(-2, 2, n)])
+        yield walls, z, rng.uniform(0.05, 1), rng.uniform(-0.5, 1.5), rng.uniform(0.1, 1), int(rng.integers(1, 5))
+
+
+def test_the_compiled_orbit_equations_are_the_interpreted_ones_to_the_last_bit():
+    """The flights' rows are compiled (a continuation evaluates them at every corrector step): on random words
+    and states they are the interpreted loop's to the last bit, and the periodicity row sums numpy's way."""
+    from vibroimpact.analysis import orbits as O
+
+    for walls, z, d, gbar, r, k in _random_orbit_states(np.random.default_rng(11), 400):
+        F, J = O.residual_and_jacobian(z, walls, d, gbar, r, k)
+        n = walls.size
+        F0, J0 = np.empty(2 * n + 1), np.zeros((2 * n + 1, 2 * n + 1))
+        O._flight_rows.py_func(z, walls, d, gbar, r, F0, J0)
+        assert F[:-1].tobytes() == F0[:-1].tobytes() and J[:-1].tobytes() == J0[:-1].tobytes()
+        assert F[-1] == np.sum(z[1:n + 1]) - 2.0 * k and np.array_equal(J[-1], np.r_[0.0, np.ones(n), np.zeros(n)])
+
+
+@pytest.mark.parametrize("vary", ["s", "F", "r", "beta"])
+def test_the_branch_equations_parameter_column_rounds_as_numpy_s_scalars(vary):
+    """The continuation's column d/dlam is summed on Python's floats: each entry is the one numpy's scalars give
+    to the last bit (tau^2 by libm's pow, which differs from tau * tau in about one case in a thousand)."""
+    from vibroimpact.analysis.continuation import ParameterMap, _augmented
+    from vibroimpact.analysis.orbits import residual_and_jacobian
+
+    p = vi.Params.from_physical(s=0.14 / 0.6225, beta=math.pi / 6)
+    pm = ParameterMap(find_orbit(p, "BBT", phi=5.855, v0=0.4185), vary)
+    rng = np.random.default_rng(12)
+    for walls, z, *_ in _random_orbit_states(rng, 300):
+        lam = pm.lam0 * (1 + rng.uniform(-0.05, 0.05))
+        F, J = _augmented(np.append(z, lam), walls, 1, pm)
+        n = walls.size
+        dd, dg, dr = (np.float64(x) for x in pm.deriv(lam))
+        tau, v = z[1:n + 1], z[n + 1:]
+        col = np.zeros(2 * n + 1)
+        for j in range(n):
+            col[2 * j] = -(walls[(j + 1) % n] - walls[j]) * 0.5 * dd + dg * 0.5 * tau[j] ** 2
+            col[2 * j + 1] = dg * tau[j]
+            if dr != 0.0:
+                col[2 * j] -= dr * v[j] * tau[j]
+                col[2 * j + 1] -= dr * v[j]
+        assert J[:, -1].tobytes() == col.tobytes(), vary
+        F0, J0 = residual_and_jacobian(z, walls, *pm.at(lam), 1)
+        assert F.tobytes() == F0.tobytes() and J[:, :-1].tobytes() == J0.tobytes()
+
+
 def test_stability_names_follow_the_eigenvalue_moduli(pi6_2to1):
     """Along the 2:1 branch (through its fold and period doubling): stable = both |lambda| < 1,
     saddle = exactly one > 1, unstable = both > 1."""

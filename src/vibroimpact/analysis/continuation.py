@@ -159,17 +159,20 @@ def _augmented(Y, walls, k, pm):
     d, gbar, r = pm.at(lam)
     dd, dg, dr = pm.deriv(lam)
     F, Jz = residual_and_jacobian(z, walls, d, gbar, r, k)
-    Fd = np.zeros(2 * n + 1)
-    tau, v = z[1:n + 1], z[n + 1:]
+    J = np.zeros((2 * n + 1, 2 * n + 2))
+    J[:, :-1] = Jz
+    Fd = J[:, -1]
+    # on Python's floats, which round as numpy's do (tau ** 2 is libm's pow on both, not tau * tau)
+    tau, v, w = z[1:n + 1].tolist(), z[n + 1:].tolist(), walls.tolist()
     for j in range(n):
         jn = (j + 1) % n
         # d enters through the walls, gbar through the flight, r through the rebound u = -r v_j
-        Fd[2 * j] = -(walls[jn] - walls[j]) * 0.5 * dd + dg * 0.5 * tau[j] ** 2
+        Fd[2 * j] = -(w[jn] - w[j]) * 0.5 * dd + dg * 0.5 * tau[j] ** 2
         Fd[2 * j + 1] = dg * tau[j]
         if dr != 0.0:
             Fd[2 * j] -= dr * v[j] * tau[j]
             Fd[2 * j + 1] -= dr * v[j]
-    return F, np.column_stack([Jz, Fd])
+    return F, J
 
 
 def null_tangent(J, prev=None):

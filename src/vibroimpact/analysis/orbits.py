@@ -20,6 +20,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 from ..dynamics import impact as law
 from ..dynamics import kernels as K
@@ -76,33 +77,46 @@ def parse_word(word: str) -> np.ndarray:
 def residual_and_jacobian(z, walls, d, gbar, r, k):
     """Equations of the orbit in unknowns z = (theta_0, tau_0..tau_{N-1}, v_0..v_{N-1})."""
     n = walls.shape[0]
-    theta0 = z[0]
-    tau = z[1:n + 1]
-    v = z[n + 1:]
     F = np.empty(2 * n + 1)
     J = np.zeros((2 * n + 1, 2 * n + 1))
-    theta = theta0
+    _flight_rows(z, walls, d, gbar, r, F, J)
+    F[2 * n] = z[1:n + 1].sum() - 2.0 * k  # numpy's sum (pairwise), as the periodicity row has always been summed
+    J[2 * n, 1:n + 1] = 1.0
+    return F, J
+
+
+@njit(cache=True, error_model="numpy")
+def _flight_rows(z, walls, d, gbar, r, F, J):
+    """The two rows of each flight in :func:`residual_and_jacobian`, written into ``F`` and the zeroed ``J``:
+    compiled, with every operation in the order the interpreted loop took (the same results to the last bit;
+    tests/test_orbits.py compares them), because a continuation evaluates them at every corrector step."""
+    n = walls.shape[0]
+    theta = z[0]
     for j in range(n):
         jn = (j + 1) % n
-        u = law.rebound(v[j], r)
-        du = law.rebound_slope(v[j], r)
-        disp, vel, acc, disp_th, vel_th = flight_partials(tau[j], theta, u, gbar)
+        tau_j, v_j = z[1 + j], z[n + 1 + j]
+        u = law.rebound(v_j, r)
+        du = law.rebound_slope(v_j, r)
+        disp, vel, acc, disp_th, vel_th = flight_partials(tau_j, theta, u, gbar)
         # position: w_j d/2 + disp = w_{j+1} d/2   (eq. zj_p1)
         F[2 * j] = disp - (walls[jn] - walls[j]) * 0.5 * d
         # velocity: v_{j+1} = vel               (eq. zdotj_p1)
-        F[2 * j + 1] = vel - v[jn]
-        rows = (2 * j, 2 * j + 1)
-        for row, f_th, f_tau, f_u in ((rows[0], disp_th, vel, tau[j]), (rows[1], vel_th, acc, 1.0)):
-            J[row, 0] += f_th
-            for i in range(j):  # theta_j depends on the earlier flight times
-                J[row, 1 + i] += PI * f_th
-            J[row, 1 + j] += f_tau
-            J[row, n + 1 + j] += du * f_u
+        F[2 * j + 1] = vel - z[n + 1 + jn]
+        _flight_row(J, 2 * j, j, n, disp_th, vel, du * tau_j)
+        _flight_row(J, 2 * j + 1, j, n, vel_th, acc, du * 1.0)
         J[2 * j + 1, n + 1 + jn] -= 1.0
-        theta += PI * tau[j]
-    F[2 * n] = tau.sum() - 2.0 * k
-    J[2 * n, 1:n + 1] = 1.0
-    return F, J
+        theta += PI * tau_j
+
+
+@njit(cache=True, error_model="numpy")
+def _flight_row(J, row, j, n, f_th, f_tau, f_v):
+    """One row of flight ``j``: its derivatives in theta_0 and (through theta_j) the earlier flight times, in its
+    own flight time and in its start velocity."""
+    J[row, 0] += f_th
+    for i in range(j):  # theta_j depends on the earlier flight times
+        J[row, 1 + i] += PI * f_th
+    J[row, 1 + j] += f_tau
+    J[row, n + 1 + j] += f_v
 
 
 #: a residual this many machine epsilons of the unknowns' scale is rounding: the equations' terms are of

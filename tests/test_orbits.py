@@ -778,3 +778,37 @@ def test_the_guide_s_recipe_for_a_starting_guess_runs():
     assert "".join("B" if w == 1 else "T" for w in run.wall.values[:3]) == "BBT"
     assert run.t.values[3] - run.t.values[0] == pytest.approx(2.0, abs=1e-9)
     assert np.allclose(run.v_minus.values[:3], o21.v_minus, rtol=0, atol=1e-9)
+
+
+def test_an_orbit_laid_out_over_periods_is_the_simulator_s_run_from_it():
+    """``orbit_run`` over three periods of the stable 2:1: every impact time, wall and velocity is the exact
+    simulator's from the orbit's first impact (to 1e-9: the stable orbit keeps the run on it), and the last event
+    closes the third period at t = 2 k 3."""
+    o = find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+    run = vi.orbit_run(o, periods=3)
+    sim = vi.simulate(o.params, o.phi, float(o.v_minus[0]), n_impacts=3 * o.n + 1)
+    assert run.sizes["impact"] == 3 * o.n + 1 and float(run.t[-1]) == 2.0 * o.k * 3
+    np.testing.assert_allclose(run.t.values, sim.t.values[:3 * o.n + 1], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(run.v_minus.values[:-1], sim.v_minus.values[:3 * o.n], rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(run.wall.values[:-1], sim.wall.values[:3 * o.n])
+
+
+def test_a_branch_s_eigenvalues_are_addressed_by_their_labels():
+    """The branch's eigenvalue axis is labelled 0 and 1: selecting by label gives each eigenvalue."""
+    o = find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+    br = continue_orbit(o, vary="d", d_range=(0.139, 0.141), step=1e-3, locate=False)
+    for k in (0, 1):
+        np.testing.assert_array_equal(br.eig_abs.sel(eig=k).values, br.eig_abs.isel(eig=k).values)
+
+
+def test_a_grazing_point_crossed_from_its_inadmissible_side_is_admissible():
+    """The 2:1 at beta = pi/6 grazes at d = 0.13672 (the orbits page's example): below it a loop of the orbit crosses a
+    wall (inadmissible points), above it the orbit is the physical one; points are ordered by d, so the grazing
+    point is met coming from its inadmissible side, and it belongs to the physical branch."""
+    o = find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+    br = continue_orbit(o, vary="d", d_range=(0.13, 0.15), step=1e-3)
+    g = int(np.flatnonzero(br.critical_kind.values == "grazing")[0])
+    dg = float(br.critical_d[g])
+    below, above = br.admissible.values[br.d.values < dg], br.admissible.values[br.d.values > dg]
+    assert not below[-2:].any() and above[:2].all()
+    assert bool(br.critical_admissible[g])

@@ -812,3 +812,53 @@ def test_a_grazing_point_crossed_from_its_inadmissible_side_is_admissible():
     below, above = br.admissible.values[br.d.values < dg], br.admissible.values[br.d.values > dg]
     assert not below[-2:].any() and above[:2].all()
     assert bool(br.critical_admissible[g])
+
+
+def test_the_compiled_admissibility_is_the_interpreted_one_to_the_last_bit():
+    """The flights' check of an orbit is compiled (a continuation checks every point it accepts): on random states
+    (flights meeting another wall first, velocities pointing out of their wall, phases of either sign) and on
+    the admissible and inadmissible points of a branch through a grazing point, its clearance and verdict are
+    the interpreted loop's to the last bit."""
+    from vibroimpact.analysis import grazing as G
+    from vibroimpact.analysis.orbits import parse_word
+
+    rng = np.random.default_rng(13)
+    cases = []
+    for _ in range(300):
+        n = int(rng.integers(1, 8))
+        z = np.concatenate([[rng.uniform(-7, 14)], rng.uniform(1e-4, 2.5, n), rng.uniform(-2, 2, n)])
+        cases.append((z, rng.choice([1, -1], n).astype(np.int64), rng.uniform(0.05, 1), rng.uniform(-0.5, 1.5),
+                      rng.uniform(0.1, 1)))
+    br = continue_orbit(find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185), vary="d",
+                        d_range=(0.135, 0.141), step=5e-4, locate=False)
+    for i in range(br.sizes["point"]):
+        z = np.concatenate([[br.phase.values[i, 0]], np.roll(br.dt.values[i], -1), br.v_minus.values[i]])
+        cases.append((z, parse_word("BBT"), float(br.d[i]), 0.0949, 0.5))
+    kinds = set()
+    for z, walls, d, gbar, r in cases:
+        got, ref = G._flights_admissible(z, walls, d, gbar, r), G._flights_admissible.py_func(z, walls, d, gbar, r)
+        assert np.float64(got[0]).tobytes() == np.float64(ref[0]).tobytes() and got[1:] == ref[1:]
+        kinds.add(got[1])
+        # the verdict names the first impact or flight at fault
+        kind, j = _first_fault(z, walls, d, gbar, r)
+        ok, reason, _ = G.admissibility(z, walls, d, gbar, r)
+        assert ok == (kind == 0) and reason.startswith(("", f"impact {j} (", f"flight {j}: ")[kind])
+    assert kinds == {0, 1, 2}
+
+
+def _first_fault(z, walls, d, gbar, r):
+    """(1, j): impact j's velocity is the first not to point into its wall, (2, j): flight j is the first whose
+    first impact (the simulator's) is not the orbit's next, before any such impact; (0, -1): neither."""
+    from vibroimpact.dynamics import impact as law
+    from vibroimpact.dynamics.events import next_impact
+
+    n, theta = walls.size, z[0]
+    for j in range(n):
+        tau, v = z[1 + j], z[n + 1 + j]
+        if walls[j] * v <= 0:
+            return 1, j
+        t_hit, w_hit = next_impact(theta, walls[j] * 0.5 * d, law.rebound(v, r), d, gbar, tau * (1 + 1e-9) + 1e-12)
+        if w_hit != walls[(j + 1) % n] or abs(t_hit - tau) > 1e-8 * max(1.0, tau):
+            return 2, j
+        theta = (theta + math.pi * tau) % (2 * math.pi)
+    return 0, -1

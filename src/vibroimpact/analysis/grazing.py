@@ -56,28 +56,48 @@ def admissibility(z, walls, d, gbar, r):
     ``clearance`` is the smallest of the interior clearances and of the impact speeds (``w_j v_j``),
     so that it is positive for an admissible orbit and changes sign at a grazing point.
     """
+    clearance, kind, j, t_hit, w_hit = _flights_admissible(z, walls, d, gbar, r)
+    reason = ""
+    if kind == 1:
+        v = z[walls.shape[0] + 1 + j]
+        reason = f"impact {j} ({'B' if walls[j] == 1 else 'T'}): pre-impact velocity {v:.3g} does not point into its wall"
+    elif kind == 2:
+        where = "no wall" if w_hit == 0 else ("the bottom" if w_hit == 1 else "the top")
+        reason = f"flight {j}: the ball meets {where} at tau={t_hit:.6g} before the orbit's impact at {z[1 + j]:.6g}"
+    return (not reason), reason, float(clearance)
+
+
+@njit(cache=True, error_model="numpy")
+def _flights_admissible(z, walls, d, gbar, r):
+    """The flights' check of :func:`admissibility`, compiled (a continuation checks every point it accepts): the
+    clearance, and what makes the orbit inadmissible first (``kind`` 0: nothing; 1: impact ``j``'s velocity
+    does not point into its wall; 2: flight ``j`` meets wall ``w_hit`` at ``t_hit``, not the orbit's next
+    impact).  Every operation in the interpreted loop's order (``min`` and ``max`` as Python's: the first
+    argument unless the second is smaller, larger): the same results to the last bit."""
     n = walls.shape[0]
     theta = z[0]
-    tau = z[1:n + 1]
-    v = z[n + 1:]
     clearance = math.inf
-    reason = ""
+    kind, jbad, t_bad, w_bad = 0, -1, 0.0, 0
     for j in range(n):
         jn = (j + 1) % n
-        speed = walls[j] * v[j]
-        clearance = min(clearance, speed)
-        if speed <= 0 and not reason:
-            reason = f"impact {j} ({'B' if walls[j] == 1 else 'T'}): pre-impact velocity {v[j]:.3g} does not point into its wall"
+        tau_j, v_j = z[1 + j], z[n + 1 + j]
+        speed = walls[j] * v_j
+        if speed < clearance:
+            clearance = speed
+        if speed <= 0 and kind == 0:
+            kind, jbad = 1, j
         z0 = walls[j] * 0.5 * d
-        u = law.rebound(v[j], r)
-        clearance = min(clearance, interior_clearance(theta, z0, u, d, gbar, tau[j]))
-        if not reason and speed > 0:
-            t_hit, w_hit = next_impact(theta, z0, u, d, gbar, tau[j] * (1 + 1e-9) + 1e-12)
-            if w_hit == 0 or w_hit != walls[jn] or abs(t_hit - tau[j]) > 1e-8 * max(1.0, tau[j]):
-                where = "no wall" if w_hit == 0 else ("the bottom" if w_hit == 1 else "the top")
-                reason = f"flight {j}: the ball meets {where} at tau={t_hit:.6g} before the orbit's impact at {tau[j]:.6g}"
-        theta = (theta + PI * tau[j]) % TWO_PI
-    return (not reason), reason, float(clearance)
+        u = law.rebound(v_j, r)
+        inner = interior_clearance(theta, z0, u, d, gbar, tau_j)
+        if inner < clearance:
+            clearance = inner
+        if kind == 0 and speed > 0:
+            t_hit, w_hit = next_impact(theta, z0, u, d, gbar, tau_j * (1 + 1e-9) + 1e-12)
+            scale = tau_j if tau_j > 1.0 else 1.0
+            if w_hit == 0 or w_hit != walls[jn] or abs(t_hit - tau_j) > 1e-8 * scale:
+                kind, jbad, t_bad, w_bad = 2, j, t_hit, w_hit
+        theta = (theta + PI * tau_j) % TWO_PI
+    return clearance, kind, jbad, t_bad, w_bad
 
 
 __all__ = ["admissibility", "interior_clearance"]

@@ -324,12 +324,13 @@ def test_branch_equations_derivative_in_d_agrees_with_finite_differences(vary):
     assert np.max(np.abs(J - fd)) < FD_TOL
 
 
-def _random_orbit_states(rng, count):
-    """``count`` random words of 1-13 walls with unknown vectors, lengths, inclines' gbar and restitutions."""
+def _random_orbit_states(rng, count, *, max_walls=13, theta=(0, 7), tau=(1e-6, 2)):
+    """``count`` random words of 1 to ``max_walls`` walls with unknown vectors (phase in ``theta``, flight times in
+    ``tau``), lengths, inclines' gbar and restitutions."""
     for _ in range(count):
-        n = int(rng.integers(1, 14))
+        n = int(rng.integers(1, max_walls + 1))
         walls = rng.choice([1, -1], n).astype(np.int64)
-        z = np.concatenate([[rng.uniform(0, 7)], rng.uniform(1e-6, 2, n), rng.uniform(-2, 2, n)])
+        z = np.concatenate([[rng.uniform(*theta)], rng.uniform(*tau, n), rng.uniform(-2, 2, n)])
         yield walls, z, rng.uniform(0.05, 1), rng.uniform(-0.5, 1.5), rng.uniform(0.1, 1), int(rng.integers(1, 5))
 
 
@@ -784,7 +785,7 @@ def test_an_orbit_laid_out_over_periods_is_the_simulator_s_run_from_it():
     """``orbit_run`` over three periods of the stable 2:1: every impact time, wall and velocity is the exact
     simulator's from the orbit's first impact (to 1e-9: the stable orbit keeps the run on it), and the last event
     closes the third period at t = 2 k 3."""
-    o = find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+    o = _bbt_orbit()
     run = vi.orbit_run(o, periods=3)
     sim = vi.simulate(o.params, o.phi, float(o.v_minus[0]), n_impacts=3 * o.n + 1)
     assert run.sizes["impact"] == 3 * o.n + 1 and float(run.t[-1]) == 2.0 * o.k * 3
@@ -795,7 +796,7 @@ def test_an_orbit_laid_out_over_periods_is_the_simulator_s_run_from_it():
 
 def test_a_branch_s_eigenvalues_are_addressed_by_their_labels():
     """The branch's eigenvalue axis is labelled 0 and 1: selecting by label gives each eigenvalue."""
-    o = find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+    o = _bbt_orbit()
     br = continue_orbit(o, vary="d", d_range=(0.139, 0.141), step=1e-3, locate=False)
     for k in (0, 1):
         np.testing.assert_array_equal(br.eig_abs.sel(eig=k).values, br.eig_abs.isel(eig=k).values)
@@ -805,7 +806,7 @@ def test_a_grazing_point_crossed_from_its_inadmissible_side_is_admissible():
     """The 2:1 at beta = pi/6 grazes at d = 0.13672 (the orbits page's example): below it a loop of the orbit crosses a
     wall (inadmissible points), above it the orbit is the physical one; points are ordered by d, so the grazing
     point is met coming from its inadmissible side, and it belongs to the physical branch."""
-    o = find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185)
+    o = _bbt_orbit()
     br = continue_orbit(o, vary="d", d_range=(0.13, 0.15), step=1e-3)
     g = int(np.flatnonzero(br.critical_kind.values == "grazing")[0])
     dg = float(br.critical_d[g])
@@ -822,15 +823,9 @@ def test_the_compiled_admissibility_is_the_interpreted_one_to_the_last_bit():
     from vibroimpact.analysis import grazing as G
     from vibroimpact.analysis.orbits import parse_word
 
-    rng = np.random.default_rng(13)
-    cases = []
-    for _ in range(300):
-        n = int(rng.integers(1, 8))
-        z = np.concatenate([[rng.uniform(-7, 14)], rng.uniform(1e-4, 2.5, n), rng.uniform(-2, 2, n)])
-        cases.append((z, rng.choice([1, -1], n).astype(np.int64), rng.uniform(0.05, 1), rng.uniform(-0.5, 1.5),
-                      rng.uniform(0.1, 1)))
-    br = continue_orbit(find_orbit(vi.Params(d=0.14, gbar=0.0949, r=0.5), "BBT", 5.855, 0.4185), vary="d",
-                        d_range=(0.135, 0.141), step=5e-4, locate=False)
+    cases = [(z, walls, d, gbar, r) for walls, z, d, gbar, r, _ in
+             _random_orbit_states(np.random.default_rng(13), 300, max_walls=7, theta=(-7, 14), tau=(1e-4, 2.5))]
+    br = continue_orbit(_bbt_orbit(), vary="d", d_range=(0.135, 0.141), step=5e-4, locate=False)
     for i in range(br.sizes["point"]):
         z = np.concatenate([[br.phase.values[i, 0]], np.roll(br.dt.values[i], -1), br.v_minus.values[i]])
         cases.append((z, parse_word("BBT"), float(br.d[i]), 0.0949, 0.5))

@@ -228,7 +228,6 @@ def matched_accuracy(wp: xr.Dataset, target: float = MATCHED_ACCURACY) -> xr.Dat
 # ---------------------------------------------------------------------------------------------
 
 
-
 def _flight(family, setting, theta, z0, u, d, gbar):
     if family in ("exact", "python"):
         return next_impact(theta, z0, u, d, gbar, math.inf)

@@ -13,15 +13,19 @@ baseline defaults to ``HEAD`` (the last commit, against the uncommitted tree).  
 with the machine and the command; ``--out`` also writes it to a file; ``--keep DIR`` keeps both sides' results of
 the last round (``DIR/baseline``, ``DIR/this``), for ``tools/same_results.py DIR/baseline DIR/this``.  With
 ``--warm`` each side runs again in the same place from the results as cloned, with the numba cache its cold run
-filled: the wall and CPU seconds left when nothing is compiled (the difference is what compiling costs).
+filled: the wall and CPU seconds left when nothing is compiled (the difference is what compiling costs), and a second
+table of what bounds this tree's cold wall time, measured in the same run (:func:`bounds`).
 """
 from __future__ import annotations
 
 import argparse
+import contextlib
 import csv
 import io
+import math
 import os
 import platform
+import re
 import resource
 import shutil
 import subprocess
@@ -32,6 +36,7 @@ import time
 from pathlib import Path
 
 import pandas as pd
+import psutil
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_devices import ROOT, scratch_copy  # noqa: E402
@@ -72,13 +77,90 @@ def children_cpu() -> float:
     return r.ru_utime + r.ru_stime
 
 
-def default_target(tree: Path, env: dict) -> tuple[float, float, int, float, float]:
-    """``snakemake --cores 2`` in ``tree``: its wall seconds, the CPU seconds of all its processes (Snakemake and
-    every job), and the jobs, their wall and CPU seconds."""
+#: the cores the default target runs on (``snakemake --cores CORES``)
+CORES = 2
+#: what a job loads before it computes anything: Snakemake's script preamble, the arrays, the datasets and their
+#: files, the compiler and the package's dataset writer (a job loads these at least; most load more)
+STARTUP = "import snakemake.script, numpy, xarray, netCDF4, numba, vibroimpact.datasets"
+
+
+def run_alone_seconds(log: str, tree: Path, cores: int = CORES) -> float:
+    """The wall seconds, from their benchmark files, of the jobs a run's Snakemake output ``log`` shows claiming all
+    ``cores`` (``threads: N``; the timed ones, which run alone while the other cores wait)."""
+    total = 0.0
+    for block in re.split(r"\n(?=(?:local)?rule \S+:\n)", log):
+        bench = re.search(r"^\s+benchmark: (\S+)$", block, re.M)
+        threads = re.search(r"^\s+threads: (\d+)$", block, re.M)
+        if bench and threads and int(threads.group(1)) >= cores and (tree / bench.group(1)).is_file():
+            rows = list(csv.DictReader((tree / bench.group(1)).open(), delimiter="\t"))
+            total += float(rows[-1]["s"]) if rows else 0.0
+    return total
+
+
+def startup_cpu(env: dict, repeats: int = 3) -> float:
+    """The CPU seconds of starting one job (:data:`STARTUP` in a fresh interpreter), the least of ``repeats``."""
+    best = math.inf
+    for _ in range(repeats):
+        cpu0 = children_cpu()
+        subprocess.run([sys.executable, "-c", STARTUP], env=env, check=True)
+        best = min(best, children_cpu() - cpu0)
+    return best
+
+
+def bounds(row: dict, cores: int = CORES, goal: float = 60.0) -> pd.DataFrame:
+    """What bounds a tree's cold wall time (``row``: :func:`cold_default_target`'s with ``warm``), each part as wall
+    seconds on ``cores``: the floor every schedule meets (the CPU seconds of all processes over the cores) and the
+    parts of it the run measured (compiling: the cold run's CPU less the warm one's, which must have run the same
+    jobs; starting the jobs: the jobs times one job's start-up, :func:`startup_cpu`; Snakemake's own process; the
+    rest: the jobs' computing), the cores left idle beside the jobs that run alone, and the goal (its CPU seconds:
+    ``goal`` times the cores)."""
+    if row["benchmarked jobs (warm cache)"] != row["benchmarked jobs"]:
+        raise ValueError(f"the warm run ran {row['benchmarked jobs (warm cache)']} benchmarked jobs, the cold run "
+                         f"{row['benchmarked jobs']}: their CPU seconds differ by more than compiling")
+    floor = row["CPU seconds (cold)"] / cores
+    compiling = (row["CPU seconds (cold)"] - row["CPU seconds (warm cache)"]) / cores
+    starting = row["benchmarked jobs"] * row["start-up CPU seconds per job"] / cores
+    snakemake = row["Snakemake's own CPU seconds"] / cores
+    alone = row["run-alone jobs' wall seconds"]
+    parts = [
+        ("the cold wall time", row["wall seconds (cold)"], "measured"),
+        (f"floor: the CPU seconds of all processes / {cores} cores", floor, "no schedule finishes sooner"),
+        ("of it, compiling the kernels", compiling, "(cold CPU - warm CPU, the same jobs) / cores"),
+        ("of it, starting the jobs", starting,
+         f"{row['benchmarked jobs']} jobs x {row['start-up CPU seconds per job']:.2f} CPU s each / cores"),
+        ("of it, Snakemake's own process", snakemake, "its CPU seconds / cores"),
+        ("of it, the jobs' computing", floor - compiling - starting - snakemake, "the rest of the floor"),
+        ("cores idle beside the jobs that run alone (timed)", alone * (cores - 1) / cores,
+         f"their wall seconds ({alone:.1f}) x {cores - 1}/{cores}"),
+        (f"the goal: CPU seconds of at most {goal * cores:.0f} / cores", goal, ""),
+    ]
+    return pd.DataFrame(parts, columns=["part", "wall seconds on the cores", "how"]).round(1)
+
+
+def default_target(tree: Path, env: dict, *args: str) -> dict:
+    """``snakemake --cores 2 ARGS`` in ``tree``: its wall seconds, the CPU seconds of all its processes (Snakemake and
+    every job) and of Snakemake's own process alone (its last reading, every 0.2 s, before it ended), the jobs, their
+    wall and CPU seconds, and the wall seconds of the jobs that ran alone."""
     cpu0, t0 = children_cpu(), time.perf_counter()
-    subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2"], cwd=tree, env=env, check=True,
-                   capture_output=True)
-    return time.perf_counter() - t0, children_cpu() - cpu0, *job_seconds(tree / "benchmarks")
+    with tempfile.TemporaryFile("w+") as out:
+        run = subprocess.Popen([sys.executable, "-m", "snakemake", "--cores", str(CORES), *args], cwd=tree, env=env,
+                               stdout=out, stderr=subprocess.STDOUT, text=True)
+        own = 0.0
+        with contextlib.suppress(psutil.Error):
+            proc = psutil.Process(run.pid)
+            while run.poll() is None:
+                times = proc.cpu_times()
+                own = times.user + times.system
+                time.sleep(0.2)
+        if run.wait():
+            out.seek(0)
+            raise subprocess.CalledProcessError(run.returncode, run.args, out.read()[-3000:])
+        wall, cpu = time.perf_counter() - t0, children_cpu() - cpu0
+        out.seek(0)
+        log = out.read()
+    n, job_wall, job_cpu = job_seconds(tree / "benchmarks")
+    return {"wall": wall, "cpu": cpu, "snakemake": own, "jobs": n, "job_wall": job_wall, "job_cpu": job_cpu,
+            "alone": run_alone_seconds(log, tree)}
 
 
 def cold_default_target(tree: Path, where: Path, warm: bool = False) -> dict:
@@ -88,9 +170,10 @@ def cold_default_target(tree: Path, where: Path, warm: bool = False) -> dict:
     env.pop("VIRTUAL_ENV", None)
     if warm:
         shutil.copytree(tree / "results", where / "results-as-cloned")
-    wall, cpu, n, job_wall, job_cpu = default_target(tree, env)
-    row = {"wall seconds (cold)": wall, "CPU seconds (cold)": cpu, "benchmarked jobs": n,
-           "jobs' wall seconds": job_wall, "jobs' CPU seconds": job_cpu}
+    cold = default_target(tree, env)
+    row = {"wall seconds (cold)": cold["wall"], "CPU seconds (cold)": cold["cpu"], "benchmarked jobs": cold["jobs"],
+           "jobs' wall seconds": cold["job_wall"], "jobs' CPU seconds": cold["job_cpu"],
+           "Snakemake's own CPU seconds": cold["snakemake"], "run-alone jobs' wall seconds": cold["alone"]}
     if warm:  # the same paths (numba's cache is keyed by the source files' paths), the results as cloned
         shutil.move(tree / "results", where / "results-cold")
         shutil.copytree(where / "results-as-cloned", tree / "results")
@@ -98,9 +181,12 @@ def cold_default_target(tree: Path, where: Path, warm: bool = False) -> dict:
         shutil.rmtree(tree / ".snakemake")
         for f in (tree / "benchmarks").rglob("*.tsv"):
             f.unlink()
-        wall, cpu, _, _, job_cpu = default_target(tree, env)
-        row |= {"wall seconds (warm cache)": wall, "CPU seconds (warm cache)": cpu,
-                "jobs' CPU seconds (warm cache)": job_cpu}
+        # every job of the cold run again: the cloned figures left newer than the sources would let Snakemake skip
+        # the jobs that draw them from results it no longer has
+        again = default_target(tree, env, "--forceall")
+        row |= {"benchmarked jobs (warm cache)": again["jobs"],
+                "wall seconds (warm cache)": again["wall"], "CPU seconds (warm cache)": again["cpu"],
+                "jobs' CPU seconds (warm cache)": again["job_cpu"], "start-up CPU seconds per job": startup_cpu(env)}
         shutil.rmtree(tree / "results")
         shutil.move(where / "results-cold", tree / "results")
     return row
@@ -119,7 +205,7 @@ def main(baseline: str = "HEAD", rounds: int = 1, keep: str | None = None, warm:
                     shutil.copytree(where / "tree" / "results", Path(keep) / name.split()[0])
                 shutil.rmtree(where)
     rows = [{"tree": name, **min(r, key=lambda x: x["wall seconds (cold)"])} for name, r in runs.items()]
-    df = pd.DataFrame(rows).round(1)
+    df = pd.DataFrame(rows)
     df["ratio to the baseline"] = (df["wall seconds (cold)"] / df["wall seconds (cold)"].iloc[0]).round(2)
     return df
 
@@ -132,7 +218,11 @@ if __name__ == "__main__":
     ap.add_argument("--keep", help="copy each side's results of the last round to KEEP/baseline and KEEP/this")
     ap.add_argument("--warm", action="store_true", help="also run each side again with the numba cache it filled")
     a = ap.parse_args()
-    table = main(a.baseline, a.rounds, a.keep, a.warm).to_markdown(index=False)
+    df = main(a.baseline, a.rounds, a.keep, a.warm)
+    table = df.round(2).to_markdown(index=False)
+    if a.warm:  # what bounds this tree's cold wall time, from its cold and warm runs above
+        table += ("\n\nWhat bounds this tree's cold wall time, from its runs above:\n\n"
+                  + bounds(df.iloc[-1].to_dict()).to_markdown(index=False))
     cpu = os.cpu_count()
     text = (f"{table}\n\nMachine: {platform.machine()}, {cpu} cores, {platform.system()} {platform.release()}, "
             f"Python {platform.python_version()}. Command: `python benchmarks/bench_default_target.py "

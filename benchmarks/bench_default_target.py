@@ -60,13 +60,19 @@ def fresh_mtimes(tree: Path) -> Path:
     return tree
 
 
+def last_measure(bench_file: Path) -> dict | None:
+    """The last row of a Snakemake benchmark file (``s``: wall seconds, ``cpu_time``), None where it has none."""
+    with bench_file.open() as fh:
+        rows = list(csv.DictReader(fh, delimiter="\t"))
+    return rows[-1] if rows else None
+
+
 def job_seconds(bench_dir: Path) -> tuple[int, float, float]:
     """Jobs, and the sums of their wall and CPU seconds, from a run's Snakemake benchmark files."""
     n, wall, cpu = 0, 0.0, 0.0
     for f in bench_dir.rglob("*.tsv"):
-        rows = list(csv.DictReader(f.open(), delimiter="\t"))
-        if rows:
-            n, wall, cpu = n + 1, wall + float(rows[-1]["s"]), cpu + float(rows[-1]["cpu_time"])
+        if row := last_measure(f):
+            n, wall, cpu = n + 1, wall + float(row["s"]), cpu + float(row["cpu_time"])
     return n, wall, cpu
 
 
@@ -92,8 +98,8 @@ def run_alone_seconds(log: str, tree: Path, cores: int = CORES) -> float:
         bench = re.search(r"^\s+benchmark: (\S+)$", block, re.M)
         threads = re.search(r"^\s+threads: (\d+)$", block, re.M)
         if bench and threads and int(threads.group(1)) >= cores and (tree / bench.group(1)).is_file():
-            rows = list(csv.DictReader((tree / bench.group(1)).open(), delimiter="\t"))
-            total += float(rows[-1]["s"]) if rows else 0.0
+            row = last_measure(tree / bench.group(1))
+            total += float(row["s"]) if row else 0.0
     return total
 
 

@@ -125,10 +125,12 @@ def test_batch_runs_in_flight_are_the_simulators_runs():
 
 
 
-def test_runs_in_flight_one_after_the_other_are_the_parallel_batch_s_and_the_simulator_s():
-    """flight_window_serial (the runs one after the other in the calling thread, without the GIL) gives every
-    window, status, period and event count of flight_window_batch (in parallel) to the last bit, and each run's
-    events those of vi.simulate from the same state in flight."""
+def test_runs_in_flight_on_one_thread_are_the_runs_on_two_and_the_simulator_s():
+    """flight_window_batch on one numba thread (the runs one after the other in the calling thread, without the
+    GIL) gives every window, status, period and event count it gives on two threads (the runs in blocks taken in
+    turn) to the last bit, and each run's events those of vi.simulate from the same state in flight."""
+    import numba
+
     from vibroimpact.analysis.windows import empty_windows, window_limits
     from vibroimpact.dynamics import kernels as K
 
@@ -136,18 +138,23 @@ def test_runs_in_flight_one_after_the_other_are_the_parallel_batch_s_and_the_sim
     t0, z0, v0 = np.linspace(0.3, 1.9, 7), np.linspace(-0.06, 0.069875, 7), np.linspace(-0.5, 0.4, 7)
     full = lambda x: np.full(t0.size, x)
     batch = K.FlightBatch(full(p.d), full(p.gbar), full(p.r), t0, (math.pi * t0 + 1.645) % (2 * math.pi), z0, v0)
-    out = []
-    for kernel in (K.flight_window_serial, K.flight_window_batch):
-        win = empty_windows(t0.size, 65)
-        ends = K.WindowEnds(*(np.zeros(t0.size, dt) for dt in (np.int8, np.int64, np.int64, np.int64)))
-        kernel(batch, window_limits(200, 200_000, 1e-9, 64), win, ends)
-        out.append([*win, *ends])
+    out, saved = [], numba.get_num_threads()
+    try:
+        for threads in sorted({1, numba.config.NUMBA_NUM_THREADS}):  # 1 and all the cores
+            numba.set_num_threads(threads)
+            win = empty_windows(t0.size, 65)
+            ends = K.WindowEnds(*(np.zeros(t0.size, dt) for dt in (np.int8, np.int64, np.int64, np.int64)))
+            K.flight_window_batch(batch, window_limits(200, 200_000, 1e-9, 64), win, ends)
+            out.append([*win, *ends])
+    finally:
+        numba.set_num_threads(saved)
     for a, b in zip(*out, strict=True):
         assert np.array_equal(a, b, equal_nan=True)
     t, total, n = out[0][0], out[0][7], out[0][8]
     for k in range(t0.size):
         run = vi.simulate(p, phi=1.645, v0=v0[k], Z0=z0[k], t0=t0[k], stop_when_periodic=True, t_end=t0[k] + 400.0)
         assert run.sizes["impact"] == total[k] and np.array_equal(run.t.values[total[k] - n[k]:], t[k, :n[k]])
+
 
 def test_batch_start_in_flight_needs_both_time_and_position():
     with pytest.raises(ValueError, match="t0 = .*Z0 = .*both"):

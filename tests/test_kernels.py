@@ -145,6 +145,35 @@ def test_batch_runs_equal_single_runs_event_for_event():
         assert K.STATUS_NAMES[int(att["status"].values[k])] == long.attrs["status"]
 
 
+@pytest.mark.parametrize("threads", [1, 2, 3])
+def test_a_batch_s_runs_are_shared_among_the_threads_each_once(monkeypatch, threads):
+    """kernels.shared splits a batch's runs [0, m) into blocks, each given to the kernel once: together they
+    hold every run once, in order; a few blocks per thread (each thread takes the next as it finishes one); one
+    block on one thread, none for no runs.  Run with a Python kernel that notes its blocks and thread, the
+    number of numba's threads set as a user's setting would."""
+    import threading
+
+    import numba
+
+    monkeypatch.setattr(numba, "get_num_threads", lambda: threads)
+    for m in (0, 1, 2, 7, 8, 9, 100, 1001):
+        seen = []
+
+        def kernel(span, note):
+            lo, hi = span
+            assert isinstance(lo, np.int64) and isinstance(hi, np.int64)  # one compiled specialisation
+            note.append((int(lo), int(hi), threading.get_ident()))
+
+        K.shared(kernel, m, seen)
+        blocks = sorted(b[:2] for b in seen)
+        assert [k for lo, hi in blocks for k in range(lo, hi)] == list(range(m)), (threads, m, blocks)
+        assert all(hi > lo for lo, hi in blocks)
+        if threads == 1 or m == 1:
+            assert blocks == ([(0, m)] if m else []) and {b[2] for b in seen} <= {threading.get_ident()}
+        else:
+            assert min(m, threads) <= len(blocks) <= 4 * threads, (threads, m, len(blocks))
+
+
 def test_acceleration_zero_comes_with_the_sign_of_the_sine_there():
     """events.accel_zero: the next time after tau where cos(theta + pi t) = -gbar, with no zero in
     between, and the sign of sin(theta + pi t) there (+1 at the phase alpha, -1 at 2 pi - alpha); the

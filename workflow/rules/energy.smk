@@ -38,6 +38,7 @@ rule energy_figure:
         "benchmarks/energy_figure/{efig}.tsv"
     wildcard_constraints:
         efig="|".join(config["energy"]["figures"]),
+    priority: 10  # long figures: drawn as soon as their data are, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
     params:

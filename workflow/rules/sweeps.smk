@@ -232,6 +232,7 @@ rule lyapunov_figure:
         "logs/figures/lyapunov.log",
     benchmark:
         "benchmarks/lyapunov_figure/lyapunov.tsv"
+    priority: 10  # the longest figure: drawn as soon as its data are, so that short jobs fill the other core to the end
     conda:
         "../envs/vibroimpact.yaml"
     params:

@@ -26,7 +26,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 from numba import njit
 
@@ -169,12 +168,11 @@ class _Knocks:
         ends = K.WindowEnds(status=np.zeros(m, np.int8), lag=np.zeros(m, np.int64), total=np.zeros(m, np.int64),
                             n=np.zeros(m, np.int64))
         full = lambda x: np.full(m, float(x))
-        # on one thread the serial kernel (the same runs, without the parallel launch; it releases the GIL for
-        # callers that run shocks on threads of their own)
-        kernel = K.flight_window_serial if numba.get_num_threads() == 1 else K.flight_window_batch
-        kernel(K.FlightBatch(full(p.d), full(p.gbar), full(p.r), np.ascontiguousarray(t0),
-                             (math.pi * t0 + self.phi) % (2 * math.pi), np.ascontiguousarray(z),
-                             np.ascontiguousarray(v)), self.limits, win, ends)
+        # on numba's threads; on one, in this thread without the GIL (for callers that run shocks on threads of
+        # their own)
+        K.flight_window_batch(K.FlightBatch(full(p.d), full(p.gbar), full(p.r), np.ascontiguousarray(t0),
+                                            (math.pi * t0 + self.phi) % (2 * math.pi), np.ascontiguousarray(z),
+                                            np.ascontiguousarray(v)), self.limits, win, ends)
         return win, ends
 
     def classify(self, wall, kind, span):

@@ -26,9 +26,11 @@ stuck on the bottom is never released, and the run ends with status ``STUCK_FORE
 
 import math
 from collections import namedtuple
+from concurrent.futures import ThreadPoolExecutor
 
+import numba
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from . import impact as law
 from .events import flight_impact
@@ -331,32 +333,50 @@ def advance(model, start, i0, settings, counts, out):
         pending = IMPACT
 
 
-@njit(cache=True, error_model="numpy", parallel=True, nogil=True)
+def shared(kernel, m, *args):
+    """``kernel(span, *args)`` over the runs ``[0, m)``, ``span = (lo, hi)`` a block of them: the blocks shared
+    among numba's number of threads (``numba.get_num_threads()``), each thread taking the next block as it
+    finishes one (about four per thread: runs of a batch last unequally long); in the calling thread when that
+    number is 1.  The kernels are compiled loops that release the GIL, each run independent of the others: the
+    results are those of one call over all the runs, to the last bit, on any number of threads.  Python's
+    threads, not numba's parallel loops, which compile the event loop into each loop a second time (about 2-3
+    s of a first run's compile per batch kernel)."""
+    workers = min(numba.get_num_threads(), m)
+    if workers <= 1:
+        if m > 0:
+            kernel((np.int64(0), np.int64(m)), *args)
+        return
+    size = -(-m // (4 * workers))
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        for f in [pool.submit(kernel, (np.int64(a), np.int64(min(a + size, m))), *args) for a in range(0, m, size)]:
+            f.result()
+
+
 def run_batch(batch, settings, pmax, out, ends):
-    """Run many independent simulations in parallel, each from a bottom impact (paper convention).
+    """Run many independent simulations on numba's threads (:func:`shared`), each from a bottom impact (paper
+    convention).
 
     ``batch`` (:data:`Batch`): arrays of length ``m``, one entry per run; ``settings`` (:data:`Settings`)
     shared; ``pmax`` the longest period looked for (events); ``out`` (:data:`EventBuffers`) arrays of shape
     ``(m, n_events)``; ``ends`` (:data:`Ends`) arrays of length ``m``.
     """
-    for k in prange(batch.d.shape[0]):
-        _batch_run(np.int64(k), batch, settings, pmax, out, ends)  # int64: one specialisation
+    shared(batch_runs, batch.d.shape[0], batch, settings, np.int64(pmax), out, ends)
 
 
-@njit(cache=True, error_model="numpy")
-def _batch_run(k, batch, settings, pmax, out, ends):
-    """Run ``k`` of :func:`run_batch`.  A call of its own: numba's parallel loop loses the writes its body makes
-    to the arrays of a record argument (the writes inside a call are kept)."""
-    counts = np.zeros(pmax + 1, dtype=np.int64)
-    d = batch.d[k]
-    n, status, lag = advance(Model(d, batch.gbar[k], batch.r[k]),
-                             Start(0.0, batch.theta0[k], 0.5 * d, batch.v0[k], IMPACT, 1), np.int64(0),
-                             settings, counts,
-                             EventBuffers(out.t[k], out.wall[k], out.v_minus[k], out.v_plus[k], out.phase[k],
-                                          out.kind[k], out.z[k]))
-    ends.n[k] = n
-    ends.status[k] = status
-    ends.lag[k] = lag
+@njit(cache=True, error_model="numpy", nogil=True)
+def batch_runs(span, batch, settings, pmax, out, ends):
+    """The runs ``span[0]`` to ``span[1] - 1`` of :func:`run_batch`, one after the other."""
+    for k in range(span[0], span[1]):
+        counts = np.zeros(pmax + 1, dtype=np.int64)
+        d = batch.d[k]
+        n, status, lag = advance(Model(d, batch.gbar[k], batch.r[k]),
+                                 Start(0.0, batch.theta0[k], 0.5 * d, batch.v0[k], IMPACT, 1), np.int64(0),
+                                 settings, counts,
+                                 EventBuffers(out.t[k], out.wall[k], out.v_minus[k], out.v_plus[k], out.phase[k],
+                                              out.kind[k], out.z[k]))
+        ends.n[k] = n
+        ends.status[k] = status
+        ends.lag[k] = lag
 
 
 @njit(cache=True, error_model="numpy")
@@ -446,52 +466,47 @@ def run_window_from(model, start, limits, win):
     return status, lag, total, m
 
 
-@njit(cache=True, error_model="numpy", parallel=True)
 def window_batch(batch, limits, win, ends):
-    """:func:`run_window` for many runs in parallel (numba prange): ``batch`` (:data:`Batch`) one entry per run,
-    ``limits`` (:data:`WindowSettings`) shared, ``win`` (:data:`Window`) arrays of shape (m, window), ``ends``
+    """:func:`run_window` for many runs on numba's threads (:func:`shared`): ``batch`` (:data:`Batch`) one entry per
+    run, ``limits`` (:data:`WindowSettings`) shared, ``win`` (:data:`Window`) arrays of shape (m, window), ``ends``
     (:data:`WindowEnds`) arrays of length m."""
-    for k in prange(batch.d.shape[0]):
-        _window_run(np.int64(k), batch, limits, win, ends)  # int64: one specialisation
-
-
-@njit(cache=True, error_model="numpy")
-def _window_run(k, batch, limits, win, ends):
-    """Run ``k`` of :func:`window_batch`, in a call of its own as :func:`_batch_run`."""
-    st, lag, tot, nw = run_window(Model(batch.d[k], batch.gbar[k], batch.r[k]), batch.theta0[k], batch.v0[k], limits,
-                                  Window(win.t[k], win.wall[k], win.v_minus[k], win.phase[k], win.kind[k]))
-    ends.status[k] = st
-    ends.lag[k] = lag
-    ends.total[k] = tot
-    ends.n[k] = nw
-
-
-@njit(cache=True, error_model="numpy", parallel=True)
-def flight_window_batch(batch, limits, win, ends):
-    """:func:`window_batch` for runs each from a state in flight (``batch``, :data:`FlightBatch`): at ``t0``, forcing
-    phase ``theta0``, ``Z = z0`` and ``Zdot = v0``; each lasts ``limits.t_end`` after its start."""
-    for k in prange(batch.d.shape[0]):
-        _flight_window_run(np.int64(k), batch, limits, win, ends)  # int64: one specialisation
+    shared(window_runs, batch.d.shape[0], batch, limits, win, ends)
 
 
 @njit(cache=True, error_model="numpy", nogil=True)
-def flight_window_serial(batch, limits, win, ends):
-    """:func:`flight_window_batch` one run after the other in the calling thread, without the GIL: for callers that
-    share their work among threads of their own (each run is the same :func:`_flight_window_run`)."""
-    for k in range(batch.d.shape[0]):
-        _flight_window_run(k, batch, limits, win, ends)
+def window_runs(span, batch, limits, win, ends):
+    """The runs ``span[0]`` to ``span[1] - 1`` of :func:`window_batch`, one after the other (each
+    :func:`run_window`'s, from :func:`run_window_from` directly: one compiled wrapper of the event loop fewer)."""
+    for k in range(span[0], span[1]):
+        d = batch.d[k]
+        st, lag, tot, nw = run_window_from(Model(d, batch.gbar[k], batch.r[k]),
+                                           Start(0.0, batch.theta0[k], 0.5 * d, batch.v0[k], IMPACT, 1), limits,
+                                           Window(win.t[k], win.wall[k], win.v_minus[k], win.phase[k], win.kind[k]))
+        ends.status[k] = st
+        ends.lag[k] = lag
+        ends.total[k] = tot
+        ends.n[k] = nw
 
 
-@njit(cache=True, error_model="numpy")
-def _flight_window_run(k, batch, limits, win, ends):
-    """Run ``k`` of :func:`flight_window_batch`, in a call of its own as :func:`_batch_run`."""
-    start = Start(batch.t0[k], batch.theta0[k], batch.z0[k], batch.v0[k], START, 0)
-    st, lag, tot, nw = run_window_from(Model(batch.d[k], batch.gbar[k], batch.r[k]), start, limits,
-                                       Window(win.t[k], win.wall[k], win.v_minus[k], win.phase[k], win.kind[k]))
-    ends.status[k] = st
-    ends.lag[k] = lag
-    ends.total[k] = tot
-    ends.n[k] = nw
+def flight_window_batch(batch, limits, win, ends):
+    """:func:`window_batch` for runs each from a state in flight (``batch``, :data:`FlightBatch`): at ``t0``, forcing
+    phase ``theta0``, ``Z = z0`` and ``Zdot = v0``; each lasts ``limits.t_end`` after its start.  On one numba
+    thread the runs go one after the other in the calling thread, without the GIL (for callers that share their
+    work among threads of their own)."""
+    shared(flight_window_runs, batch.d.shape[0], batch, limits, win, ends)
+
+
+@njit(cache=True, error_model="numpy", nogil=True)
+def flight_window_runs(span, batch, limits, win, ends):
+    """The runs ``span[0]`` to ``span[1] - 1`` of :func:`flight_window_batch`, one after the other."""
+    for k in range(span[0], span[1]):
+        start = Start(batch.t0[k], batch.theta0[k], batch.z0[k], batch.v0[k], START, 0)
+        st, lag, tot, nw = run_window_from(Model(batch.d[k], batch.gbar[k], batch.r[k]), start, limits,
+                                           Window(win.t[k], win.wall[k], win.v_minus[k], win.phase[k], win.kind[k]))
+        ends.status[k] = st
+        ends.lag[k] = lag
+        ends.total[k] = tot
+        ends.n[k] = nw
 
 
 #: a sweep's points followed in chains, each point from the last bottom impact of the one before it in its
@@ -501,33 +516,34 @@ def _flight_window_run(k, batch, limits, win, ends):
 Chain = namedtuple("Chain", ("d", "gbar", "r", "order", "start", "used"))
 
 
-@njit(cache=True, error_model="numpy", parallel=True, nogil=True)
 def chain_windows(chain, span, limits, win, ends):
-    """:func:`run_window` along the chains of ``chain`` (:data:`Chain`), the chains in parallel: the points at
-    positions ``span[0]`` to ``span[1] - 1`` of each chain's order, each from the chain's current start; a point
-    whose window holds a bottom impact makes its last one the next start.  ``win`` (:data:`Window`) arrays of
-    shape ``(chains, m, window)``, ``ends`` (:data:`WindowEnds`) of shape ``(chains, m)``."""
-    for k in prange(chain.order.shape[0]):
-        _chain_run(np.int64(k), chain, span, limits, win, ends)  # int64: one specialisation
+    """:func:`run_window` along the chains of ``chain`` (:data:`Chain`), the chains on numba's threads
+    (:func:`shared`): the points at positions ``span[0]`` to ``span[1] - 1`` of each chain's order, each from the
+    chain's current start; a point whose window holds a bottom impact makes its last one the next start.
+    ``win`` (:data:`Window`) arrays of shape ``(chains, m, window)``, ``ends`` (:data:`WindowEnds`) of shape
+    ``(chains, m)``."""
+    shared(chain_runs, chain.order.shape[0], chain, (np.int64(span[0]), np.int64(span[1])), limits, win, ends)
 
 
-@njit(cache=True, error_model="numpy")
-def _chain_run(k, chain, span, limits, win, ends):
-    """Chain ``k`` of :func:`chain_windows`, in a call of its own as :func:`_batch_run`."""
-    for pos in range(span[0], span[1]):
-        i = chain.order[k, pos]
-        phi = chain.start[k, 0]
-        v0 = chain.start[k, 1]
-        chain.used[k, i, 0] = phi
-        chain.used[k, i, 1] = v0
-        w = Window(win.t[k, i], win.wall[k, i], win.v_minus[k, i], win.phase[k, i], win.kind[k, i])
-        st, lag, tot, nw = run_window(Model(chain.d[i], chain.gbar[i], chain.r), phi % TWO_PI, v0, limits, w)
-        ends.status[k, i] = st
-        ends.lag[k, i] = lag
-        ends.total[k, i] = tot
-        ends.n[k, i] = nw
-        for j in range(nw - 1, -1, -1):  # the last bottom impact (windows.last_bottom_impact)
-            if w.wall[j] == 1 and w.kind[j] == IMPACT and w.v_minus[j] > 0:
-                chain.start[k, 0] = w.phase[j]
-                chain.start[k, 1] = w.v_minus[j]
-                break
+@njit(cache=True, error_model="numpy", nogil=True)
+def chain_runs(chains, chain, span, limits, win, ends):
+    """The chains ``chains[0]`` to ``chains[1] - 1`` of :func:`chain_windows`, one after the other."""
+    for k in range(chains[0], chains[1]):
+        for pos in range(span[0], span[1]):
+            i = chain.order[k, pos]
+            phi = chain.start[k, 0]
+            v0 = chain.start[k, 1]
+            chain.used[k, i, 0] = phi
+            chain.used[k, i, 1] = v0
+            w = Window(win.t[k, i], win.wall[k, i], win.v_minus[k, i], win.phase[k, i], win.kind[k, i])
+            st, lag, tot, nw = run_window_from(Model(chain.d[i], chain.gbar[i], chain.r),
+                                               Start(0.0, phi % TWO_PI, 0.5 * chain.d[i], v0, IMPACT, 1), limits, w)
+            ends.status[k, i] = st
+            ends.lag[k, i] = lag
+            ends.total[k, i] = tot
+            ends.n[k, i] = nw
+            for j in range(nw - 1, -1, -1):  # the last bottom impact (windows.last_bottom_impact)
+                if w.wall[j] == 1 and w.kind[j] == IMPACT and w.v_minus[j] > 0:
+                    chain.start[k, 0] = w.phase[j]
+                    chain.start[k, 1] = w.v_minus[j]
+                    break

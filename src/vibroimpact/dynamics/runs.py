@@ -234,7 +234,7 @@ def events_dataset(bufs, n, dim="impact") -> xr.Dataset:
 
 def simulate_batch(d, gbar, r, phi, v0, *, n_impacts, t_end=None, stop_when_periodic=False, tol=1e-9,
                    max_period_events=64, v_chatter=1e-9) -> xr.Dataset:
-    """Many runs in parallel (numba ``prange``), each from a bottom impact at t = 0 (paper convention).
+    """Many runs in parallel (on numba's threads), each from a bottom impact at t = 0 (paper convention).
 
     Parameters
     ----------

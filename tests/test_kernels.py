@@ -56,6 +56,21 @@ def test_period_test_separates_motions_that_share_their_phases():
     assert found[5] == 2
 
 
+def test_a_period_one_motion_converging_alternately_is_not_taken_for_period_two():
+    """A period-1 motion with its eigenvalue near -1 (-0.9999) converges alternately: its lag-2 residuals (2e-10)
+    fall below tol = 1e-9 long before its lag-1 residuals (2e-6), which stay below sqrt(tol): not decided yet, so
+    no period is reported (not period 2, which every lag-2 match alone would give); a genuine period 2, whose
+    lag-1 splitting exceeds sqrt(tol), is (test above)."""
+    n, tol = 12, 1e-9
+    t = 2.0 * np.arange(n)
+    wall, kind, phase = np.ones(n, np.int8), np.zeros(n, np.int8), np.full(n, 1.0)
+    vm = 0.5 + 1e-6 * (-0.9999) ** np.arange(n)
+    counts = np.zeros(9, np.int64)
+    found = [K.period_update(i, K.Window(t, wall, vm, phase, kind), counts, tol) for i in range(n)]
+    assert found == [0] * n
+    assert np.abs(vm[2:] - vm[:-2]).max() < tol < np.abs(vm[1:] - vm[:-1]).min() < math.sqrt(tol)  # as stated
+
+
 @pytest.mark.parametrize("gbar", [0.2, 0.9])
 def test_chattering_sum_applies_exactly_where_the_acceleration_stays_within_the_drift_bound(gbar):
     """At phase 0 (cosine 1, sine 0) the acceleration into the bottom, cos(pi t) + gbar, falls by 1 - cos(pi tau) over the

@@ -119,7 +119,7 @@ TESTS = {
     "events": ["tests/test_impact_times.py", "tests/test_properties.py", "tests/test_sticking.py"],
     "kernels": ["tests/test_kernels.py", "tests/test_sticking.py", "tests/test_attractor.py",
                 "tests/test_properties.py", "tests/test_impact_times.py", "tests/test_impact_law.py",
-                "tests/test_kernel_signatures.py"],
+                "tests/test_kernel_signatures.py", "tests/test_sweep_batch.py"],
     "orbits": ["tests/test_orbits.py", "tests/test_captions.py", "tests/test_impact_law.py"],
     "continuation": ["tests/test_orbits.py"],
     "motions": ["tests/test_motion_names.py", "tests/test_sweeps.py", "tests/test_attractor.py"],

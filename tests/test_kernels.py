@@ -163,15 +163,15 @@ def test_batch_runs_equal_single_runs_event_for_event():
 @pytest.mark.parametrize("threads", [1, 2, 3])
 def test_a_batch_s_runs_are_shared_among_the_threads_each_once(monkeypatch, threads):
     """kernels.shared splits a batch's runs [0, m) into blocks, each given to the kernel once: together they
-    hold every run once, in order; a few blocks per thread (each thread takes the next as it finishes one); one
-    block on one thread, none for no runs.  Run with a Python kernel that notes its blocks and thread, the
+    hold every run once, in order; one block per thread, all of equal size but the last (the calling thread takes
+    the first); one block, in the calling thread, on one thread or for one run; none for no runs.  Run with a Python kernel that notes its blocks and thread, the
     number of numba's threads set as a user's setting would."""
     import threading
 
     import numba
 
     monkeypatch.setattr(numba, "get_num_threads", lambda: threads)
-    for m in (0, 1, 2, 7, 8, 9, 100, 1001):
+    for m in (0, 1, 2, 3, 4, 5, 7, 8, 9, 100, 1001):
         seen = []
 
         def kernel(span, note):
@@ -182,11 +182,14 @@ def test_a_batch_s_runs_are_shared_among_the_threads_each_once(monkeypatch, thre
         K.shared(kernel, m, seen)
         blocks = sorted(b[:2] for b in seen)
         assert [k for lo, hi in blocks for k in range(lo, hi)] == list(range(m)), (threads, m, blocks)
-        assert all(hi > lo for lo, hi in blocks)
-        if threads == 1 or m == 1:
+        sizes = [hi - lo for lo, hi in blocks]
+        assert len(set(sizes[:-1])) <= 1 and sizes[0] == -(-m // threads) if m else not blocks
+        if threads == 1 or m <= 1:
             assert blocks == ([(0, m)] if m else []) and {b[2] for b in seen} <= {threading.get_ident()}
         else:
-            assert min(m, threads) <= len(blocks) <= 4 * threads, (threads, m, len(blocks))
+            assert len(blocks) == -(-m // -(-m // threads)) >= 2, (threads, m, blocks)  # min(m, threads) or fewer
+            main = threading.get_ident()  # the first block in this thread, the others on the pool's threads
+            assert [b[2] == main for b in sorted(seen)] == [True] + [False] * (len(blocks) - 1)
 
 
 def test_acceleration_zero_comes_with_the_sign_of_the_sine_there():

@@ -25,6 +25,7 @@ stuck on the bottom is never released, and the run ends with status ``STUCK_FORE
 """
 
 import math
+import threading
 from collections import namedtuple
 from concurrent.futures import ThreadPoolExecutor
 
@@ -334,22 +335,39 @@ def advance(model, start, i0, settings, counts, out):
 
 
 def shared(kernel, m, *args):
-    """``kernel(span, *args)`` over the runs ``[0, m)``, ``span = (lo, hi)`` a block of them: the blocks shared
-    among numba's number of threads (``numba.get_num_threads()``), each thread taking the next block as it
-    finishes one (about four per thread: runs of a batch last unequally long); in the calling thread when that
-    number is 1.  The kernels are compiled loops that release the GIL, each run independent of the others: the
-    results are those of one call over all the runs, to the last bit, on any number of threads.  Python's
-    threads, not numba's parallel loops, which compile the event loop into each loop a second time (about 2-3
-    s of a first run's compile per batch kernel)."""
-    workers = min(numba.get_num_threads(), m)
-    if workers <= 1:
+    """``kernel(span, *args)`` over the runs ``[0, m)``, ``span = (lo, hi)`` a block of them: one block per thread
+    of numba's number of threads (``numba.get_num_threads()``), the runs split evenly as numba's parallel loops
+    split them; the calling thread takes the first block, a pool of threads kept for the process the others (a
+    hand-over costs about 50 us more than numba's parallel loop: a few percent of a batch of short runs); one
+    block, in the calling thread, where that leaves one.  The kernels are compiled loops that release the GIL,
+    each run independent of the others: the results are those of one call over all the runs, to the last bit,
+    on any number of threads.  Python's threads, not numba's parallel loops, which compile the event loop into
+    each loop a second time (about 2-3 s of a first run's compile per batch kernel)."""
+    workers = numba.get_num_threads()
+    size = max(-(-m // max(workers, 1)), 1)
+    if size >= m:
         if m > 0:
             kernel((np.int64(0), np.int64(m)), *args)
         return
-    size = -(-m // (4 * workers))
-    with ThreadPoolExecutor(max_workers=workers) as pool:
-        for f in [pool.submit(kernel, (np.int64(a), np.int64(min(a + size, m))), *args) for a in range(0, m, size)]:
-            f.result()
+    spans = [(np.int64(a), np.int64(min(a + size, m))) for a in range(0, m, size)]
+    pool = _pool(workers - 1)
+    others = [pool.submit(kernel, span, *args) for span in spans[1:]]
+    kernel(spans[0], *args)  # the calling thread takes the first block: one hand-over fewer
+    for f in others:
+        f.result()
+
+
+#: the threads :func:`shared` runs blocks on, one pool per number of threads, kept for the process: starting
+#: threads for every call would cost more than a small batch (the knocked runs of a shock go in many)
+_POOLS: dict[int, ThreadPoolExecutor] = {}
+_POOLS_LOCK = threading.Lock()
+
+
+def _pool(workers: int) -> ThreadPoolExecutor:
+    with _POOLS_LOCK:
+        if workers not in _POOLS:
+            _POOLS[workers] = ThreadPoolExecutor(max_workers=workers, thread_name_prefix=f"vibroimpact-{workers}")
+        return _POOLS[workers]
 
 
 def run_batch(batch, settings, pmax, out, ends):

@@ -56,6 +56,29 @@ def test_period_test_separates_motions_that_share_their_phases():
     assert found[5] == 2
 
 
+def test_a_batch_on_threads_runs_in_a_forked_child_too():
+    """A process forked after a batch ran on the threads' pool (multiprocessing's default start on Linux) runs
+    batches there too, the same runs: the child starts pools of its own (the parent's threads do not exist in
+    it; a block handed to them would wait for ever)."""
+    import multiprocessing
+
+    import numba
+
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("numba has one thread here: no pool to fork")
+    d = np.array([0.3, 0.235, 0.2, 0.25])
+    first = vi.simulate_batch(d, 0.2, 0.5, 0.4, 0.6, n_impacts=50)  # the pool started in this process
+    ctx = multiprocessing.get_context("fork")
+    with ctx.Pool(1) as pool:
+        res = pool.apply_async(_batch_times, (d,))
+        again = res.get(timeout=120)
+    assert np.array_equal(again, first["t"].values, equal_nan=True)
+
+
+def _batch_times(d):
+    return vi.simulate_batch(d, 0.2, 0.5, 0.4, 0.6, n_impacts=50)["t"].values
+
+
 def test_a_period_one_motion_converging_alternately_is_not_taken_for_period_two():
     """A period-1 motion with its eigenvalue near -1 (-0.9999) converges alternately: its lag-2 residuals (2e-10)
     fall below tol = 1e-9 long before its lag-1 residuals (2e-6), which stay below sqrt(tol): not decided yet, so

@@ -25,6 +25,7 @@ stuck on the bottom is never released, and the run ends with status ``STUCK_FORE
 """
 
 import math
+import os
 import threading
 from collections import namedtuple
 from concurrent.futures import ThreadPoolExecutor
@@ -368,6 +369,16 @@ def _pool(workers: int) -> ThreadPoolExecutor:
         if workers not in _POOLS:
             _POOLS[workers] = ThreadPoolExecutor(max_workers=workers, thread_name_prefix=f"vibroimpact-{workers}")
         return _POOLS[workers]
+
+
+def _forget_pools():
+    """In a forked child the pools' threads do not exist (a block handed to them would never run): new pools."""
+    global _POOLS_LOCK
+    _POOLS_LOCK = threading.Lock()
+    _POOLS.clear()
+
+
+os.register_at_fork(after_in_child=_forget_pools)
 
 
 def run_batch(batch, settings, pmax, out, ends):

@@ -127,8 +127,8 @@ def test_batch_runs_in_flight_are_the_simulators_runs():
 
 def test_runs_in_flight_on_one_thread_are_the_runs_on_two_and_the_simulator_s():
     """flight_window_batch on one numba thread (the runs one after the other in the calling thread, without the
-    GIL) gives every window, status, period and event count it gives on two threads (the runs in blocks taken in
-    turn) to the last bit, and each run's events those of vi.simulate from the same state in flight."""
+    GIL) gives every window, status, period and event count it gives on all the cores (one block of runs per
+    thread) to the last bit, and each run's events those of vi.simulate from the same state in flight."""
     import numba
 
     from vibroimpact.analysis.windows import empty_windows, window_limits

@@ -811,3 +811,73 @@ def test_an_error_where_the_reference_has_none_or_an_infinite_one_fails():
         df = compare(_errors(b), _errors(a), rtol=RTOL, atol=ATOL).set_index("variable")
         assert df.status["a0_line0_y"] == "fail", (a, b)
         assert "NaN or infinite errors at other places" in df.detail["a0_line0_y"], df.detail["a0_line0_y"]
+
+
+@pytest.mark.parametrize("block", [1, 15, 10**6])
+def test_each_point_s_distance_to_a_curve_is_its_distance_to_the_nearest_segment_in_blocks_of_any_size(block,
+                                                                                                     monkeypatch):
+    """_distance_ok takes points in blocks against every segment at once: whatever the block, each point's
+    distance is the smallest of its distances to the segments, written here as the nearer end or the foot of
+    the perpendicular where it falls inside, and it is within a segment's allowance exactly where that
+    distance is (the segments here are straight: no chord error; a piece's first and last segment allow their
+    own length beyond the piece's end)."""
+    import vibroimpact.outputs.figcheck as fc
+
+    monkeypatch.setattr(fc, "_BLOCK", block)
+    rng = np.random.default_rng(7)
+    piece = np.column_stack([np.linspace(0.0, 1.0, 6), np.zeros(6)])  # a straight piece: no turning, no sag
+    segs = fc._segments([piece])
+    points = rng.uniform(-0.5, 1.5, size=(53, 2))
+    atol = 0.05
+    ok, dist = fc._distance_ok(points, segs, atol)
+
+    def to_segment(p, a, b):
+        ab, ap = b - a, p - a
+        foot = (ap @ ab) / (ab @ ab)
+        if 0.0 < foot < 1.0:
+            return abs(ab[0] * ap[1] - ab[1] * ap[0]) / np.hypot(*ab)
+        return min(np.hypot(*(p - a)), np.hypot(*(p - b)))
+
+    expected = np.array([min(to_segment(p, a, b) for a, b, *_ in segs) for p in points])
+    np.testing.assert_allclose(dist, expected, rtol=1e-12, atol=1e-15)
+    # inside the x range of the piece the allowance is atol; beyond its ends one segment's length (0.2) more
+    beyond = np.maximum(np.maximum(-points[:, 0], points[:, 0] - 1.0), 0.0)
+    allowed = np.where(beyond > 0.0, atol + 0.2, atol)
+    clear = np.abs(expected - allowed) > 1e-6  # away from the allowance's edge
+    assert clear.sum() > 40
+    np.testing.assert_array_equal(ok[clear], (expected <= allowed)[clear])
+
+
+def test_each_key_s_rows_are_gathered_whatever_their_order():
+    """_per_key on rows of interleaved keys: per key the motion, mean and se of its first row, settled when all
+    its rows are, unsettled when any is, the largest sensitivity (at least 0, NaN ignored) and its finite values
+    sorted, as each key's rows picked out one by one give them."""
+    import xarray as xr
+
+    import vibroimpact.outputs.figcheck as fc
+
+    rng = np.random.default_rng(3)
+    n, n_keys = 40, 9
+    index = rng.permutation(np.arange(n) % n_keys)
+    values = rng.normal(size=n)
+    values[::7] = np.nan
+    sens = rng.uniform(-1.0, 2.0, size=n)
+    sens[::5] = np.nan
+    sens[index == 4] = np.nan  # a key with no sensitivity at all: 0
+    base = "a0_line0"
+    ds = xr.Dataset({f"{base}_wp_{k}": ("i", v) for k, v in dict(
+        motion=np.array([f"m{k}" for k in range(n)]), settled=rng.uniform(size=n) < 0.8,
+        unsettled=rng.uniform(size=n) < 0.1, mean=rng.normal(size=n), se=rng.uniform(size=n),
+        sensitivity=sens).items()})
+    got = fc._per_key(ds, base, index, n_keys, values)
+    assert len(got) == n_keys
+    for u, row in enumerate(got):
+        sel = [i for i in range(n) if index[i] == u]
+        assert row["motion"] == f"m{sel[0]}"
+        assert row["mean"] == ds[f"{base}_wp_mean"].values[sel[0]] and row["se"] == ds[f"{base}_wp_se"].values[sel[0]]
+        assert row["settled"] == all(ds[f"{base}_wp_settled"].values[sel])
+        assert row["unsettled"] == any(ds[f"{base}_wp_unsettled"].values[sel])
+        finite = [s for s in sens[sel] if not np.isnan(s)]
+        assert row["sensitivity"] == max([0.0, *finite])
+        np.testing.assert_array_equal(row["values"], sorted(v for v in values[sel] if np.isfinite(v)))
+    assert got[4]["sensitivity"] == 0.0

@@ -130,14 +130,16 @@ def _parts(ds, base):
 def _unique_keys(keys, rtol, atol):
     """Unique rows of ``keys`` (equal within the strict tolerance) in sorted order, and each row's index."""
     order = np.lexsort(keys.T[::-1])
+    rows = keys.tolist()  # Python floats: the same IEEE operations as NumPy's, without a call per row
     uniq, index = [], np.empty(len(keys), int)
-    for i in order:
-        if uniq and np.all(np.abs(keys[i] - uniq[-1]) <= atol + rtol * np.abs(uniq[-1])):
-            index[i] = len(uniq) - 1
-        else:
-            uniq.append(keys[i])
-            index[i] = len(uniq) - 1
-    return np.array(uniq).reshape(-1, keys.shape[1]), index
+    last = None
+    for i in order.tolist():
+        row = rows[i]
+        if last is None or not all(abs(x - u) <= atol + rtol * abs(u) for x, u in zip(row, last, strict=True)):
+            uniq.append(row)
+            last = row
+        index[i] = len(uniq) - 1
+    return np.array(uniq, dtype=keys.dtype).reshape(-1, keys.shape[1]), index
 
 
 #: how far (in grid steps) the region of a coexisting motion may reach into another's: a start in a
@@ -152,10 +154,10 @@ def _neighbours(uniq, reach=1):
         n = len(uniq)
         return [[j for j in range(i - reach, i + reach + 1) if j != i and 0 <= j < n] for i in range(n)]
     xs, ys = np.unique(uniq[:, 0]), np.unique(uniq[:, 1])
-    where = {(int(np.searchsorted(xs, k[0])), int(np.searchsorted(ys, k[1]))): i for i, k in enumerate(uniq)}
+    cell = list(zip(np.searchsorted(xs, uniq[:, 0]).tolist(), np.searchsorted(ys, uniq[:, 1]).tolist(), strict=True))
+    where = {c: i for i, c in enumerate(cell)}
     out = []
-    for k in uniq:
-        ix, iy = int(np.searchsorted(xs, k[0])), int(np.searchsorted(ys, k[1]))
+    for ix, iy in cell:
         cells = ([(ix - 1, iy), (ix + 1, iy), (ix, iy - 1), (ix, iy + 1)] if reach == 1 else
                  [(ix + a, iy + b) for a in range(-reach, reach + 1) for b in range(-reach, reach + 1) if a or b])
         out.append([where[c] for c in cells if c in where])
@@ -177,15 +179,24 @@ def _per_key(ds, base, index, n_keys, values):
         # longer than the cap (split by a statistic, its long run's exponent), and whether such a transient
         # ends within the cap is for rounding to decide
         unsettled = unsettled | no_period(motion)
-    out = []
-    for u in range(n_keys):
-        sel = np.flatnonzero(index == u)
-        v = values[sel]
-        out.append(dict(motion=motion[sel[0]], settled=bool(settled[sel].all()) and not labels_only,
-                        sensitivity=float(np.nanmax(np.r_[0.0, sensitivity[sel]])),
-                        unsettled=bool(unsettled[sel].any()), mean=float(mean[sel[0]]), se=float(se[sel[0]]),
-                        values=np.sort(v[np.isfinite(v)]), labels_only=labels_only))
-    return out
+    # the rows of each key in their order (a stable sort by key, cut where the key changes): per key its
+    # first row's motion, mean and se, whether all rows settled and any did not, the largest sensitivity (NaN
+    # ignored, at least 0) and the sorted finite values
+    order = np.argsort(index, kind="stable")
+    cuts = np.searchsorted(index[order], np.arange(n_keys + 1))
+    first = order[cuts[:-1]]
+    all_settled = np.logical_and.reduceat(settled[order], cuts[:-1]) if n_keys else np.zeros(0, bool)
+    any_unsettled = np.logical_or.reduceat(unsettled[order], cuts[:-1]) if n_keys else np.zeros(0, bool)
+    largest = (np.fmax(0.0, np.fmax.reduceat(sensitivity[order], cuts[:-1])) if n_keys else np.zeros(0)).tolist()
+    vals = values[order]
+    return [dict(motion=motion[first[u]], settled=bool(all_settled[u]) and not labels_only,
+                 sensitivity=largest[u], unsettled=bool(any_unsettled[u]), mean=float(mean[first[u]]),
+                 se=float(se[first[u]]), values=_sorted_finite(vals[cuts[u]:cuts[u + 1]]), labels_only=labels_only)
+            for u in range(n_keys)]
+
+
+def _sorted_finite(v):
+    return np.sort(v[np.isfinite(v)])
 
 
 def motions(new, ref, base, *, rtol, atol):
@@ -332,7 +343,9 @@ def _segments(pieces):
 
 def _distance_ok(points, segs, atol):
     """Whether each point lies within the allowance of a segment: the chord error, or the segment's
-    length beyond a piece's end (where the continuation stopped, known to one step)."""
+    length beyond a piece's end (where the continuation stopped, known to one step).  Blocks of points
+    against every segment at once (:data:`_BLOCK` pairs), the same operations on each pair as one point at
+    a time."""
     if not segs:
         return np.zeros(len(points), bool), np.full(len(points), np.inf)
     a = np.array([s[0] for s in segs])
@@ -341,17 +354,25 @@ def _distance_ok(points, segs, atol):
     sag = np.array([s[3] for s in segs])
     end = np.array([s[4] for s in segs])
     ab = b - a
+    ab2 = np.maximum(ab[:, 0] * ab[:, 0] + ab[:, 1] * ab[:, 1], 1e-300)
+    start_end, stop_end = (end == -1) | (end == 2), (end == 1) | (end == 2)
     ok = np.zeros(len(points), bool)
     dist = np.empty(len(points))
-    for k, p in enumerate(points):
-        t = np.clip(np.sum((p - a) * ab, axis=1) / np.maximum(np.sum(ab * ab, axis=1), 1e-300), 0.0, 1.0)
-        q = a + t[:, None] * ab
-        dd = np.hypot(*(p - q).T)
-        beyond = (((end == -1) | (end == 2)) & (t <= 0.0)) | (((end == 1) | (end == 2)) & (t >= 1.0))
+    step = max(1, _BLOCK // len(segs))
+    for k in range(0, len(points), step):
+        p = np.asarray(points[k:k + step], float)
+        dx, dy = p[:, 0:1] - a[:, 0], p[:, 1:2] - a[:, 1]
+        t = np.clip((dx * ab[:, 0] + dy * ab[:, 1]) / ab2, 0.0, 1.0)
+        dd = np.hypot(p[:, 0:1] - (a[:, 0] + t * ab[:, 0]), p[:, 1:2] - (a[:, 1] + t * ab[:, 1]))
+        beyond = (start_end & (t <= 0.0)) | (stop_end & (t >= 1.0))
         allow = sag + atol + np.where(beyond, L, 0.0)
-        ok[k] = bool(np.any(dd <= allow))
-        dist[k] = float(dd.min())
+        ok[k:k + step] = np.any(dd <= allow, axis=1)
+        dist[k:k + step] = dd.min(axis=1)
     return ok, dist
+
+
+#: point-segment pairs :func:`_distance_ok` takes at once (a few MB of temporaries)
+_BLOCK = 1 << 18
 
 
 def curve(new, ref, base, *, rtol, atol):

@@ -3,6 +3,7 @@
 import math
 
 import numpy as np
+import pytest
 
 import vibroimpact as vi
 from vibroimpact.benchmarks.bench import report, simulator_benchmark
@@ -49,3 +50,25 @@ def test_the_trigonometric_floor_replays_each_sine_s_angle_of_the_event_finder()
         for a in x:
             acc = math.sin(a + acc * 0.0) + math.cos(a + acc * 0.0)
     assert _sincos_chain(x, 2) == acc
+
+
+def test_the_finder_s_replay_finds_each_recorded_impact_to_the_last_bit():
+    """The kernel profile's event finder alone (rule bench_simulator, `finder_us_per_impact`) replays the run's
+    own flights: from each recorded start it finds the next recorded impact, the time added as the event loop adds
+    it equal to the recorded time to the last bit, on both scenes of the kernel table; a run that sticks is
+    refused (its flights do not go from impact to impact)."""
+    from vibroimpact import Params, simulate
+    from vibroimpact.benchmarks.bench import KERNEL_SCENES, _finder_replay, finder_flights
+    from vibroimpact.dynamics.device import PAPER
+
+    for beta, d, phi, v0 in KERNEL_SCENES.values():
+        p = Params(d=d, gbar=PAPER.gbar(beta), r=PAPER.r)
+        flights = finder_flights(p, phi, v0, 3000)
+        run = simulate(p, phi, v0, n_impacts=3001)
+        tau = np.empty(3000)
+        _finder_replay(*flights, p.d, p.gbar, tau)
+        t = run.t.values
+        np.testing.assert_array_equal(t[:-1] + tau, t[1:])
+        np.testing.assert_array_equal(flights[0], run.phase.values[:-1])
+    with pytest.raises(ValueError, match="impacts only"):
+        finder_flights(Params(d=0.3, gbar=0.9, r=0.5), 0.3, 0.5, 200)

@@ -141,6 +141,7 @@ def _bench_datasets():
                 "us_per_impact",
                 "trig_per_impact",
                 "trig_floor_us_per_impact",
+                "finder_us_per_impact",
                 "points_per_impact",
                 "heyoka_stepping_us_per_impact",
             )

@@ -391,6 +391,43 @@ def _trig_floor_timer(sines, reps: int):
     return partial(_seconds, partial(_sincos_chain, x, reps))
 
 
+@numba.njit(cache=True, error_model="numpy")
+def _finder_replay(theta, c, s, z0, u, d, gbar, out_tau):
+    """The event finder alone (:func:`~vibroimpact.dynamics.events.flight_impact`) over recorded flights: the
+    start phase ``theta`` with its cosine ``c`` and sine ``s``, position ``z0`` and velocity ``u`` of each, one
+    after the other, each flight time into ``out_tau``.  What the event loop adds (the impact law, the
+    chattering test, the recording and its bookkeeping) is left out: the finder's own cost per impact."""
+    alpha = math.acos(-gbar) if gbar < 1.0 else 0.0
+    for j in range(theta.shape[0]):
+        out_tau[j] = events.flight_impact(theta[j], c[j], s[j], alpha, z0[j], u[j], d, gbar, math.inf)[0]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _cos_sin(theta):
+    """Each phase's cosine and sine, as the event loop takes them (once per flight)."""
+    c, s = np.empty_like(theta), np.empty_like(theta)
+    for j in range(theta.shape[0]):
+        c[j], s[j] = math.cos(theta[j]), math.sin(theta[j])
+    return c, s
+
+
+def finder_flights(p: Params, phi: float, v0: float, n_impacts: int):
+    """The flights of a run of impacts only, as :func:`_finder_replay` takes them: ``(theta, c, s, z0, u)`` of
+    each flight from one impact to the next."""
+    run = simulate(p, phi, v0, n_impacts=n_impacts + 1)
+    if not (run.kind.values == K.IMPACT).all():
+        raise ValueError("the finder's replay takes a run of impacts only (no chattering, sticking or grazing)")
+    theta, z0, u = (np.ascontiguousarray(run[k].values[:-1]) for k in ("phase", "z", "v_plus"))
+    return (theta, *_cos_sin(theta), z0, u)
+
+
+def _finder_timer(flights, d: float, gbar: float):
+    """A call timing :func:`_finder_replay` over ``flights`` (:func:`finder_flights`; seconds)."""
+    out = np.empty(flights[0].shape[0])
+    _finder_replay(*(f[:10] for f in flights), d, gbar, out[:10])
+    return partial(_seconds, partial(_finder_replay, *flights, d, gbar, out))
+
+
 #: timed runs per measurement of the kernel benchmark; the fastest counts (timeit's convention: on a
 #: shared machine the noise only ever adds time), for our kernel and heyoka's alike
 REPEATS = 9
@@ -452,6 +489,7 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: i
         simulate_batch([p.d] * m, p.gbar, 0.5, phis, v0, n_impacts=10)
         timers[name, "simulate"] = partial(_seconds, partial(simulate, p, phi, v0, n_impacts=n_impacts))
         timers[name, "trig"] = _trig_floor_timer(sines[name], max(1, n_impacts // counts[name]["flights"]))
+        timers[name, "finder"] = _finder_timer(finder_flights(p, phi, v0, n_impacts), p.d, p.gbar)
         for threads in (1, cores):
             timers[name, threads] = partial(_seconds, partial(simulate_batch, [p.d] * m, p.gbar, 0.5, phis, v0,
                                                               n_impacts=n_impacts // m), threads=threads)
@@ -460,6 +498,7 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: i
     us = [best[n, "simulate"] / n_impacts * 1e6 for n in names]
     trig_us = [best[n, "trig"] / (max(1, n_impacts // counts[n]["flights"]) * counts[n]["flights"]) * 1e6
                for n in names]
+    finder_us = [best[n, "finder"] / n_impacts * 1e6 for n in names]
     rate1 = [m * (n_impacts // m) / best[n, 1] for n in names]
     rateall = [m * (n_impacts // m) / best[n, cores] for n in names]
     hy = {n: hy_result[n](best[n, "heyoka"]) for n in hy_result}
@@ -475,6 +514,9 @@ def kernel_profile(n_impacts: int = 1_000_000, n_counted: int = 400, n_heyoka: i
             "trig_floor_us_per_impact": ("scene", trig_us, dict(
                 units="us", long_name="the sines and cosines of an impact alone, each angle waiting for the last "
                 "(the angles the event finder takes, replayed compiled): a floor under the kernel's cost")),
+            "finder_us_per_impact": ("scene", finder_us, dict(
+                units="us", long_name="the event finder alone, replayed compiled over the run's own flights (their "
+                "starts, and the sines and cosines of their phases, given): the kernel's cost less the event loop's")),
             "points_per_impact": (*per("points"), dict(units="1", long_name="points evaluated per impact")),
             "roots_per_impact": (*per("roots"), dict(units="1", long_name="root searches per impact")),
             "heyoka_stepping_us_per_impact": ("scene", hy_us, dict(

@@ -119,6 +119,10 @@ def test_matched_accuracy_takes_the_cheapest_setting_that_reaches_the_target():
     assert float(h.ratio_to_exact.sel(scene="a")) == 20.0
     assert not bool(ma.sel(family="rk4").reached.any())
     assert bool(ma.sel(family="exact").reached.all())
+    # the cheapest setting is the timings' choice: a comparison of two runs (tools/same_results.py) passes over
+    # what it decides, and over nothing else
+    timed = {v for v in ma.data_vars if ma[v].attrs.get("provenance") == "timing"}
+    assert timed == {"setting", "err_t", "ratio_to_exact"}
 
 
 def test_absent_peers_are_recorded_not_dropped_silently(monkeypatch):

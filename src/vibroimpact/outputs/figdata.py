@@ -15,7 +15,6 @@ import weakref
 import numpy as np
 import pandas as pd
 import xarray as xr
-from matplotlib.collections import QuadMesh
 
 from . import figcheck as fc
 from .checks import IMAGE_ROW
@@ -69,6 +68,8 @@ def figure_data(fig, attrs: dict | None = None) -> xr.Dataset:
     ``units`` (from the axis label), and ``label`` (the legend entry, or a text's string); lines
     also their ``marker`` and ``linestyle``.
     """
+    from matplotlib.collections import QuadMesh  # here: a figure's check (compare) draws nothing, and loads no matplotlib
+
     data = {}
     for i, ax in enumerate(fig.get_axes()):
         title = " ".join(t for t in (ax.get_title("left"), ax.get_title(), ax.get_title("right")) if t)

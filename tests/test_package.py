@@ -143,9 +143,12 @@ LAZY_IMPORTS = {
     "tqdm": "a progress bar, only when one is shown",
     "scipy": "its solvers and statistics where they are called (test_a_figure_job_s_imports_load_no_scipy)",
 }
-#: the one function that imports a required package late, and why
+#: the functions that import a required package late, and why
 LATE_IMPORTERS = {("_numba_cache.py", "_locator_class"): "numba's cache locator, built when numba asks for it: the "
-                                                          "module sets numba's environment before numba is imported"}
+                                                          "module sets numba's environment before numba is imported",
+                  ("figdata.py", "figure_data"): "matplotlib where a figure's data are taken: a figure's check job (24 "
+                                                 "in `check`) compares saved arrays and loads no matplotlib (0.13 s each; "
+                                                 "test_reading_the_workflow_loads_neither_numba_nor_xarray)"}
 
 
 def test_no_import_hides_in_a_function():

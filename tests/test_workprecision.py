@@ -2,13 +2,14 @@
 Costs are reported, never asserted."""
 
 import math
+import re
 
 import numpy as np
 import pytest
 
 import vibroimpact as vi
 from vibroimpact.benchmarks import methods as M
-from vibroimpact.benchmarks.workprecision import failure_map, work_precision
+from vibroimpact.benchmarks.workprecision import compiled_last, failure_map, work_precision
 from vibroimpact.dynamics.reference import trajectory
 from vibroimpact.outputs.tables import workflow_cost
 
@@ -52,6 +53,30 @@ def test_failure_map_exact_is_always_right_and_event_detection_misses_short_cros
     assert str(ivp.sel(case="chattering into sticking").outcome.values) in ("stalled", "crashed", "wrong sequence")
     # the exact simulator is rated on its impacts against the bounce-by-bounce reference, not trusted
     assert "follows the reference's" in str(fm.sel(solver="exact (numba)", case="chattering into sticking").detail.values)
+
+
+def test_each_failure_map_row_is_its_method_s_alone_whatever_the_order_the_methods_run_in():
+    """The map runs the compiled families last (:func:`compiled_last`); every row must still be the outcome of
+    its own method: the same as in a map of that method alone (the seconds a run took aside)."""
+    kw = dict(epsilons=(1e-2, 1e-10), ivp_tols=(1e-10,), chaos_impacts=30, chatter_t_end=1.0, max_seconds=1.0,
+              chatter_max_evals=2000, chaos_max_evals=5000)
+    both = failure_map(ivp_methods=("DOP853",), rk4_steps=(1e-2,), **kw)
+    assert list(both.family.values) == ["exact", "ivp-DOP853", "rk4"]  # the ladder's order, not the run's
+    alone = [failure_map(ivp_methods=("DOP853",), rk4_steps=(), **kw),
+             failure_map(ivp_methods=(), rk4_steps=(1e-2,), **kw)]
+    untimed = np.vectorize(lambda text: re.sub(r"[0-9.e+-]+ s\b", "_ s", text))
+    for one in alone:
+        for solver in one.solver.values:
+            row, own = both.sel(solver=solver), one.sel(solver=solver)
+            assert list(row.outcome.values) == list(own.outcome.values), solver
+            assert list(row.sensitive.values) == list(own.sensitive.values), solver
+            assert list(untimed(row.detail.values)) == list(untimed(own.detail.values)), solver
+    assert len(set(both.outcome.sel(case="B hit by 1e-10").values)) > 1  # rows that differ, so a swap shows
+
+
+def test_compiled_last_keeps_each_group_s_order():
+    ladder = [("exact", 0, "a"), ("ivp-RK45", 1, "b"), ("rk4", 2, "c"), ("ivp-Radau", 3, "d"), ("heyoka", 4, "e")]
+    assert compiled_last(ladder) == [1, 3, 4, 0, 2]
 
 
 def test_a_chaotic_run_cut_by_its_budget_while_right_is_stalled_not_wrong():

@@ -441,6 +441,11 @@ def design_trends_markdown(df: pd.DataFrame) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _took(run: xr.Dataset) -> str:
+    """A failure-map run's wall-clock time, as its table cell ends it."""
+    return f", {float(run.seconds):.3g} s"
+
+
 def failure_markdown(fm: xr.Dataset) -> str:
     """Counts of outcomes per method, and what happened in the chattering and chaotic cases."""
 
@@ -453,8 +458,8 @@ def failure_markdown(fm: xr.Dataset) -> str:
         counts = " | ".join(str(int((g == o).sum())) for o in OUTCOMES)
         chat = row.sel(case="chattering into sticking")
         chaos = row.isel(case=-1)
-        lines.append(f"| {m} | {counts} | {str(chat.outcome.values)}: {str(chat.detail.values)} | "
-                     f"{str(chaos.detail.values)} |")
+        lines.append(f"| {m} | {counts} | {str(chat.outcome.values)}: {str(chat.detail.values)}{_took(chat)} | "
+                     f"{str(chaos.detail.values)}{_took(chaos)} |")
     lines.append("")
     lines.append(f"Near-grazing counts are over {len(grazing)} flights: both walls, extremum eps inside (no "
                  "impact) or past the wall (an impact), eps = " + ", ".join(sorted({str(c).split(' by ')[1] for c in grazing},

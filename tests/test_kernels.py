@@ -4,6 +4,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from conftest import TOL_T
 
 import vibroimpact as vi
@@ -54,6 +56,32 @@ def test_period_test_separates_motions_that_share_their_phases():
     short = np.zeros(3, np.int64)
     found = [K.period_update(i, K.Window(t, wall, vm, phase, kind), short, tol) for i in range(n)]
     assert found[5] == 2
+
+
+@settings(max_examples=200, deadline=None, derandomize=True)
+@given(pmax=st.integers(1, 6), seed=st.integers(0, 2**32 - 1), tol=st.sampled_from([1e-9, 1e-3]))
+def test_the_event_loop_s_shortcut_of_the_period_test_leaves_the_counters_as_the_test_does(pmax, seed, tol):
+    """The event loop calls :func:`period_update` only where :func:`no_lag_matches` is False, which otherwise does
+    the update's work itself: over events that repeat often (walls, kinds, speeds and phases from a few values,
+    speeds moved by less or more than ``tol``, NaN speeds, times near whole forcing periods), where the shortcut is
+    taken the update finds no period and leaves the counters exactly as the shortcut does; where it is not, the
+    shortcut leaves them untouched."""
+    rng = np.random.default_rng(seed)
+    n = 40
+    wall = rng.choice(np.array([-1, 1], np.int8), n)
+    kind = rng.choice(np.array([0, 0, 0, 2], np.int8), n)
+    vm = rng.choice([0.5, 0.7, 0.0, math.nan], n) + rng.choice([0.0, 0.0, 0.3, 0.7, 1.5, 3.0], n) * tol
+    phase = rng.choice([1.0, 2.0], n)
+    t = 2.0 * np.cumsum(rng.integers(1, 3, n)) + rng.choice([0.0, 0.3 * tol], n)
+    events = K.Window(t, wall, vm, phase, kind)
+    counts = np.full(pmax + 1, 7, np.int64)  # counters of lags not yet looked at keep their values
+    for i in range(n):
+        short = counts.copy()
+        found = K.period_update(i, events, counts, tol)
+        if K.no_lag_matches(i, vm, short, tol):
+            assert found == 0 and np.array_equal(short, counts), (i, found, short, counts)
+        else:
+            assert K.velocity_repeats(i, vm, pmax, tol)
 
 
 def test_a_batch_on_threads_runs_in_a_forked_child_too():

@@ -200,6 +200,9 @@ def cold_default_target(tree: Path, where: Path, warm: bool = False) -> dict:
 
 def main(baseline: str = "HEAD", rounds: int = 1, keep: str | None = None, warm: bool = False) -> pd.DataFrame:
     sides = {f"baseline ({baseline})": lambda d: baseline_copy(baseline, d), "this tree": scratch_copy}
+    taken = [str(Path(keep) / name.split()[0]) for name in sides if keep and (Path(keep) / name.split()[0]).exists()]
+    if taken:  # refused before the runs, not after the first one's minutes
+        raise SystemExit(f"--keep {keep}: {', '.join(taken)} exists; allowed: a directory without baseline/ and this/")
     runs = {name: [] for name in sides}
     with tempfile.TemporaryDirectory() as tmp:
         for k in range(rounds):

@@ -72,6 +72,13 @@ def test_a_warm_run_of_other_jobs_is_refused():
         bench.bounds(ROW | {"benchmarked jobs (warm cache)": 39})
 
 
+def test_a_keep_directory_holding_a_side_s_results_is_refused_before_any_run(tmp_path, monkeypatch):
+    (tmp_path / "this").mkdir()
+    monkeypatch.setattr(bench, "cold_default_target", lambda *a: pytest.fail("ran before refusing"))
+    with pytest.raises(SystemExit, match=f"--keep {tmp_path}: {tmp_path / 'this'} exists"):
+        bench.main("HEAD", 1, str(tmp_path))
+
+
 def _table(text, first_header):
     """The header and the rows of the Markdown table of ``text`` whose header starts with ``first_header``."""
     lines = text[text.index(first_header):].splitlines()

@@ -126,6 +126,8 @@ def _detect(events, tol, pmax):
     period; ``(-1, 0)`` if none."""
     counts = np.zeros(pmax + 1, dtype=np.int64)
     for i in range(events.t.shape[0]):
+        if K.no_lag_matches(i, events.v_minus, counts, tol):  # the update's work where no lag can match
+            continue
         lag = K.period_update(i, events, counts, tol)
         if lag > 0:
             return i, lag

@@ -165,6 +165,9 @@ def _window(d, gbar, r, phi, v0, *, max_events, pmax, cap, window, tol=1e-9):
 
 @pytest.mark.parametrize("d, gbar, pmax, expected", [
     (0.3, 0.7, 8, "n_events"),       # chattering into sticking and release, period longer than pmax
+    # the same where the acceleration at the bottom's release rounds to just into the wall (cos(2 pi - alpha) < -gbar
+    # by an ulp): a run resumed after a release must not take the ball at rest there for one after an impact
+    (0.3, 0.608, 8, "n_events"),
     (0.3, 0.5, 8, "periodic"),       # 4 events per period, found after ~50 events
     (0.3, 0.5, 4, "periodic"),       # the same with pmax = the period: the last lag is looked at
     (0.235, 0.21216, 8, "n_events"),  # chaotic (beta = pi/3)
@@ -187,9 +190,9 @@ def test_sliding_window_run_equals_one_long_run(d, gbar, pmax, expected):
     np.testing.assert_array_equal(win[4][:n], tail["kind"].values)
     np.testing.assert_allclose(win[2][:n], tail["v_minus"].values, rtol=0, atol=TOL_T)
     np.testing.assert_allclose(win[3][:n], tail["phase"].values, rtol=0, atol=TOL_T)
-    if gbar == 0.7:
+    if gbar in (0.7, 0.608):
         kinds = ref["kind"].values
-        assert (kinds == K.STICK).sum() > 50 and (kinds == K.RELEASE).sum() > 50
+        assert (kinds == K.STICK).sum() > 40 and (kinds == K.RELEASE).sum() > 40
 
 
 def test_batch_runs_equal_single_runs_event_for_event():

@@ -195,3 +195,21 @@ def test_the_benchmark_counts_every_event_each_kernel_call_simulates():
         ref = vi.sweep("s", S_VALUES[:3], beta=math.pi / 3, phi=0.42, v0=0.87, long_impacts=0)
     assert ref.identical(sw) and count[0] == int(sw.n_events.sum())
     assert vi.simulate is not None and K.run_window.__class__.__name__ == "CPUDispatcher"  # restored
+
+
+def test_a_kernel_compiled_while_the_benchmark_counts_events_still_compiles():
+    """The counter leaves every compiled function in place: a kernel first compiled inside its block (on an empty
+    numba cache, the sweep's batch of long runs) calls the compiled event loop, not a counting wrapper."""
+    import numba
+
+    from vibroimpact.benchmarks.bench import _event_counter
+
+    @numba.njit
+    def first_event_time(model, start, settings, counts, out):
+        return K.advance(model, start, 0, settings, counts, out)[0]
+
+    bufs = K.EventBuffers(*(np.zeros(8, dt) for dt in (float, np.int8, float, float, float, np.int8, float)))
+    with _event_counter():
+        n = first_event_time(K.Model(0.3, 0.5, 0.5), K.Start(0.0, 0.3, 0.15, 0.5, K.IMPACT, 1),
+                             K.Settings(math.inf, K.V_CHATTER, False, 1e-9), np.zeros(2, np.int64), bufs)
+    assert n == 8 and bufs.kind[0] == K.IMPACT

@@ -34,7 +34,7 @@ from ..analysis.sweeps import sweep
 from ..analysis.transitions import locate_transitions
 from ..analysis.windows import empty_windows, window_limits
 from ..datasets import annotate
-from ..dynamics import events, flight
+from ..dynamics import events, flight, runs
 from ..dynamics import kernels as K
 from ..dynamics.device import PAPER
 from ..dynamics.events import next_impact
@@ -281,9 +281,13 @@ def _batch_rate(sw, n_events: int = 500) -> float:
 @contextmanager
 def _event_counter():
     """Count the events of every kernel call made from Python inside the block (the window runs and chains,
-    the batches, :func:`~vibroimpact.simulate`'s event loop), on any thread: yields a one-element list."""
+    the batches, :func:`~vibroimpact.simulate`'s event loop), on any thread: yields a one-element list.  The
+    event loop is counted where Python calls it (``runs._event_loop``), not by replacing the compiled
+    ``advance``, which the other kernels call: one of them compiled inside the block would find a Python
+    function there and fail to compile."""
     count, lock = [0], threading.Lock()
-    saved = {name: getattr(K, name) for name in ("run_window", "chain_windows", "run_batch", "advance")}
+    saved = {name: getattr(K, name) for name in ("run_window", "chain_windows", "run_batch")}
+    saved_loop = runs._event_loop
 
     def add(n):
         with lock:
@@ -302,19 +306,20 @@ def _event_counter():
         saved["run_batch"](batch, settings, pmax, out, ends)
         add(ends.n.sum())
 
-    def advance(model, start, i0, settings, counts, out):
-        res = saved["advance"](model, start, i0, settings, counts, out)
-        add(res[0] - i0)
+    def event_loop(*a):
+        res = saved_loop(*a)  # (buffers, events recorded from the first, status, period)
+        add(res[1])
         return res
 
-    for name, f in (("run_window", run_window), ("chain_windows", chain_windows), ("run_batch", run_batch),
-                    ("advance", advance)):
+    for name, f in (("run_window", run_window), ("chain_windows", chain_windows), ("run_batch", run_batch)):
         setattr(K, name, f)
+    runs._event_loop = event_loop
     try:
         yield count
     finally:
         for name, f in saved.items():
             setattr(K, name, f)
+        runs._event_loop = saved_loop
 
 
 #: the two scenes of the kernel's speed target: (beta, d, phi, v0)

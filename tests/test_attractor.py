@@ -3,6 +3,7 @@
 import math
 
 import numpy as np
+import xarray as xr
 import pytest
 from conftest import CAPTIONS, TOL_T, flight_state, gbar_of
 
@@ -161,3 +162,17 @@ def test_batch_start_in_flight_needs_both_time_and_position():
         vi.attractor_batch(0.2, 0.1, 0.5, phi=1.0, v0=0.1, Z0=0.0)
     with pytest.raises(ValueError, match=r"\|Z0\| <= d/2"):
         vi.attractor_batch(0.2, 0.1, 0.5, phi=1.0, v0=0.1, t0=0.0, Z0=0.2)
+
+
+def test_the_longest_period_identified_by_default_is_64_events():
+    """A motion that repeats every 65 events (and over no shorter stretch) is no period within the default
+    ``max_period_events = 64``; allowed 65 events, it is one of 65 events (here: 65 bottom impacts in 26
+    forcing periods, the speeds all different)."""
+    n = 5 * 65
+    t = np.arange(n) * (52.0 / 65)  # 65 events every 52 time units: 26 forcing periods
+    ds = xr.Dataset({"t": ("impact", t), "wall": ("impact", np.full(n, -1, np.int8)),
+                     "v_minus": ("impact", 0.5 + 0.01 * (np.arange(n) % 65)),
+                     "phase": ("impact", (np.pi * t) % (2 * np.pi)), "kind": ("impact", np.zeros(n, np.int8))})
+    assert not vi.identify_attractor(ds).periodic
+    att = vi.identify_attractor(ds, max_period_events=65)
+    assert att.periodic and att.events == 65 and att.period == 26

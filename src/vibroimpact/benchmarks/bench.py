@@ -286,8 +286,8 @@ def _event_counter():
     ``advance``, which the other kernels call: one of them compiled inside the block would find a Python
     function there and fail to compile."""
     count, lock = [0], threading.Lock()
-    saved = {name: getattr(K, name) for name in ("run_window", "chain_windows", "run_batch")}
-    saved_loop = runs._event_loop
+    where = {"run_window": K, "chain_windows": K, "run_batch": K, "_event_loop": runs}  # what is counted, and where
+    saved = {name: getattr(owner, name) for name, owner in where.items()}
 
     def add(n):
         with lock:
@@ -307,19 +307,19 @@ def _event_counter():
         add(ends.n.sum())
 
     def event_loop(*a):
-        res = saved_loop(*a)  # (buffers, events recorded from the first, status, period)
+        res = saved["_event_loop"](*a)  # (buffers, events recorded from the first, status, period)
         add(res[1])
         return res
 
-    for name, f in (("run_window", run_window), ("chain_windows", chain_windows), ("run_batch", run_batch)):
-        setattr(K, name, f)
-    runs._event_loop = event_loop
+    counting = {"run_window": run_window, "chain_windows": chain_windows, "run_batch": run_batch,
+                "_event_loop": event_loop}
+    for name, owner in where.items():
+        setattr(owner, name, counting[name])
     try:
         yield count
     finally:
-        for name, f in saved.items():
-            setattr(K, name, f)
-        runs._event_loop = saved_loop
+        for name, owner in where.items():
+            setattr(owner, name, saved[name])
 
 
 #: the two scenes of the kernel's speed target: (beta, d, phi, v0)

@@ -47,6 +47,14 @@ except ConfigError as refusal:
 report: "workflow/report/workflow.rst"
 
 
+# each job imports the package afresh: its bytecode written once, before the first job, spares every job compiling
+# the modules it imports where Python writes none itself (PYTHONDONTWRITEBYTECODE; vibroimpact._bytecode)
+onstart:
+    from vibroimpact._bytecode import write_bytecode
+
+    write_bytecode()
+
+
 include: "workflow/rules/common.smk"
 
 

@@ -106,6 +106,9 @@ def test_a_redrawn_png_showing_the_same_image_keeps_its_committed_bytes(tmp_path
     assert (tmp_path / "h.png").read_bytes() != committed and same_image(committed, tmp_path / "h.png")
     plots.save(_figure(shift=1e-6), tmp_path / "f", formats=("png",))
     assert (tmp_path / "f.png").read_bytes() == committed
+    # drawn again as committed: the same bytes, kept
+    plots.save(_figure(), tmp_path / "f", formats=("png",))
+    assert (tmp_path / "f.png").read_bytes() == committed and keep_committed_png(tmp_path / "f.png")
     plots.save(_figure(shift=0.2), tmp_path / "f", formats=("png",))
     assert (tmp_path / "f.png").read_bytes() != committed and not same_image(committed, tmp_path / "f.png")
     # a file git does not track is written as drawn

@@ -84,6 +84,58 @@ def test_the_event_loop_s_shortcut_of_the_period_test_leaves_the_counters_as_the
             assert K.velocity_repeats(i, vm, pmax, tol)
 
 
+def _period_update_lag_by_lag(i, events, counts, tol):
+    """The period test as :func:`~vibroimpact.dynamics.kernels.period_update` states it, one lag after the other in
+    plain Python: each lag's wall, kind, speed, phase and time compared, its counter counted up or reset, the
+    smallest lag with two full cycles (and no shorter period still converging) returned."""
+    t, wall, vm, phase, kind = events
+    found = 0
+    for p in range(1, min(len(counts) - 1, i) + 1):
+        j = i - p
+        same_speed = abs(vm[i] - vm[j]) <= tol or (math.isnan(vm[i]) and math.isnan(vm[j]))
+        dphase = abs(phase[i] - phase[j]) % (2 * math.pi)
+        lag = t[i] - t[j]
+        k = math.floor(lag / 2.0 + 0.5)
+        if (wall[i] == wall[j] and kind[i] == kind[j] and same_speed and min(dphase, 2 * math.pi - dphase) <= tol
+                and k >= 1 and abs(lag - 2.0 * k) <= tol * max(1.0, lag)):
+            counts[p] += 1
+            if found == 0 and counts[p] >= 2 * p:
+                if K._no_shorter_period(i, p, vm, phase, tol):
+                    found = p
+                else:
+                    counts[p] = 0
+        else:
+            counts[p] = 0
+    return found
+
+
+@settings(max_examples=200, deadline=None, derandomize=True)
+@given(pmax=st.one_of(st.integers(1, 8), st.sampled_from([63, 64, 65, 130])), q=st.integers(1, 5),
+       seed=st.integers(0, 2**32 - 1), tol=st.sampled_from([1e-9, 1e-3]))
+def test_the_period_test_counts_each_lag_as_one_lag_at_a_time_does(pmax, q, seed, tol):
+    """:func:`~vibroimpact.dynamics.kernels.period_update` against the test as stated, written one lag at a time in
+    plain Python: the same period found and the same counters after every event, over motions repeating a pattern
+    of ``q`` events (walls, kinds, speeds among them NaN, phases near 0 = 2 pi, time lags near whole forcing periods,
+    zero among them), each event moved by less or more than ``tol`` now and then, and some converging alternately (a
+    shorter period not yet decided)."""
+    rng = np.random.default_rng(seed)
+    n = 60 if pmax < 60 else 2 * pmax + 20  # the longest lags (the test takes them 64 at a time) counted up as well
+    pick = lambda values: np.resize(rng.choice(values, q), n)  # noqa: E731
+    wall, kind = pick(np.array([-1, 1], np.int8)), pick(np.array([0, 0, 2], np.int8))
+    vm = pick(np.array([0.5, 0.7, 0.0, math.nan])) + rng.choice([0.0] * 8 + [0.3, 1.5, 3.0], n) * tol
+    vm += rng.choice([0.0, 1.0]) * 3.0 * tol * (-0.99) ** np.arange(n)  # alternating: lag-2q first
+    phase = pick(np.array([1.0, 1e-3 * tol, 2 * math.pi - 1e-3 * tol])) + rng.choice([0.0] * 8 + [2.0], n) * tol
+    t = 2.0 * np.cumsum(pick(np.array([0, 1, 2]))) + rng.choice([0.0] * 8 + [0.3, 3.0], n) * tol
+    events = K.Window(t, wall, vm, phase, kind)
+    counts = np.full(pmax + 1, 7, np.int64)  # counters of lags not yet looked at keep their values
+    expected = counts.copy()
+    found = []
+    for i in range(n):
+        want = _period_update_lag_by_lag(i, events, expected, tol)
+        found.append(K.period_update(i, events, counts, tol))
+        assert found[-1] == want and np.array_equal(counts, expected), (i, found[-1], want, counts, expected)
+
+
 def test_a_batch_on_threads_runs_in_a_forked_child_too():
     """A process forked after a batch ran on the threads' pool (multiprocessing's default start on Linux) runs
     batches there too, the same runs: the child starts pools of its own (the parent's threads do not exist in

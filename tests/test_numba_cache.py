@@ -68,3 +68,41 @@ def test_a_function_outside_the_package_is_cached_by_numba_s_own_locator(tmp_pat
     (src / "__pycache__").mkdir(exist_ok=True)
     out = run(code, src=src, home=home, extra={"NUMBA_CACHE_LOCATOR_CLASSES": "InTreeCacheLocator"})
     assert any(f.suffix == ".nbi" for f in (src / "__pycache__").iterdir()), out
+
+
+def test_the_package_s_bytecode_is_written_once_and_again_only_for_a_changed_module(tmp_path):
+    """vibroimpact._bytecode.write_bytecode, which the workflow calls before its first job: bytecode for every module
+    under the package, Python's own (imported without compiling again), left alone while the source is unchanged,
+    rewritten for a changed one; where it cannot be written, False and no error."""
+    import importlib.util
+    from pathlib import Path
+
+    from vibroimpact._bytecode import write_bytecode
+
+    pkg = tmp_path / "pkg"
+    (pkg / "sub").mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
+    (pkg / "a.py").write_text("X = 1\n")
+    (pkg / "sub" / "__init__.py").write_text("")
+    (pkg / "sub" / "b.py").write_text("Y = 2\n")
+    modules = sorted(pkg.rglob("*.py"))
+    assert write_bytecode(pkg)
+    pyc = {m: Path(importlib.util.cache_from_source(str(m))) for m in modules}
+    assert all(p.is_file() for p in pyc.values())
+    stamps = {m: p.stat().st_mtime_ns for m, p in pyc.items()}
+    assert write_bytecode(pkg) and {m: p.stat().st_mtime_ns for m, p in pyc.items()} == stamps
+    # imported by an interpreter that writes no bytecode: the value of the source, from the bytecode as written
+    (pkg / "a.py").write_text("X = 10\n")
+    os.utime(pkg / "a.py", ns=(stamps[pkg / "a.py"] + 2_000_000_000,) * 2)
+    assert write_bytecode(pkg)
+    assert pyc[pkg / "a.py"].stat().st_mtime_ns != stamps[pkg / "a.py"]
+    assert all(pyc[m].stat().st_mtime_ns == stamps[m] for m in modules if m.name != "a.py")
+    out = subprocess.run([sys.executable, "-B", "-v", "-c", "import pkg.a, pkg.sub.b; print(pkg.a.X + pkg.sub.b.Y)"],
+                         cwd=tmp_path, capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "12"
+    assert all(f"matches {m}" in out.stderr for m in (pkg / "a.py", pkg / "sub" / "b.py")), out.stderr[-2000:]
+    # nowhere to write (a file where its __pycache__ would go): False, no exception
+    (pkg / "c.py").write_text("Z = 3\n")
+    shutil.rmtree(pkg / "__pycache__")
+    (pkg / "__pycache__").write_text("")
+    assert write_bytecode(pkg) is False

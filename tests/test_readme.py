@@ -4,6 +4,7 @@ Every shell block of the documentation carries a marker naming the test that run
 the tests here read the command from README.md itself, so what is tested is what a user is told.
 """
 
+import importlib.util
 import os
 import re
 import shutil
@@ -64,6 +65,11 @@ def test_the_first_command_sets_up_and_runs_the_default_target(readme_clone):
     have = {norm(k): v for k, v in have.items()}
     for name in ("numpy", "scipy", "numba", "llvmlite", "matplotlib", "xarray", "snakemake", "netcdf4", "pandas"):
         assert have[name] == pins[name], (name, have[name], pins[name])
+    # the package's bytecode written before the first job (Snakefile's onstart), for every module, those no job
+    # imports too, whether or not Python writes bytecode itself
+    missing = [p for p in (clone / "src" / "vibroimpact").rglob("*.py")
+               if not Path(importlib.util.cache_from_source(str(p))).is_file()]
+    assert not missing, missing
     # a figure that did not change is not rewritten: every figure whose drawn arrays are the committed
     # reference's to rounding (the check's strict tolerance, every array) keeps its committed PNG, which git sees
     # unchanged; under the other libm those whose arrays ride on chaotic runs, statistics or timings move, and

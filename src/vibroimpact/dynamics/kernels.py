@@ -33,6 +33,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numba
 import numpy as np
 from numba import njit
+from numba.cpython.unsafe.numbers import trailing_zeros  # LLVM's cttz, as numba's own math.gcd uses it
 
 from . import impact as law
 from .events import flight_impact
@@ -95,35 +96,50 @@ def period_update(i, events, counts, tol):
 
     A match needs the same wall and kind, ``|Zdot-|`` and phase within ``tol``, and a time lag
     within ``tol`` of a positive even integer (a whole number of forcing periods).
+
+    The lags are taken 64 at a time: those whose speed repeats become the bits of a word, the others' counters are
+    reset, and only the lags of the set bits are compared further, in increasing order (a motion converging slowly
+    repeats its speeds at a few lags for thousands of events before its period is decided; skipping the other lags
+    without a branch each makes such an event about a third cheaper).  The counters and the lag returned are those
+    of comparing every lag in turn.
     """
     t, wall, vm, phase, kind = events
     pmax = counts.shape[0] - 1
+    top = min(pmax, i)
+    v = vm[i]
+    numeric = not math.isnan(v)
     found = 0
-    for p in range(1, pmax + 1):
-        j = i - p
-        if j < 0:
-            break
-        ok = wall[i] == wall[j] and kind[i] == kind[j]
-        if ok:
-            dv = abs(vm[i] - vm[j])
-            ok = dv <= tol or (math.isnan(vm[i]) and math.isnan(vm[j]))
-        if ok:
-            ok = _phase_distance(phase[i], phase[j]) <= tol
-        if ok:
-            lag = t[i] - t[j]
-            k = math.floor(lag / 2.0 + 0.5)
-            ok = k >= 1 and abs(lag - 2.0 * k) <= tol * max(1.0, lag)
-        if ok:
-            counts[p] += 1
-            if found == 0 and counts[p] >= 2 * p:
-                if _no_shorter_period(i, p, vm, phase, tol):
-                    found = p
-                else:
-                    # a shorter period is still converging: count again from here rather than
-                    # re-checking at every event (the check would keep failing until it matches)
-                    counts[p] = 0
-        else:
-            counts[p] = 0
+    for base in range(0, top, 64):
+        repeats = np.uint64(0)  # bit b: lag base + 1 + b has the speed of event i (NaN after NaN)
+        bit = np.uint64(1)
+        for p in range(base + 1, min(base + 64, top) + 1):
+            if abs(v - vm[i - p]) <= tol or (not numeric and math.isnan(vm[i - p])):
+                repeats |= bit
+            else:
+                counts[p] = 0
+            bit <<= np.uint64(1)
+        while repeats != np.uint64(0):
+            p = base + 1 + np.int64(trailing_zeros(repeats))
+            repeats &= repeats - np.uint64(1)
+            j = i - p
+            ok = wall[i] == wall[j] and kind[i] == kind[j]
+            if ok:
+                ok = _phase_distance(phase[i], phase[j]) <= tol
+            if ok:
+                lag = t[i] - t[j]
+                k = math.floor(lag / 2.0 + 0.5)
+                ok = k >= 1 and abs(lag - 2.0 * k) <= tol * max(1.0, lag)
+            if ok:
+                counts[p] += 1
+                if found == 0 and counts[p] >= 2 * p:
+                    if _no_shorter_period(i, p, vm, phase, tol):
+                        found = p
+                    else:
+                        # a shorter period is still converging: count again from here rather than
+                        # re-checking at every event (the check would keep failing until it matches)
+                        counts[p] = 0
+            else:
+                counts[p] = 0
     return found
 
 
@@ -131,8 +147,8 @@ def period_update(i, events, counts, tol):
 def no_lag_matches(i, vm, counts, tol):
     """Where no lag of event ``i`` can match (:func:`velocity_repeats` False), do what :func:`period_update` does
     there, reset the counters of lags 1 to ``min(pmax, i)`` (it finds no period), and return True; else False,
-    counters untouched.  The event loop calls :func:`period_update`, which looks at the lags one by one, only where
-    this is False (a chaotic run's speeds almost never repeat within ``tol``)."""
+    counters untouched.  The event loop calls :func:`period_update`, which goes through the lags, only where this is
+    False (a chaotic run's speeds almost never repeat within ``tol``)."""
     pmax = counts.shape[0] - 1
     if velocity_repeats(i, vm, pmax, tol):
         return False

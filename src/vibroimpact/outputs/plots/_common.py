@@ -127,9 +127,15 @@ def committed(path: Path) -> bytes | None:
 
 def keep_committed_png(png: Path) -> bool:
     """Put back the committed bytes of ``png`` where the figure just drawn shows the same image
-    (:func:`same_image`): a run that changes no figure leaves a clean clone clean.  Returns whether it did."""
+    (:func:`same_image`): a run that changes no figure leaves a clean clone clean.  Returns whether the file holds the
+    committed bytes now.  Most redrawn figures are written byte for byte as committed: those are not decoded."""
     old = committed(png)
-    if old is None or not same_image(old, Path(png)):
+    if old is None:
+        return False
+    new = Path(png).read_bytes()
+    if new == old:
+        return True
+    if not same_image(old, new):
         return False
     Path(png).write_bytes(old)
     return True

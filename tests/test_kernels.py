@@ -111,18 +111,19 @@ def _period_update_lag_by_lag(i, events, counts, tol):
 
 @settings(max_examples=200, deadline=None, derandomize=True)
 @given(pmax=st.one_of(st.integers(1, 8), st.sampled_from([63, 64, 65, 130])), q=st.integers(1, 5),
-       seed=st.integers(0, 2**32 - 1), tol=st.sampled_from([1e-9, 1e-3]))
+       seed=st.integers(0, 2**32 - 1), tol=st.sampled_from([1e-9, 1e-3, 2.0**-10]))
 def test_the_period_test_counts_each_lag_as_one_lag_at_a_time_does(pmax, q, seed, tol):
     """:func:`~vibroimpact.dynamics.kernels.period_update` against the test as stated, written one lag at a time in
     plain Python: the same period found and the same counters after every event, over motions repeating a pattern
     of ``q`` events (walls, kinds, speeds among them NaN, phases near 0 = 2 pi, time lags near whole forcing periods,
-    zero among them), each event moved by less or more than ``tol`` now and then, and some converging alternately (a
-    shorter period not yet decided)."""
+    zero among them), each event moved by less or more than ``tol`` now and then (by exactly ``tol`` too, where it is
+    a power of two: a speed that far still repeats), and some converging alternately (a shorter period not yet
+    decided)."""
     rng = np.random.default_rng(seed)
     n = 60 if pmax < 60 else 2 * pmax + 20  # the longest lags (the test takes them 64 at a time) counted up as well
     pick = lambda values: np.resize(rng.choice(values, q), n)  # noqa: E731
     wall, kind = pick(np.array([-1, 1], np.int8)), pick(np.array([0, 0, 2], np.int8))
-    vm = pick(np.array([0.5, 0.7, 0.0, math.nan])) + rng.choice([0.0] * 8 + [0.3, 1.5, 3.0], n) * tol
+    vm = pick(np.array([0.5, 0.7, 0.0, math.nan])) + rng.choice([0.0] * 8 + [0.3, 1.0, 1.5, 3.0], n) * tol
     vm += rng.choice([0.0, 1.0]) * 3.0 * tol * (-0.99) ** np.arange(n)  # alternating: lag-2q first
     phase = pick(np.array([1.0, 1e-3 * tol, 2 * math.pi - 1e-3 * tol])) + rng.choice([0.0] * 8 + [2.0], n) * tol
     t = 2.0 * np.cumsum(pick(np.array([0, 1, 2]))) + rng.choice([0.0] * 8 + [0.3, 3.0], n) * tol
@@ -174,6 +175,18 @@ def test_a_period_one_motion_converging_alternately_is_not_taken_for_period_two(
     assert np.abs(vm[2:] - vm[:-2]).max() < tol < np.abs(vm[1:] - vm[:-1]).min() < math.sqrt(tol)  # as stated
 
 
+def test_a_lag_split_by_exactly_the_root_of_tol_is_decided():
+    """The shorter-period check holds a period back while a divisor's residuals are below sqrt(tol); a split of
+    exactly sqrt(tol) (a power of two here, so exact) is decided: the period stands.  A split just below is not."""
+    tol = 2.0**-20  # sqrt(tol) = 2**-10
+    n = 12
+    phase = np.full(n, 1.0)
+    for split, decided in ((2.0**-10, True), (2.0**-10 - 2.0**-30, False)):
+        vm = 0.5 + split * (np.arange(n) % 2)
+        assert abs(vm[1] - vm[0]) == split
+        assert K._no_shorter_period(n - 1, 2, vm, phase, tol) is decided
+
+
 @pytest.mark.parametrize("gbar", [0.2, 0.9])
 def test_chattering_sum_applies_exactly_where_the_acceleration_stays_within_the_drift_bound(gbar):
     """At phase 0 (cosine 1, sine 0) the acceleration into the bottom, cos(pi t) + gbar, falls by 1 - cos(pi tau) over the
@@ -195,6 +208,12 @@ def test_chattering_sum_applies_exactly_where_the_acceleration_stays_within_the_
     # away from the wall (acceleration pulling off it) and above v_chatter: never summed
     assert K._accumulation_time(-1.0, 0.0, 1e-8, 1, K.Model(1.0, 0.2, r), 1e-3) < 0
     assert K._accumulation_time(1.0, 0.0, 2e-3, 1, K.Model(1.0, gbar, r), 1e-3) < 0
+    # a rebound at v_chatter or faster is never summed, even where the drift bound holds: the same speed is summed
+    # under a larger v_chatter
+    u = 2e-6
+    assert (1 - math.cos(math.pi * 2 * u / ((1 - r) * a))) / a < K.CHATTER_DRIFT
+    assert K._accumulation_time(1.0, 0.0, u, 1, K.Model(1.0, gbar, r), 1e-3) == pytest.approx(2 * u / ((1 - r) * a), rel=1e-15)
+    assert K._accumulation_time(1.0, 0.0, u, 1, K.Model(1.0, gbar, r), u) < 0
 
 
 def test_a_flight_that_never_reaches_a_wall_ends_the_run_with_no_impact():

@@ -233,3 +233,31 @@ def test_the_workflow_s_period_doublings_sit_at_the_branches_flips():
             assert abs(float(a.bifurcation_d) - float(r.bifurcation_d)) <= float(a.bifurcation_d_width) / 2, (name, k)
             n += 1
     assert n >= 8
+
+
+def test_a_two_point_sweep_along_a_force_line_finds_the_flips_on_its_line():
+    """The line of parameters a sweep follows is fitted through its points from two points on: along a force line
+    (d and gbar both vary, gbar affine in d) a sweep of two points keeps a branch's flip on that line and leaves out
+    one on another line.  The branch here is written by hand: a real eigenvalue linear in d, crossing -1 at
+    b = 0.15 with slope -20, so the half-width of critical slowing is k ln(1/tol) / (20 max_periods)."""
+    from vibroimpact.analysis.motion_names import orbit_motion
+    from vibroimpact.analysis.transitions import _flips
+
+    d = np.array([0.14, 0.15, 0.16])
+    lam = -1.0 - 20.0 * (d - 0.15)
+
+    def branch(intercept):
+        ds = xr.Dataset({"d": ("point", d), "eig_real": (("point", "eig"), np.stack([lam, np.full(3, 0.1)], axis=1)),
+                         "eig_imag": (("point", "eig"), np.zeros((3, 2))),
+                         "critical_kind": ("critical", np.array(["B"])), "critical_d": ("critical", np.array([0.15])),
+                         "critical_admissible": ("critical", np.array([True]))})
+        ds.attrs.update(r=0.5, k=1, word="BBT", gbar_intercept=intercept, gbar_slope=-1.5)
+        return ds
+
+    for points in (np.array([0.10, 0.20]), np.array([0.10, 0.15, 0.20])):
+        sw = xr.Dataset({"d": ("point", points), "gbar": ("point", 0.45 - 1.5 * points)}, attrs={"r": 0.5})
+        flips = _flips(sw, [branch(0.45), branch(0.46)], TOL, MAX_PERIODS)
+        assert len(flips) == 1, (points, flips)
+        b, motion, delta = flips[0]
+        assert b == 0.15 and motion == orbit_motion("BBT", 1)
+        assert delta == pytest.approx(math.log(1 / TOL) / (20.0 * MAX_PERIODS), rel=1e-12)

@@ -459,3 +459,52 @@ def test_a_sweep_starts_and_caps_its_runs_as_documented():
     assert sw.start_phi.values[0, 0] == 0.0 and sw.start_v0.values[0, 0] == 0.5
     assert np.allclose(sw.gbar.values, 0.9) and np.allclose(sw.d.values, 0.3)
     assert 4096 < int(sw.n_events.values[0, 0]) <= 200_000
+
+
+def test_the_follow_runs_take_the_documented_caps_unless_given_others(pi6, monkeypatch):
+    """Each run that follows an attractor towards its change lasts at most 20 000 forcing periods and 2 000 000
+    events by default (locate_transitions' documentation), and the caps given otherwise."""
+    import vibroimpact.analysis.transitions as T
+
+    seen = []
+    run = T.run_window
+
+    def recording(d, gbar, r, phi, v0, max_periods, max_events, *rest):
+        seen.append((max_periods, max_events))
+        return run(d, gbar, r, phi, v0, max_periods, max_events, *rest)
+
+    monkeypatch.setattr(T, "run_window", recording)
+    sw, _ = pi6
+    near_g1 = sw.isel(point=[13, 14])  # d = 0.138, 0.139: going down the sweep leaves the 2:1 motion here
+    locate_transitions(near_g1, xtol=1e-4)
+    assert seen and set(seen) == {(20_000, 2_000_000)}
+    seen.clear()
+    locate_transitions(near_g1, xtol=1e-4, max_periods=500, max_events=12_345)
+    assert seen and set(seen) == {(500, 12_345)}
+
+
+def test_the_shortest_period_looked_for_is_one_event():
+    """pmax = 1 (a period of one event, with a window of two) is allowed and runs; pmax = 0 is refused naming the
+    key.  The 1:1 motion (two events a cycle) is then not identified, and is with pmax = 2."""
+    with pytest.raises(ValueError, match="pmax = 0; allowed: an integer >= 1"):
+        windows.attractor_batch(0.5, 0.1, 0.5, 1.0, 0.3, window=2, pmax=0)
+    one = windows.attractor_batch(0.5, 0.1, 0.5, 1.0, 0.3, window=2, pmax=1, max_periods=2000)
+    two = windows.attractor_batch(0.5, 0.1, 0.5, 1.0, 0.3, window=3, pmax=2, max_periods=2000)
+    assert int(one.period_events[0]) == 0 and str(one.label.values[0]) == "no period found"
+    assert int(two.period_events[0]) == 2 and str(two.label.values[0]) == "1:1 period-2"
+
+
+def test_the_next_start_is_the_window_s_last_bottom_impact_not_another_bottom_event():
+    """A sweep's next point and a located transition's next trial start from the last bottom impact of the window
+    (wall +1, kind impact, moving into the wall): not from a later stick, release or grazing contact on the bottom,
+    nor from a top impact; None where the window holds no bottom impact."""
+    from vibroimpact.dynamics import kernels as K
+
+    # events: bottom impact, top impact, bottom grazing contact, bottom stick, bottom release
+    t = np.array([0.0, 0.7, 1.3, 1.9, 2.4])
+    wall = np.array([1, -1, 1, 1, 1], np.int8)
+    vm = np.array([0.31, -0.25, 2e-10, 0.0, 0.0])
+    phase = np.array([0.4, 2.6, 4.5, 6.0, 1.2])
+    kind = np.array([K.IMPACT, K.IMPACT, K.GRAZING, K.STICK, K.RELEASE], np.int8)
+    assert windows.last_bottom_impact(t, wall, vm, phase, kind, 5) == (0.4, 0.31)
+    assert windows.last_bottom_impact(t[1:], wall[1:], vm[1:], phase[1:], kind[1:], 4) is None

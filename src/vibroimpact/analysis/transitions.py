@@ -50,7 +50,8 @@ def locate_transitions(sw: xr.Dataset, *, xtol: float = 1e-7, max_periods: float
     xtol : float
         Target width of the bracket in d.
     max_periods, max_events : float, int
-        Longest transient per run (forcing periods) and cap on its events.
+        Longest transient per run (forcing periods) and cap on its events (by default 20 000 periods and
+        2 000 000 events, a hundred events a period).
     max_trials : int
         Runs allowed per transition.
     progress : bool, optional

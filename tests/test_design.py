@@ -197,6 +197,9 @@ def test_curve_margin_against_closed_forms():
     # a zero half-width in y: the box is a horizontal segment; only a curve crossing its line counts
     m, _ = curve_margin([0.0, 0.0], [0.5, 1.5], [0.1, 0.1], [0.0, 0.0], [0.3], [0.0], [0.3], [1.0])
     assert m[0] == pytest.approx(3.0) and m[1] == math.inf
+    # and in x: the box is a vertical segment, met by a horizontal curve where it crosses x = 0.5 (0.3 / 0.1 boxes up)
+    m, _ = curve_margin([0.5, 1.5], [0.0, 0.0], [0.0, 0.0], [0.1, 0.1], [0.0], [0.3], [1.0], [0.3])
+    assert m[0] == pytest.approx(3.0) and m[1] == math.inf
     # the nearest of several segments, and none at all
     m, i = curve_margin([0.0], [0.0], [1.0], [1.0], [5.0, 2.0], [0.0, 0.0], [5.0, 2.0], [1.0, 1.0])
     assert m[0] == pytest.approx(2.0) and i[0] == 1
@@ -240,6 +243,10 @@ def test_expected_and_worst_output_from_shares():
     assert float(ds.E_U_T[0, 0]) == pytest.approx(0.5 * 10 + 0.495 * 20 + 0.005 * 1)
     assert float(ds.worst_U_T[0, 0]) == 10.0  # the 0.5 % attractor does not count
     assert int(ds.n_attractors[0, 0]) == 2 and bool(ds.multistable[0, 0])
+    # an attractor whose output is not known (U_T NaN) adds nothing to the expected output
+    ds["U_T"][:] = [[[10.0, np.nan, 1.0]]]
+    ds = summarise(ds.drop_vars(["E_U_T", "worst_U_T"]))
+    assert float(ds.E_U_T[0, 0]) == pytest.approx(0.5 * 10 + 0.005 * 1)
 
 
 def test_tolerance_analysis_and_best_design_on_a_synthetic_plane():
@@ -402,3 +409,46 @@ def test_a_tolerance_analysis_with_no_admissible_curve_segment_is_robust_everywh
     out = tolerance_analysis(ds, curves, {"s": 0.01})
     assert np.isinf(out.margin.values).all() and out.robust.values.all()
     assert set(out.nearest_curve.values.ravel()) == {""}
+    # and without curves (None), with a box of both widths: the same, with no curve kinds recorded
+    out = tolerance_analysis(ds, None, {"s": 0.01, "beta": 0.01})
+    assert np.isinf(out.margin.values).all() and out.robust.values.all()
+    assert set(out.nearest_curve.values.ravel()) == {""} and out.attrs["curve_kinds"] == ""
+
+
+def test_a_design_map_s_runs_are_attractor_batch_s_unless_told_otherwise(monkeypatch):
+    """design_map documents its transient and period test as attractor_batch's: by default its runs get
+    attractor_batch's own defaults (read from its signature), and the values given otherwise."""
+    import inspect
+
+    import vibroimpact.analysis.design as D
+    from vibroimpact.analysis import windows
+
+    given = []
+    batch = D.attractor_batch
+
+    def recording(*args, **kw):
+        given.append((kw["max_periods"], kw["tol"]))
+        return batch(*args, **kw)
+
+    monkeypatch.setattr(D, "attractor_batch", recording)
+    phi, v0 = start_states(8, distribution="box", seed=0)
+    defaults = inspect.signature(windows.attractor_batch).parameters
+    design_map("s", [0.5], "beta", [math.pi / 6], phi=phi, v0=v0, progress=False)
+    assert given and set(given) == {(defaults["max_periods"].default, defaults["tol"].default)}
+    given.clear()
+    design_map("s", [0.5], "beta", [math.pi / 6], phi=phi, v0=v0, progress=False, max_periods=50, tol=1e-7)
+    assert given and set(given) == {(50, 1e-7)}
+
+
+def test_chunks_without_settled_outputs_merge_into_the_whole_map():
+    """Chunks of rows whose attractors carry no 'settled' flag (a map written without long runs, or by hand) merge
+    into the map of all their rows, its per-point summary recomputed."""
+    xs, ys = np.array([0.3, 0.4, 0.5]), np.array([0.1, 0.2, 0.3])
+    E = np.arange(9.0).reshape(3, 3)
+    whole = _synthetic(E, xs, ys)
+    chunks = [_synthetic(E[rows], xs, ys[rows]).assign_attrs(events=10) for rows in (slice(0, 1), slice(1, 3))]
+    assert "settled" not in chunks[0]
+    merged = merge_chunks(chunks)
+    assert merged.attrs["events"] == 20
+    for v in ("E_U_T", "worst_U_T", "n_attractors", "E_U_T_se"):
+        np.testing.assert_array_equal(merged[v].values, whole[v].values)

@@ -41,6 +41,23 @@ def test_figure_data_is_what_is_drawn(tmp_path):
     assert ds["a1_image0_z"].shape == (2, 3) and ds.attrs["config"] == "{}"
 
 
+def test_each_artist_of_a_kind_is_numbered_in_drawing_order():
+    """Two point sets in one axes are a0_points0 and a0_points1, in the order they were drawn (the names the
+    documentation gives, which a regeneration's check pairs by)."""
+    import matplotlib.pyplot as plt
+
+    from vibroimpact.outputs.figdata import figure_data
+
+    fig, ax = plt.subplots()
+    ax.scatter([0.1, 0.2], [1.0, 2.0])
+    ax.scatter([0.3], [5.0])
+    ds = figure_data(fig)
+    plt.close(fig)
+    assert sorted(v for v in ds.data_vars if "points" in v) == ["a0_points0_x", "a0_points0_y", "a0_points1_x",
+                                                                "a0_points1_y"]
+    np.testing.assert_array_equal(ds["a0_points1_y"].values, [5.0])
+
+
 def test_save_writes_the_formats_asked_for_and_refuses_a_figure_without_png(tmp_path):
     """PNG always (the report and the image check read it), other formats as the quality preset asks;
     the Snakemake helper takes them from the rule's named outputs."""

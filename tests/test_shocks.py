@@ -439,3 +439,19 @@ def test_a_start_without_a_period_is_refused():
     p = vi.Params(d=BISTABLE, gbar=GBAR)
     with pytest.raises(ValueError, match=r"\(phi, v0\) = \(1\.645, 0\.05067\); allowed: a start whose run repeats"):
         critical_shock(p, 1.645, 0.05067, max_periods=1)
+
+
+def test_the_knock_time_is_refined_around_the_three_smallest_local_minima(monkeypatch):
+    """The refinement's golden-section searches start around the three smallest local minima of the grid of knock
+    times (the robustness page's and LOCAL_MINIMA's number): the count the search asks for, recorded."""
+    asked = []
+    minima = shocks._local_minima
+
+    def record(values, n):
+        asked.append(n)
+        return minima(values, n)
+
+    monkeypatch.setattr(shocks, "_local_minima", record)
+    p = vi.Params(d=BISTABLE, gbar=GBAR)
+    critical_shock(p, *STARTS["2:1 period-2"], phases=8, refine=1)
+    assert asked == [3]

@@ -213,7 +213,8 @@ def test_the_1to1_exit_is_not_where_2to1_begins(name):
 
 def test_a_sweep_s_exit_without_located_transitions_and_a_sweep_of_one_point():
     """The transitions of a sweep that located no label change hold the 1:1 exit alone (no transition dimension):
-    the exit is read, the up sweep's end of 2:1 is NaN.  A sweep of one point has no step: the tolerance is NaN."""
+    the exit is read, the up sweep's end of 2:1 is NaN.  A sweep of one point has no step: the tolerance is NaN; one of
+    two points has its grid step."""
     d = np.round(np.arange(0.2050, 0.2351, 0.0015), 4)
     down = np.where(d <= 0.2196, "2:1 period-2", "1:1 period-4").tolist()
     sw = synthetic_sweep(down, ["2:1 period-2"] * d.size, d)
@@ -223,3 +224,7 @@ def test_a_sweep_s_exit_without_located_transitions_and_a_sweep_of_one_point():
     one = synthetic_sweep(["2:1 period-2"], ["2:1 period-2"], [0.21])
     r = sweep_d_graz(one, None, None)
     assert r["entry_d"] == 0.21 and math.isnan(r["entry_step"]) and math.isnan(r["tolerance"])
+    # two points, 2:1 at both (no step into 2:1 to read): the tolerance is the sweep's grid step
+    two = synthetic_sweep(["2:1 period-2"] * 2, ["2:1 period-2"] * 2, [0.21, 0.22])
+    r = sweep_d_graz(two, None, None)
+    assert math.isnan(r["entry_step"]) and r["tolerance"] == pytest.approx(0.01, rel=1e-12)

@@ -237,3 +237,21 @@ def test_a_chaotic_point_s_long_run_statistics_are_its_batch_means():
         means = v[:v.size // 20 * 20].reshape(20, -1).mean(axis=1)
         assert float(sw.abs_v_mean[k, 0]) == pytest.approx(means.mean(), rel=1e-14)
         assert float(sw.abs_v_se[k, 0]) == pytest.approx(means.std(ddof=1) / math.sqrt(20), rel=1e-12)
+
+
+def test_a_long_run_is_named_by_its_exponent_s_interval_not_its_estimate():
+    """A long run without a period is chaotic only where the whole confidence interval of lambda_1 lies above 0: a
+    positive estimate whose interval holds 0 is quasi-periodic (the continuation's exponents written by hand)."""
+    from types import SimpleNamespace
+
+    from vibroimpact.analysis.motions import CHAOTIC, QUASI_PERIODIC
+    from vibroimpact.analysis.settled import _split
+
+    def split(estimate, low, high):
+        lam = SimpleNamespace(per_impact=[estimate, -1.0], interval=[(low, high), (-1.1, -0.9)], per_time=[estimate],
+                              sticks=0)
+        return _split({"status": "aperiodic", "exponents": lam})
+
+    s = split(0.01, -0.005, 0.025)
+    assert s.label == QUASI_PERIODIC and (s.lyap1, s.lyap1_low, s.lyap1_high) == (0.01, -0.005, 0.025)
+    assert split(0.01, 0.004, 0.016).label == CHAOTIC

@@ -2,6 +2,10 @@
 # Usage: snakemake --cores 2            (default target: every figure, table and dataset)
 #        snakemake --cores 2 check      (which of the paper's numbers are reproduced; figures against references)
 #        snakemake --cores 2 bench      (speed and accuracy of the simulator)
+# first: Snakemake's own process and each `run:` job's collect their garbage less often (vibroimpact.outputs.job)
+import vibroimpact.outputs.job  # noqa: F401
+
+# isort: split
 import atexit
 import math
 import os

@@ -87,7 +87,16 @@ def children_cpu() -> float:
 CORES = 2
 #: what a job loads before it computes anything: Snakemake's script preamble, the arrays, the datasets and their
 #: files, the compiler and the package's dataset writer (a job loads these at least; most load more)
-STARTUP = "import snakemake.script, numpy, xarray, netCDF4, numba, vibroimpact.datasets"
+STARTUP = ("snakemake.script", "numpy", "xarray", "netCDF4", "numba", "vibroimpact.datasets")
+#: what every job of a tree that has it imports before anything else: its garbage collector's settings
+JOB_FIRST = "vibroimpact.outputs.job"
+
+
+def startup_code(tree: Path) -> str:
+    """A job's start-up in ``tree`` (:data:`STARTUP`, after :data:`JOB_FIRST` where the tree has that module), as
+    Python code."""
+    first = [JOB_FIRST] if (tree / "src" / Path(*JOB_FIRST.split("."))).with_suffix(".py").is_file() else []
+    return "import " + ", ".join(first + list(STARTUP))
 
 
 def run_alone_seconds(log: str, tree: Path, cores: int = CORES) -> float:
@@ -103,12 +112,13 @@ def run_alone_seconds(log: str, tree: Path, cores: int = CORES) -> float:
     return total
 
 
-def startup_cpu(env: dict, repeats: int = 3) -> float:
-    """The CPU seconds of starting one job (:data:`STARTUP` in a fresh interpreter), the least of ``repeats``."""
+def startup_cpu(env: dict, tree: Path, repeats: int = 3) -> float:
+    """The CPU seconds of starting one job of ``tree`` (:func:`startup_code` in a fresh interpreter), the least of
+    ``repeats``."""
     best = math.inf
     for _ in range(repeats):
         cpu0 = children_cpu()
-        subprocess.run([sys.executable, "-c", STARTUP], env=env, check=True)
+        subprocess.run([sys.executable, "-c", startup_code(tree)], env=env, check=True)
         best = min(best, children_cpu() - cpu0)
     return best
 
@@ -192,7 +202,7 @@ def cold_default_target(tree: Path, where: Path, warm: bool = False) -> dict:
         again = default_target(tree, env, "--forceall")
         row |= {"benchmarked jobs (warm cache)": again["jobs"],
                 "wall seconds (warm cache)": again["wall"], "CPU seconds (warm cache)": again["cpu"],
-                "jobs' CPU seconds (warm cache)": again["job_cpu"], "start-up CPU seconds per job": startup_cpu(env)}
+                "jobs' CPU seconds (warm cache)": again["job_cpu"], "start-up CPU seconds per job": startup_cpu(env, tree)}
         shutil.rmtree(tree / "results")
         shutil.move(where / "results-cold", tree / "results")
     return row

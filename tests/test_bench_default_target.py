@@ -104,3 +104,12 @@ def test_the_kept_record_bounds_its_own_cold_run():
     assert len(parts) == 4
     assert sum(parts) == pytest.approx(cold / cores, abs=0.2)
     assert bounds["the cold wall time"] >= bounds[f"floor: the CPU seconds of all processes / {cores} cores"]
+
+
+def test_a_job_s_start_up_is_measured_as_the_tree_s_jobs_start(tmp_path):
+    """A tree whose scripts import the collector's settings first is probed with them first; an older tree
+    (a baseline commit without the module) without them."""
+    assert bench.startup_code(tmp_path) == "import " + ", ".join(bench.STARTUP)
+    assert bench.startup_code(ROOT) == f"import {bench.JOB_FIRST}, " + ", ".join(bench.STARTUP)
+    first = (ROOT / "workflow" / "scripts" / "sweep.py").read_text().split('"""')[2].strip().splitlines()[0]
+    assert first.split("#")[0].strip() == f"import {bench.JOB_FIRST}"  # as the workflow's scripts start

@@ -1,4 +1,7 @@
 """Accuracy of the located critical and grazing points against resolution and cost."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

@@ -1,4 +1,7 @@
 """Basins of attraction over first bottom impacts (phase x velocity) at one parameter point."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import numba

@@ -1,4 +1,7 @@
 """Draw a speed-and-accuracy figure (work-precision, failure map, accuracy of the analytics) from its dataset."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import json
 import logging
 

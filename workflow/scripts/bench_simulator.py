@@ -1,4 +1,7 @@
 """Benchmark the exact simulator against solve_ivp and write the dataset and its table."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

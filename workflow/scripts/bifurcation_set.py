@@ -1,4 +1,7 @@
 """Follow each critical point of the start branches as a curve in the map's parameter plane."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

@@ -1,5 +1,8 @@
 """Phase portraits of the bistable 2:1 and 3:1 orbits at G1, d = 0.14 and G2 (Figure 8 (d)-(g)); a portrait that
 another device does not have (no G1, no 2:1 branch, ...) is recorded with the reason (vibroimpact.outputs.portraits)."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import numpy as np

@@ -1,4 +1,7 @@
 """Where 2:1 and 3:1 coexist, per incline: [G1, G2] from the followed curves, with the physics' scaling."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 import math
 

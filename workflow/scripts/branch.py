@@ -2,6 +2,9 @@
 output voltages and averages, then simulate attractors along the stable part of the branches asked for (the
 figures' open circles).  One branch per job (rule branch) or the branches the workflow names at an incline in
 one job (rules branches_<incline>): the same datasets."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

@@ -1,4 +1,7 @@
 """Draw a branch figure (the paper's Figure 5 or 6: fig2, fig3) from the saved branch datasets."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

@@ -1,4 +1,7 @@
 """Simulate the caption orbits and write one dataset per caption."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import vibroimpact as vi

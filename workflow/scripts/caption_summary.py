@@ -1,4 +1,7 @@
 """Collect the caption orbits into one table (netCDF and Markdown)."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

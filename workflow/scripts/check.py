@@ -1,4 +1,7 @@
 """Compare every published number and claim with the datasets; fail if anything unexpected fails."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import pandas as pd

@@ -1,5 +1,8 @@
 """One figure's data against its committed reference, each array by the rule its figure declared from what
 produced it (vibroimpact.outputs.figcheck); fails, naming the arrays, if the figure moved."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 from pathlib import Path
 

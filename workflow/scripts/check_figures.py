@@ -1,4 +1,7 @@
 """Every figure's check (rule check_figure) in one table, with the rule each array was compared by and why."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 from pathlib import Path
 

@@ -1,5 +1,8 @@
 """The paper's d_graz along each sweep of the check (every incline, by length and by force): the 2:1 fold, where
 the sweeps meet the 2:1 period-2, the 1:1 exit and the band between (vibroimpact.sweep_d_graz)."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

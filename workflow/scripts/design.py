@@ -1,5 +1,8 @@
 """Design guidance: per incline, the length and the force that maximise each average output, and where each
 average rises and falls along the sweeps."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

@@ -1,5 +1,8 @@
 """One chunk of a design map: consecutive rows of its grid, every point run from the same start states
 to its attractors, with their shares and outputs."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import numba

@@ -1,5 +1,8 @@
 """A design map from its chunks, with the tolerance box of every design: the lowest expected output over
 it and the margin to the bifurcation curves of the same plane."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

@@ -1,4 +1,7 @@
 """The best robust designs per incline, from the design maps, and what the design maps cost."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import pandas as pd

@@ -1,6 +1,9 @@
 """Build the documentation site with Sphinx, warnings as errors (an unresolved reference, a public
 docstring without its sections, a failing tutorial all fail it).  The warnings are also written to
 their own file (the rule's second log) and quoted in the job's error, so a failed build says why."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import shutil
 import sys
 from pathlib import Path

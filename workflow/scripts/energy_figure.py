@@ -1,4 +1,7 @@
 """The paper's Figure 2 or 9 (fig0, fig5): voltages (and for Figure 2 impact velocities) against d, from saved datasets."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

@@ -1,4 +1,7 @@
 """Where each method fails: near grazing, chattering into sticking, a long chaotic run."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 from vibroimpact.benchmarks.workprecision import failure_map

@@ -1,5 +1,8 @@
 """The 1:1 exit as a curve in a map's plane: where the 1:1 motion, followed with d decreasing along lines of the
 plane, leaves the 1:1 family, by grazing or by a jump (vibroimpact.family_exit_curve)."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import numpy as np

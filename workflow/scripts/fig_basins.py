@@ -1,4 +1,7 @@
 """Basins-of-attraction figure from its dataset."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

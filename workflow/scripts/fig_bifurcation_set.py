@@ -1,4 +1,7 @@
 """Bifurcation curves over the regime map, from their datasets."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import numpy as np

@@ -1,4 +1,7 @@
 """The paper's Figure 8 (figBiS) from the sweep, its transitions, the portraits and the analytic branches."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

@@ -1,5 +1,8 @@
 """Design map figure: expected and worst-case output with the bifurcation curves, multistable regions and
 the best robust designs, from the design dataset."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

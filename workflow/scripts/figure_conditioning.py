@@ -1,5 +1,8 @@
 """Each figure array's spread under perturbations that stand for another machine, and whether the rule its figure
 declared tolerates it (vibroimpact.outputs.conditioning)."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 from pathlib import Path
 

@@ -1,5 +1,8 @@
 """The knock map: a design map over the configured plane (the design maps' start states, the knock preset's grid)
 and the critical shock of every attractor of every point (vibroimpact.analysis.robust.knock_map)."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import numba

@@ -1,5 +1,8 @@
 """The basins a knock crosses: at the configured design, its highest-output attractor (from the design maps' start
 states), that motion's critical shock and the basins in the (Z, Zdot) section at the shock's forcing phase."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import numba

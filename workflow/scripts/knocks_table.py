@@ -1,5 +1,8 @@
 """The knock map's table: the best design, the best that survives the configured knock (over the map and at each
 incline of the design table), and what the shocks cost."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import pandas as pd

@@ -1,6 +1,9 @@
 """The lambda_1 figure (the registry's row ``lyapunov``: under the velocity bifurcation diagrams of Figures 2
 and 9) and the table of chaotic windows and chaotic outputs, from the saved sweeps, their energies and the
 continued branches."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

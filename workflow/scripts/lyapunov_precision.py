@@ -1,4 +1,7 @@
 """The largest Lyapunov exponent by every method against a long reference run, error against cost."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 from vibroimpact.benchmarks.lyapunov_precision import lyapunov_precision

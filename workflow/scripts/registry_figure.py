@@ -1,5 +1,8 @@
 """Draw a figure of the registry (vibroimpact.outputs.registry) whose rule is the generic one: its plot function,
 called on the datasets its row names, saved with the arrays it draws."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import importlib
 import logging
 

@@ -1,4 +1,7 @@
 """The numbers of the speed-and-accuracy page, as a table generated from the benchmark datasets."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 
 import logging
 

@@ -1,5 +1,8 @@
 """One numerical sweep (up and down), following the attractor; its located transitions (the period doublings
 among them placed at the branches' flips) and bistable intervals; its output voltages and averages."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import numba

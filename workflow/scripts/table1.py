@@ -1,4 +1,7 @@
 """Table 1: stability intervals and critical points of the 2:1 branches, per incline."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

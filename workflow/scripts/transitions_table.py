@@ -1,4 +1,7 @@
 """All located transitions and bistable intervals as one Markdown table."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 import xarray as xr

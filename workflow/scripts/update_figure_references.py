@@ -1,6 +1,9 @@
 """Accept the current figures: copy the data they draw over the committed references, but only
 where the data or the rendered image changed (a copy with the same arrays and image would only change
 the creation time), and the arrays' measured conditioning beside them."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 import shutil
 from pathlib import Path

@@ -1,4 +1,7 @@
 """Work-precision of every method on the 1:1, 2:1, 3:1 and chaotic scenes."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 from vibroimpact.benchmarks.workprecision import matched_accuracy, work_precision

@@ -1,4 +1,7 @@
 """Each figure's cost from the Snakemake benchmark files."""
+import vibroimpact.outputs.job  # noqa: F401  (first: the job's garbage collector, before the heavy imports)
+
+# isort: split
 import logging
 
 from vibroimpact.outputs.tables import workflow_cost, workflow_cost_markdown

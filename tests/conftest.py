@@ -1,3 +1,6 @@
+import vibroimpact.outputs.job  # noqa: F401  (first: the test processes collect their garbage less often)
+
+# isort: split
 import math
 
 import numpy as np

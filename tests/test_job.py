@@ -70,3 +70,8 @@ def test_a_job_s_imports_leave_over_100_000_objects_which_the_default_collector_
     assert objects > 100_000
     assert full_default >= 2
     assert full_job < full_default
+
+
+def test_the_test_processes_set_it_before_anything_else():
+    first = first_statement_after_docstring(ast.parse((ROOT / "tests" / "conftest.py").read_text()))
+    assert isinstance(first, ast.Import) and [a.name for a in first.names] == [JOB]

@@ -1,7 +1,7 @@
 """The garbage collector of a workflow process: it collects less often, and not at all when the process ends.
 
 Every job of the workflow is a fresh interpreter that imports numpy, xarray, matplotlib, numba and the package
-(some 160 000 objects the cyclic garbage collector tracks) and then computes for a few seconds.  With CPython's
+(more than 100 000 objects the cyclic garbage collector tracks) and then computes for a few seconds.  With CPython's
 thresholds (700, 10, 10) the collector goes over all of those objects three or four times while the job imports
 and computes, and once more while the interpreter shuts down: counted per process (:data:`gc.callbacks`) over
 the default target, 0.16 to 0.33 CPU s per job while it runs, and about 0.25 s more at its end, of jobs that take

@@ -5,8 +5,8 @@ Every job of the workflow is a fresh interpreter that imports numpy, xarray, mat
 thresholds (700, 10, 10) the collector goes over all of those objects three or four times while the job imports
 and computes, and once more while the interpreter shuts down: counted per process (:data:`gc.callbacks`) over
 the default target, 0.16 to 0.33 CPU s per job while it runs, and about 0.25 s more at its end, of jobs that take
-1 to 15.  Importing this module (the first statement of every script of the workflow, and of the Snakefile, so
-of Snakemake's own process and of each ``run:`` job's) calls :func:`collect_less`.
+1 to 15 s.  Importing this module (the first statement of every script of the workflow, of the Snakefile, so of
+Snakemake's own process and of each ``run:`` job's, and of the tests' ``conftest.py``) calls :func:`collect_less`.
 
 The collector collects only garbage in reference cycles; what it frees and when never changes a result.
 """

@@ -23,6 +23,9 @@ def test_the_youngest_generation_is_collected_ten_times_less_often_and_the_older
                            ).split("\n")[:2]
     young, *older = ast.literal_eval(before)
     assert ast.literal_eval(after) == (10 * young, *older)
+    # the older generations keep whatever thresholds the process had
+    kept = python(f"import gc; gc.set_threshold(700, 11, 12); import {JOB}; print(gc.get_threshold())")
+    assert ast.literal_eval(kept) == (10 * young, 11, 12)
     # a second call (the Snakefile's process imports the module and may call it again) changes nothing
     twice = python(f"import gc, {JOB} as j; j.collect_less(); j.collect_less(); import atexit; "
                    "print(gc.get_threshold()[0], atexit._ncallbacks())")

@@ -74,7 +74,7 @@ LAYER = {**{m: "dynamics" for m in ("params", "flight", "events", "kernels", "ru
                                     "transitions", "bistability", "grids", "basins", "regime_maps", "shocks",
                                     "basin_stability", "robust")},
          **{m: "benchmarks" for m in ("methods", "peer_heyoka", "peer_siconos", "workprecision", "bench")},
-         **{m: "outputs" for m in ("tables", "checks", "paper", "portraits", "figdata", "figcheck", "conditioning")}}
+         **{m: "outputs" for m in ("tables", "checks", "paper", "portraits", "figdata", "figcheck", "conditioning", "job")}}
 
 
 def module_path(mod):
@@ -142,6 +142,7 @@ TESTS = {
     "family_exit": ["tests/test_family_exit.py"],
     "d_graz": ["tests/test_d_graz.py"],
     "figcheck": ["tests/test_figcheck.py", "tests/test_provenance.py"],
+    "job": ["tests/test_job.py"],
     "figdata": ["tests/test_figdata.py", "tests/test_figcheck.py", "tests/test_provenance.py"],
     # its unit tests (the workflow-level test regenerates the whole figure set: minutes a mutant)
     "conditioning": [f"tests/test_conditioning.py::{t}" for t in (

@@ -37,8 +37,9 @@ def test_what_the_process_holds_is_frozen_at_exit_and_the_earlier_exit_handlers_
     # an exit handler registered before the import runs after the module's (exit handlers run last in, first out)
     code = ("import atexit, gc; atexit.register(lambda: print('frozen', gc.get_freeze_count())); {}"
             "held = [[i] for i in range(1000)]")
-    assert python(code.format(f"import {JOB}; ")).startswith("frozen ")
-    frozen = int(python(code.format(f"import {JOB}; ")).split()[1])
+    said = python(code.format(f"import {JOB}; "))
+    assert said.startswith("frozen ")
+    frozen = int(said.split()[1])
     assert frozen > 1000  # the lists the process held, and everything imported
     assert python(code.format("")).split()[1] == "0"  # without the module: nothing frozen
 

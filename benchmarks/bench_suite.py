@@ -81,9 +81,9 @@ def main(baseline: str, rounds: int = 1) -> pd.DataFrame:
                 runs[name].append(ci_run(clone(rev, where / "tree"), where / "cache"))
     rows = [{"tree": name, **min(r, key=lambda x: x["wall seconds of .ci/run"])} for name, r in runs.items()]
     df = pd.DataFrame(rows)
-    df["minutes of .ci/run"] = (df["wall seconds of .ci/run"] / 60).round(1)
+    df["minutes of .ci/run"] = df["wall seconds of .ci/run"] / 60
     df["ratio to the baseline"] = (df["wall seconds of .ci/run"] / df["wall seconds of .ci/run"].iloc[0]).round(2)
-    return df
+    return df.round({"wall seconds of .ci/run": 1, "seconds": 1, "minutes of .ci/run": 1})
 
 
 if __name__ == "__main__":
@@ -95,7 +95,7 @@ if __name__ == "__main__":
     if a.rounds < 1:
         raise SystemExit(f"--rounds {a.rounds}: allowed: an integer >= 1")
     df = main(a.baseline, a.rounds)
-    text = (f"{df.round(1).to_markdown(index=False)}\n\nMachine: {platform.machine()}, {os.cpu_count()} cores, "
+    text = (f"{df.to_markdown(index=False)}\n\nMachine: {platform.machine()}, {os.cpu_count()} cores, "
             f"{platform.system()} {platform.release()}, Python {platform.python_version()}. Command: `python "
             f"benchmarks/bench_suite.py {a.baseline} --rounds {a.rounds}` ({time.strftime('%Y-%m-%d', time.gmtime())}).\n")
     print(text)

@@ -1,8 +1,10 @@
 """benchmarks/bench_suite.py: the test command on clean clones of two commits, and its kept record."""
 import importlib.util
+import io
 import stat
 import sys
 
+import pandas as pd
 import pytest
 from conftest import ROOT
 
@@ -72,3 +74,32 @@ def test_a_log_without_pytest_s_summary_is_refused():
     with pytest.raises(ValueError, match="no pytest summary line"):
         bench.summary("ERROR: could not install packages\n")
 
+
+def test_the_sides_alternate_and_each_keeps_its_fastest_run(tmp_path, monkeypatch):
+    """`main` with the clone and the run stubbed: baseline first in every round, each side's fastest run kept, the
+    ratio that of the kept wall seconds to two decimals (not rounded with the seconds)."""
+    order, walls = [], {"7f6254a": iter([1118.34, 1200.0]), "HEAD": iter([650.0, 605.04])}
+    monkeypatch.setattr(bench, "rev_of", lambda rev: rev[:7])
+    monkeypatch.setattr(bench, "clone", lambda rev, dest: order.append(rev) or rev)
+    monkeypatch.setattr(bench, "ci_run", lambda rev, cache: {"wall seconds of .ci/run": next(walls[rev]),
+                                                             "exit status": 0, "seconds": 1.0})
+    df = bench.main("7f6254a", rounds=2)
+    assert order == ["7f6254a", "HEAD", "7f6254a", "HEAD"]
+    assert list(df["tree"]) == ["baseline (7f6254a)", "this commit (HEAD)"]
+    assert list(df["wall seconds of .ci/run"]) == [1118.3, 605.0]
+    assert list(df["ratio to the baseline"]) == [1.0, 0.54]
+    assert list(df["minutes of .ci/run"]) == [18.6, 10.1]
+
+
+def test_the_kept_record_holds_both_sides_of_one_run():
+    """The kept record: the baseline and this commit, both suites complete, the ratio that of their wall seconds,
+    with the machine and the command."""
+    text = (ROOT / "reference" / "bench_suite.md").read_text()
+    table = text.split("\n\n")[0]
+    df = pd.read_table(io.StringIO(table), sep="|", skipinitialspace=True).iloc[1:, 1:-1]
+    df.columns = [c.strip() for c in df.columns]
+    assert [t.split()[0] for t in df["tree"]] == ["baseline", "this"]
+    wall = df["wall seconds of .ci/run"].astype(float)
+    assert list(df["ratio to the baseline"].astype(float)) == pytest.approx([1.0, wall.iloc[1] / wall.iloc[0]], abs=0.006)
+    assert (df["failed"].astype(int) == 0).all() and (df["errors"].astype(int) == 0).all()
+    assert "Machine:" in text and "Command: `python benchmarks/bench_suite.py" in text

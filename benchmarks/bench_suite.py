@@ -1,17 +1,18 @@
 """The test command on a clean clone, this commit against a baseline commit, measured in one run.
 
-    .venv/bin/python benchmarks/bench_suite.py [BASELINE] [--rounds N] [--out FILE]
+    .venv/bin/python benchmarks/bench_suite.py BASELINE [--rounds N] [--out FILE]
 
 Each side is what CI runs: a fresh ``git clone`` of the repository at the commit (the baseline, ``HEAD`` for this
 one: commit a change before measuring it), then ``.ci/run`` in it (the virtual environment from the commit's
 ``requirements.lock``, the package, a one-node SLURM where the machine allows, and README's test command), with
 every cache of the package empty (``XDG_CACHE_HOME`` a directory of its own: numba's compiled kernels and the
-import cache start from nothing, as on CI; pip keeps its own cache of downloaded wheels, which CI's network
-makes no slower than this machine's disk).  Per run: the wall seconds of ``.ci/run`` (set-up and suite), the
+import cache start from nothing, as on CI; pip's cache of downloaded wheels is kept, so that the set-up's seconds
+are the install's, not a download's).  Per run: the wall seconds of ``.ci/run`` (set-up and suite), the
 seconds pytest reports for the suite alone, its counts (passed, failed, errors, skipped) and ``.ci/run``'s exit
 status.  With ``--rounds N`` the two alternate N times (baseline first) and each side's fastest run is reported.
 Prints a Markdown table with the machine and the command; ``--out`` also writes it to a file.  A side whose suite
-fails is reported with its counts, not dropped.
+fails is reported with its counts, not dropped; one whose ``.ci/run`` ends before pytest's summary (its set-up
+failed) stops the benchmark with the end of its output.
 """
 from __future__ import annotations
 

@@ -96,7 +96,8 @@ if __name__ == "__main__":
     if a.rounds < 1:
         raise SystemExit(f"--rounds {a.rounds}: allowed: an integer >= 1")
     df = main(a.baseline, a.rounds)
-    text = (f"{df.round(3).to_markdown(index=False)}\n\nMachine: {platform.machine()}, {os.cpu_count()} cores, "
+    shown = df.round(3).astype(object).where(df.notna(), None)  # a measure the side does not take: "not measured"
+    text = (f"{shown.to_markdown(index=False, missingval='not measured')}\n\nMachine: {platform.machine()}, {os.cpu_count()} cores, "
             f"{platform.system()} {platform.release()}, Python {platform.python_version()}. Command: `python "
             f"benchmarks/bench_kernel.py {a.baseline} --rounds {a.rounds}` ({time.strftime('%Y-%m-%d', time.gmtime())}).\n")
     print(text)

@@ -24,7 +24,6 @@ import csv
 import io
 import math
 import os
-import platform
 import re
 import resource
 import shutil
@@ -39,7 +38,7 @@ import pandas as pd
 import psutil
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_devices import ROOT, scratch_copy  # noqa: E402
+from bench_devices import ROOT, publish, scratch_copy  # noqa: E402
 
 
 def baseline_copy(rev: str, dest: Path) -> Path:
@@ -242,10 +241,5 @@ if __name__ == "__main__":
     if a.warm:  # what bounds this tree's cold wall time, from its cold and warm runs above
         table += ("\n\nWhat bounds this tree's cold wall time, from its runs above:\n\n"
                   + bounds(df.iloc[-1].to_dict()).to_markdown(index=False))
-    cpu = os.cpu_count()
-    text = (f"{table}\n\nMachine: {platform.machine()}, {cpu} cores, {platform.system()} {platform.release()}, "
-            f"Python {platform.python_version()}. Command: `python benchmarks/bench_default_target.py "
-            f"{a.baseline} --rounds {a.rounds}{' --warm' * a.warm}` ({time.strftime('%Y-%m-%d', time.gmtime())}).\n")
-    print(text)
-    if a.out:
-        Path(a.out).write_text(text)
+    publish(table, f"python benchmarks/bench_default_target.py {a.baseline} --rounds {a.rounds}{' --warm' * a.warm}",
+            a.out)

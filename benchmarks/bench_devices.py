@@ -8,6 +8,9 @@ runs `snakemake --cores 2`, the other device `snakemake --cores 2 --configfile <
 scratch copy, one after the other.  Prints a Markdown table of the wall times and their ratio; the default
 device file is the shipped example (config/example_device.yaml), the default preset `draft`.
 """
+import argparse
+import os
+import platform
 import shutil
 import subprocess
 import sys
@@ -29,6 +32,31 @@ def scratch_copy(dest: Path) -> Path:
             (dest / f).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(ROOT / f, dest / f)
     return dest
+
+
+def publish(table: str, command: str, out: str | None = None) -> str:
+    """A benchmark's record: its Markdown ``table`` with the machine and the ``command`` that made it (and the date)
+    below it; printed, and written to ``out`` where given."""
+    text = (f"{table}\n\nMachine: {platform.machine()}, {os.cpu_count()} cores, {platform.system()} "
+            f"{platform.release()}, Python {platform.python_version()}. Command: `{command}` "
+            f"({time.strftime('%Y-%m-%d', time.gmtime())}).\n")
+    print(text)
+    if out:
+        Path(out).write_text(text)
+    return text
+
+
+def baseline_args(doc: str, rounds: int) -> argparse.Namespace:
+    """The command line of a benchmark of this tree against a commit: ``BASELINE [--rounds N] [--out FILE]``
+    (``rounds`` by default; fewer than one refused, naming the value and what is allowed)."""
+    ap = argparse.ArgumentParser(description=doc.split("\n")[0])
+    ap.add_argument("baseline")
+    ap.add_argument("--rounds", type=int, default=rounds)
+    ap.add_argument("--out")
+    a = ap.parse_args()
+    if a.rounds < 1:
+        raise SystemExit(f"--rounds {a.rounds}: allowed: an integer >= 1")
+    return a
 
 
 def cold_run(args: list[str], where: Path) -> float:

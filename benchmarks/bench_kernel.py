@@ -14,22 +14,19 @@ the machine and the command; ``--out`` also writes it to a file.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
-import platform
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import pandas as pd
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_default_target import baseline_copy  # noqa: E402
-from bench_devices import scratch_copy  # noqa: E402
+from bench_devices import baseline_args, publish, scratch_copy  # noqa: E402
 
 #: the profile's variables this benchmark reports (a side that has no such variable: NaN), by their column
 MEASURES = {"us_per_impact": "µs per impact", "finder_us_per_impact": "event finder alone, µs",
@@ -88,18 +85,8 @@ def main(baseline: str, rounds: int = 3) -> pd.DataFrame:
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("baseline")
-    ap.add_argument("--rounds", type=int, default=3)
-    ap.add_argument("--out")
-    a = ap.parse_args()
-    if a.rounds < 1:
-        raise SystemExit(f"--rounds {a.rounds}: allowed: an integer >= 1")
+    a = baseline_args(__doc__, rounds=3)
     df = main(a.baseline, a.rounds)
     shown = df.round(3).astype(object).where(df.notna(), None)  # a measure the side does not take: "not measured"
-    text = (f"{shown.to_markdown(index=False, missingval='not measured')}\n\nMachine: {platform.machine()}, {os.cpu_count()} cores, "
-            f"{platform.system()} {platform.release()}, Python {platform.python_version()}. Command: `python "
-            f"benchmarks/bench_kernel.py {a.baseline} --rounds {a.rounds}` ({time.strftime('%Y-%m-%d', time.gmtime())}).\n")
-    print(text)
-    if a.out:
-        Path(a.out).write_text(text)
+    publish(shown.to_markdown(index=False, missingval="not measured"),
+            f"python benchmarks/bench_kernel.py {a.baseline} --rounds {a.rounds}", a.out)

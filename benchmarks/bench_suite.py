@@ -16,18 +16,18 @@ failed) stops the benchmark with the end of its output.
 """
 from __future__ import annotations
 
-import argparse
 import os
-import platform
 import re
 import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
 
 import pandas as pd
 
-ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_devices import ROOT, baseline_args, publish  # noqa: E402
 
 #: the counts pytest's last line reports (``=== 1372 passed, 10 skipped in 611.23s (0:10:11) ===``)
 COUNTS = ("passed", "failed", "errors", "skipped")
@@ -88,17 +88,6 @@ def main(baseline: str, rounds: int = 1) -> pd.DataFrame:
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("baseline")
-    ap.add_argument("--rounds", type=int, default=1)
-    ap.add_argument("--out")
-    a = ap.parse_args()
-    if a.rounds < 1:
-        raise SystemExit(f"--rounds {a.rounds}: allowed: an integer >= 1")
-    df = main(a.baseline, a.rounds)
-    text = (f"{df.to_markdown(index=False)}\n\nMachine: {platform.machine()}, {os.cpu_count()} cores, "
-            f"{platform.system()} {platform.release()}, Python {platform.python_version()}. Command: `python "
-            f"benchmarks/bench_suite.py {a.baseline} --rounds {a.rounds}` ({time.strftime('%Y-%m-%d', time.gmtime())}).\n")
-    print(text)
-    if a.out:
-        Path(a.out).write_text(text)
+    a = baseline_args(__doc__, rounds=1)
+    publish(main(a.baseline, a.rounds).to_markdown(index=False),
+            f"python benchmarks/bench_suite.py {a.baseline} --rounds {a.rounds}", a.out)

@@ -7,6 +7,8 @@ results), numba's cache empty (its own cache directory), the same Python environ
 runs `snakemake --cores 2`, the other device `snakemake --cores 2 --configfile <device file>` in a second
 scratch copy, one after the other.  Prints a Markdown table of the wall times and their ratio; the default
 device file is the shipped example (config/example_device.yaml), the default preset `draft`.
+Its helpers serve the other benchmarks too: the scratch copy of the files, the command line of a benchmark
+against a commit (:func:`baseline_args`) and the record with its machine and command (:func:`publish`).
 """
 import argparse
 import os
